@@ -1,0 +1,55 @@
+//! The `specvar` command line: parses arguments, calls the library, prints.
+
+use clap::{Parser, Subcommand};
+use specvar::cli;
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(
+    name = "specvar",
+    version,
+    about = "Predict Monte Carlo integration variance from power spectra, and check it",
+    long_about = "Predict Monte Carlo integration variance from power spectra, and check it \
+                  against Monte Carlo. With no subcommand, runs the reproduction report."
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// List the samplers with their dimensions and N constraints.
+    Samplers(cli::SamplersArgs),
+    /// Write point sets (UTK text by default, or JSON).
+    Sample(cli::SampleArgs),
+}
+
+fn main() -> ExitCode {
+    let parsed = match Cli::try_parse() {
+        Ok(c) => c,
+        Err(e) => {
+            use clap::error::ErrorKind;
+            if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion) {
+                print!("{e}");
+                return ExitCode::SUCCESS;
+            }
+            // One clear line: clap's first line names the problem.
+            let text = e.to_string();
+            eprintln!("{}", text.lines().next().unwrap_or("invalid arguments"));
+            return ExitCode::from(2);
+        }
+    };
+    let result = match parsed.command {
+        Some(Command::Samplers(a)) => cli::samplers(&a),
+        Some(Command::Sample(a)) => cli::sample(&a),
+        None => cli::default_job(),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}

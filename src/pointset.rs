@@ -1,0 +1,175 @@
+//! Point sets on the unit torus `[0,1)^d`.
+
+use crate::error::{invalid, Error, Result};
+
+/// Largest supported dimension.
+pub const MAX_DIMENSION: usize = 8;
+
+/// `N` points in `[0,1)^d`, stored row-major as one contiguous `Vec<f64>` of length `N·d`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PointSet {
+    dimension: usize,
+    coords: Vec<f64>,
+}
+
+impl PointSet {
+    /// Builds a point set from row-major coordinates.
+    ///
+    /// # Errors
+    /// The dimension must be 1 to 8, the length a non-zero multiple of it, and every coordinate
+    /// finite and in `[0, 1)`.
+    ///
+    /// # Examples
+    /// ```
+    /// let p = specvar::PointSet::new(2, vec![0.1, 0.2, 0.5, 0.75]).unwrap();
+    /// assert_eq!(p.len(), 2);
+    /// assert_eq!(p.point(1), &[0.5, 0.75]);
+    /// ```
+    pub fn new(dimension: usize, coords: Vec<f64>) -> Result<Self> {
+        check_dimension(dimension)?;
+        if coords.is_empty() || !coords.len().is_multiple_of(dimension) {
+            return Err(invalid(
+                "coordinate count",
+                coords.len(),
+                format!("a non-zero multiple of the dimension {dimension}"),
+            ));
+        }
+        if let Some(i) = coords.iter().position(|c| !(0.0..1.0).contains(c)) {
+            return Err(invalid(
+                "coordinate",
+                coords[i],
+                format!("point {} has a coordinate outside [0, 1)", i / dimension),
+            ));
+        }
+        Ok(Self { dimension, coords })
+    }
+
+    /// Builds a point set from coordinates that the caller guarantees are in `[0,1)`.
+    pub(crate) fn from_trusted(dimension: usize, coords: Vec<f64>) -> Self {
+        debug_assert!(coords.iter().all(|c| (0.0..1.0).contains(c)));
+        debug_assert!(!coords.is_empty() && coords.len().is_multiple_of(dimension));
+        Self { dimension, coords }
+    }
+
+    /// The dimension `d`.
+    pub fn dimension(&self) -> usize {
+        self.dimension
+    }
+
+    /// The number of points `N`.
+    pub fn len(&self) -> usize {
+        self.coords.len() / self.dimension
+    }
+
+    /// Always false: a point set holds at least one point.
+    pub fn is_empty(&self) -> bool {
+        self.coords.is_empty()
+    }
+
+    /// Point `i` as a slice of `d` coordinates.
+    ///
+    /// # Panics
+    /// If `i >= len()`, like slice indexing.
+    pub fn point(&self, i: usize) -> &[f64] {
+        &self.coords[i * self.dimension..(i + 1) * self.dimension]
+    }
+
+    /// Iterates over the points.
+    pub fn points(&self) -> std::slice::ChunksExact<'_, f64> {
+        self.coords.chunks_exact(self.dimension)
+    }
+
+    /// All coordinates, row-major.
+    pub fn coords(&self) -> &[f64] {
+        &self.coords
+    }
+
+    /// Adds `shift` to every point, modulo 1 (a toroidal translation).
+    ///
+    /// # Errors
+    /// `shift` must have `d` finite components.
+    pub fn translate(&mut self, shift: &[f64]) -> Result<()> {
+        if shift.len() != self.dimension || shift.iter().any(|s| !s.is_finite()) {
+            return Err(invalid(
+                "shift",
+                format!("{shift:?}"),
+                format!("{} finite components", self.dimension),
+            ));
+        }
+        for p in self.coords.chunks_exact_mut(self.dimension) {
+            for (c, s) in p.iter_mut().zip(shift) {
+                *c = wrap(*c + s);
+            }
+        }
+        Ok(())
+    }
+
+    /// Smallest toroidal distance between two distinct points (O(N²); for tests and checks).
+    pub fn min_toroidal_distance(&self) -> f64 {
+        let mut best = f64::INFINITY;
+        for i in 0..self.len() {
+            for j in i + 1..self.len() {
+                best = best.min(toroidal_distance_sq(self.point(i), self.point(j)).sqrt());
+            }
+        }
+        best
+    }
+}
+
+/// Checks that `d` is a supported dimension (1 to 8).
+pub(crate) fn check_dimension(d: usize) -> Result<()> {
+    if (1..=MAX_DIMENSION).contains(&d) {
+        Ok(())
+    } else {
+        Err(invalid("dimension", d, format!("1 to {MAX_DIMENSION}")))
+    }
+}
+
+/// Reduces `x` into `[0, 1)`.
+#[inline]
+pub fn wrap(x: f64) -> f64 {
+    let y = x - x.floor();
+    // x - floor(x) can round up to exactly 1.0 for tiny negative x.
+    if y >= 1.0 {
+        0.0
+    } else {
+        y
+    }
+}
+
+/// The toroidal difference `a - b` reduced into `[-1/2, 1/2)`.
+#[inline]
+pub fn toroidal_delta(a: f64, b: f64) -> f64 {
+    let t = a - b;
+    // Coordinates on the torus differ by less than 1: two compares instead of a floor.
+    if t.abs() < 1.5 {
+        if t >= 0.5 {
+            t - 1.0
+        } else if t < -0.5 {
+            t + 1.0
+        } else {
+            t
+        }
+    } else {
+        t - (t + 0.5).floor()
+    }
+}
+
+/// Squared toroidal distance between two points.
+#[inline]
+pub fn toroidal_distance_sq(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| {
+            let t = toroidal_delta(*x, *y);
+            t * t
+        })
+        .sum()
+}
+
+impl TryFrom<(usize, Vec<f64>)> for PointSet {
+    type Error = Error;
+    fn try_from((d, c): (usize, Vec<f64>)) -> Result<Self> {
+        Self::new(d, c)
+    }
+}

@@ -1,0 +1,62 @@
+//! Correlated multi-jittered sampling (Kensler 2013).
+
+use super::{check_supported, in_cell, random_permutation, uniform, Sampler};
+use crate::error::Result;
+use crate::pointset::PointSet;
+use crate::rng::{realization_rng, Stream};
+
+/// `N = m × n` samples, one in each of the `m × n` cells (jittered) and one in each of the `N`
+/// columns and `N` rows (N-rooks). The sub-stratum inside each cell comes from two permutations
+/// shared by all rows and all columns (the "correlated" choice that lowers variance against
+/// independent shuffles). `m` is the largest divisor of N not above `√N`, so any N is accepted.
+#[derive(Debug, Clone, Copy)]
+pub struct CorrelatedMultiJitter {
+    dimension: usize,
+}
+
+impl CorrelatedMultiJitter {
+    /// CMJ sampling; only d = 2 exists.
+    ///
+    /// # Errors
+    /// Any dimension other than 2.
+    pub fn new(d: usize) -> Result<Self> {
+        check_supported("cmj", d, 2..=2)?;
+        Ok(Self { dimension: d })
+    }
+}
+
+/// The factorization `N = m × n` with `m ≤ n` as close to square as possible.
+pub(crate) fn near_square_factors(n: usize) -> (usize, usize) {
+    let mut m = (n as f64).sqrt().floor() as usize;
+    while m > 1 && !n.is_multiple_of(m) {
+        m -= 1;
+    }
+    let m = m.max(1);
+    (m, n / m)
+}
+
+impl Sampler for CorrelatedMultiJitter {
+    fn name(&self) -> &'static str {
+        "cmj"
+    }
+    fn dimension(&self) -> usize {
+        self.dimension
+    }
+    fn sample(&self, n: usize, seed: u64, realization: u64) -> Result<PointSet> {
+        self.check_count(n)?;
+        // m columns (x cells), r rows (y cells).
+        let (m, r) = near_square_factors(n);
+        let mut rng = realization_rng(seed, realization, Stream::Points);
+        let sub_x = random_permutation(&mut rng, r); // x sub-stratum for row j
+        let sub_y = random_permutation(&mut rng, m); // y sub-stratum for column i
+        let mut coords = Vec::with_capacity(2 * n);
+        for j in 0..r {
+            for i in 0..m {
+                // Column i has r x-sub-strata; the point of row j takes sub_x[j].
+                coords.push(in_cell(i * r + sub_x[j], uniform(&mut rng), n));
+                coords.push(in_cell(j * m + sub_y[i], uniform(&mut rng), n));
+            }
+        }
+        Ok(PointSet::from_trusted(2, coords))
+    }
+}

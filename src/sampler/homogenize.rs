@@ -1,0 +1,80 @@
+//! Homogenization: a random toroidal shift (Cranley–Patterson rotation).
+
+use super::{uniform, Sampler};
+use crate::error::Result;
+use crate::pointset::PointSet;
+use crate::rng::{realization_rng, Stream};
+
+/// Adds one uniform random vector to every point, modulo 1, drawn from the shift stream of
+/// `(seed, realization)`. Any pattern so shifted gives an unbiased estimator.
+pub fn homogenize(points: &mut PointSet, seed: u64, realization: u64) {
+    let mut rng = realization_rng(seed, realization, Stream::Shift);
+    let shift: Vec<f64> = (0..points.dimension()).map(|_| uniform(&mut rng)).collect();
+    // The shift has the right length and finite entries, so translate cannot fail.
+    let _ = points.translate(&shift);
+}
+
+/// Wraps any sampler so that every realization is homogenized. The inner, fixed pattern stays
+/// available through [`Homogenized::inner`].
+///
+/// # Examples
+/// ```
+/// use specvar::sampler::{Homogenized, Regular, Sampler};
+/// let grid = Homogenized::new(Regular::new(2).unwrap());
+/// let a = grid.sample(4, 1, 0).unwrap();
+/// let b = grid.sample(4, 1, 1).unwrap();
+/// assert_ne!(a, b); // two realizations, two shifts
+/// ```
+#[derive(Debug, Clone)]
+pub struct Homogenized<S> {
+    inner: S,
+}
+
+impl<S: Sampler> Homogenized<S> {
+    /// Homogenizes `inner`.
+    pub fn new(inner: S) -> Self {
+        Self { inner }
+    }
+    /// The fixed (unshifted) sampler.
+    pub fn inner(&self) -> &S {
+        &self.inner
+    }
+}
+
+impl<S: Sampler> Sampler for Homogenized<S> {
+    fn name(&self) -> &'static str {
+        self.inner.name()
+    }
+    fn dimension(&self) -> usize {
+        self.inner.dimension()
+    }
+    fn check_count(&self, n: usize) -> Result<()> {
+        self.inner.check_count(n)
+    }
+    fn sample(&self, n: usize, seed: u64, realization: u64) -> Result<PointSet> {
+        let mut p = self.inner.sample(n, seed, realization)?;
+        homogenize(&mut p, seed, realization);
+        Ok(p)
+    }
+    fn is_scale_invariant(&self) -> bool {
+        self.inner.is_scale_invariant()
+    }
+}
+
+impl Sampler for Box<dyn Sampler> {
+    fn name(&self) -> &'static str {
+        (**self).name()
+    }
+    fn dimension(&self) -> usize {
+        (**self).dimension()
+    }
+    fn check_count(&self, n: usize) -> Result<()> {
+        (**self).check_count(n)
+    }
+    fn sample(&self, n: usize, seed: u64, realization: u64) -> Result<PointSet> {
+        (**self).sample(n, seed, realization)
+    }
+    fn is_scale_invariant(&self) -> bool {
+        (**self).is_scale_invariant()
+    }
+}

@@ -1,0 +1,38 @@
+//! White noise.
+
+use super::{check_supported, uniform, Sampler};
+use crate::error::Result;
+use crate::pointset::{PointSet, MAX_DIMENSION};
+use crate::rng::{realization_rng, Stream};
+
+/// Independent uniform points: the reference sampler, with `E[P_S(k)] = 1` for all `k ≠ 0`.
+#[derive(Debug, Clone, Copy)]
+pub struct Random {
+    dimension: usize,
+}
+
+impl Random {
+    /// White noise in dimension `d` (1 to 8).
+    ///
+    /// # Errors
+    /// An unsupported dimension.
+    pub fn new(d: usize) -> Result<Self> {
+        check_supported("random", d, 1..=MAX_DIMENSION)?;
+        Ok(Self { dimension: d })
+    }
+}
+
+impl Sampler for Random {
+    fn name(&self) -> &'static str {
+        "random"
+    }
+    fn dimension(&self) -> usize {
+        self.dimension
+    }
+    fn sample(&self, n: usize, seed: u64, realization: u64) -> Result<PointSet> {
+        self.check_count(n)?;
+        let mut rng = realization_rng(seed, realization, Stream::Points);
+        let coords = (0..n * self.dimension).map(|_| uniform(&mut rng)).collect();
+        Ok(PointSet::from_trusted(self.dimension, coords))
+    }
+}
