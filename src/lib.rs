@@ -42,9 +42,13 @@
 pub mod cli;
 pub mod error;
 pub mod io;
+pub mod plot;
 pub mod pointset;
+pub mod quadrature;
+pub mod report;
 pub mod rng;
 pub mod sampler;
+pub mod spectrum;
 
 pub use error::{Error, Result};
 pub use pointset::PointSet;

@@ -23,6 +23,8 @@ enum Command {
     Samplers(cli::SamplersArgs),
     /// Write point sets (UTK text by default, or JSON).
     Sample(cli::SampleArgs),
+    /// Power spectrum of a sampler or of point sets from a file: lattice or radial.
+    Spectrum(cli::SpectrumArgs),
 }
 
 fn main() -> ExitCode {
@@ -43,6 +45,7 @@ fn main() -> ExitCode {
     let result = match parsed.command {
         Some(Command::Samplers(a)) => cli::samplers(&a),
         Some(Command::Sample(a)) => cli::sample(&a),
+        Some(Command::Spectrum(a)) => cli::spectrum(&a),
         None => cli::default_job(),
     };
     match result {

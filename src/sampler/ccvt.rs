@@ -11,7 +11,7 @@
 //! is stable), or `max_iterations`. Neighbouring pairs are the sites closer than
 //! `2 N^{-1/d}` (the Voronoi neighbours lie within about `1.5 N^{-1/d}`).
 
-use super::{check_supported, uniform, Sampler};
+use super::{check_supported, uniform, PoissonDisk, Sampler};
 use crate::error::{invalid, Result};
 use crate::pointset::{toroidal_delta, toroidal_distance_sq, wrap, PointSet};
 use crate::rng::{realization_rng, Stream};
@@ -126,6 +126,94 @@ impl Sampler for Ccvt {
     }
 }
 
+/// Initial sites: a Poisson disk pattern at the sampler's default relative radius.
+fn initial_sites(d: usize, n: usize, seed: u64, realization: u64) -> Vec<f64> {
+    match PoissonDisk::new(d).and_then(|p| p.sample(n, seed ^ 0xCC07, realization)) {
+        Ok(p) => p.coords().to_vec(),
+        // Dart throwing below jamming practically never saturates; if it does, start from
+        // uniform sites rather than fail.
+        Err(_) => {
+            let mut rng = realization_rng(seed ^ 0xCC07, realization, Stream::Points);
+            (0..n * d).map(|_| uniform(&mut rng)).collect()
+        }
+    }
+}
+
+/// The sites in the 5^d grid cells around `p` (or all sites on a grid too small to have
+/// distinct neighbours).
+fn candidate_sites(p: &[f64], g: usize, buckets: &[Vec<u32>], out: &mut Vec<u32>) {
+    out.clear();
+    if g < 5 {
+        buckets.iter().for_each(|b| out.extend_from_slice(b));
+        return;
+    }
+    let d = p.len();
+    let c: Vec<usize> = p
+        .iter()
+        .map(|x| ((x * g as f64) as usize).min(g - 1))
+        .collect();
+    for o in 0..5usize.pow(d as u32) {
+        let mut rest = o;
+        let mut flat = 0;
+        for a in 0..d {
+            flat = flat * g + (c[a] + g + rest % 5 - 2) % g;
+            rest /= 5;
+        }
+        out.extend_from_slice(&buckets[flat]);
+    }
+}
+
+/// Capacity-constrained greedy assignment of points to sites (see [`State::new`]).
+fn greedy_assignment(
+    d: usize,
+    n: usize,
+    capacity: usize,
+    points: &[f64],
+    sites: &[f64],
+) -> Vec<Vec<u32>> {
+    let m = points.len() / d;
+    let site = |s: usize| &sites[s * d..(s + 1) * d];
+    let g = ((n as f64).powf(1.0 / d as f64).floor() as usize).max(1);
+    let mut buckets: Vec<Vec<u32>> = vec![Vec::new(); g.pow(d as u32)];
+    for s in 0..n {
+        let flat = site(s)
+            .iter()
+            .fold(0, |acc, x| acc * g + ((x * g as f64) as usize).min(g - 1));
+        buckets[flat].push(s as u32);
+    }
+    let mut pairs: Vec<(f64, u32, u32)> = Vec::new();
+    let mut candidates = Vec::new();
+    for x in 0..m {
+        let p = &points[x * d..(x + 1) * d];
+        candidate_sites(p, g, &buckets, &mut candidates);
+        for &s in &candidates {
+            pairs.push((toroidal_distance_sq(p, site(s as usize)), x as u32, s));
+        }
+    }
+    pairs.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
+    let mut owned: Vec<Vec<u32>> = vec![Vec::with_capacity(capacity); n];
+    let mut assigned = vec![false; m];
+    for (_, x, s) in pairs {
+        if !assigned[x as usize] && owned[s as usize].len() < capacity {
+            assigned[x as usize] = true;
+            owned[s as usize].push(x);
+        }
+    }
+    for x in (0..m).filter(|&x| !assigned[x]) {
+        let p = &points[x * d..(x + 1) * d];
+        let nearest_with_room = (0..n)
+            .filter(|&s| owned[s].len() < capacity)
+            .min_by(|&a, &b| {
+                toroidal_distance_sq(p, site(a)).total_cmp(&toroidal_distance_sq(p, site(b)))
+            });
+        // n·capacity points for n sites of `capacity` each: some site always has room.
+        if let Some(s) = nearest_with_room {
+            owned[s].push(x as u32);
+        }
+    }
+    owned
+}
+
 struct State {
     d: usize,
     n: usize,
@@ -137,38 +225,18 @@ struct State {
     hj: Vec<(f64, u32)>,
 }
 
-/// Interleaves the top 10 bits of each coordinate (Morton order), for spatially compact
-/// initial clusters.
-fn morton_key(p: &[f64]) -> u64 {
-    let mut key = 0u64;
-    for bit in (0..10).rev() {
-        for &c in p {
-            let q = (c * 1024.0) as u64;
-            key = (key << 1) | ((q >> bit) & 1);
-        }
-    }
-    key
-}
-
 impl State {
+    /// Initial state: sites from Poisson disk dart throwing (isotropic, so no grid can imprint
+    /// itself on the result), and a capacity-constrained greedy assignment: candidate
+    /// (point, site) pairs between each point and the sites of its neighbouring grid cells,
+    /// taken by increasing distance while the point is free and the site has room. Points left
+    /// over go to the nearest site with room; the swap passes then settle them.
     fn new(d: usize, n: usize, capacity: usize, seed: u64, realization: u64) -> Self {
         let m = n * capacity;
         let mut rng = realization_rng(seed, realization, Stream::Points);
         let points: Vec<f64> = (0..m * d).map(|_| uniform(&mut rng)).collect();
-        let mut order: Vec<(u64, u32)> = (0..m)
-            .map(|i| (morton_key(&points[i * d..(i + 1) * d]), i as u32))
-            .collect();
-        order.sort_unstable();
-        let owned: Vec<Vec<u32>> = order
-            .chunks(capacity)
-            .map(|chunk| chunk.iter().map(|&(_, i)| i).collect())
-            .collect();
-        // Seed each site at one of its points so the toroidal centroid is well defined.
-        let mut sites = vec![0.0; n * d];
-        for (s, list) in owned.iter().enumerate() {
-            let i = list[0] as usize;
-            sites[s * d..(s + 1) * d].copy_from_slice(&points[i * d..(i + 1) * d]);
-        }
+        let sites = initial_sites(d, n, seed, realization);
+        let owned = greedy_assignment(d, n, capacity, &points, &sites);
         let mut state = Self {
             d,
             n,

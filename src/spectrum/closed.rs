@@ -1,0 +1,119 @@
+//! Closed-form expected power spectra: white noise and jittered sampling.
+
+use crate::quadrature::GaussLegendre;
+use std::f64::consts::PI;
+
+/// `sin(x)/x`, with its limit 1 at 0.
+#[inline]
+pub fn sinc(x: f64) -> f64 {
+    if x.abs() < 1e-8 {
+        1.0 - x * x / 6.0
+    } else {
+        x.sin() / x
+    }
+}
+
+/// A sampler whose expected power spectrum is known exactly.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ClosedForm {
+    /// `E[P_S(k)] = 1` for every `k ≠ 0`.
+    WhiteNoise,
+    /// Jittered sampling with `m^d = N` strata: `E[P_S(k)] = 1 - Π_i sinc²(π k_i / m)`.
+    Jitter,
+}
+
+impl ClosedForm {
+    /// The expected spectrum at scaled frequency `ν = k / N^{1/d}` (a vector), `ν ≠ 0`.
+    ///
+    /// # Examples
+    /// ```
+    /// use specvar::spectrum::ClosedForm;
+    /// // Jitter vanishes at every non-zero multiple of m along an axis.
+    /// assert!(ClosedForm::Jitter.power(&[1.0, 0.0]).abs() < 1e-15);
+    /// assert_eq!(ClosedForm::WhiteNoise.power(&[0.3, 0.1]), 1.0);
+    /// ```
+    pub fn power(self, nu: &[f64]) -> f64 {
+        match self {
+            ClosedForm::WhiteNoise => 1.0,
+            ClosedForm::Jitter => {
+                1.0 - nu
+                    .iter()
+                    .map(|v| {
+                        let s = sinc(PI * v);
+                        s * s
+                    })
+                    .product::<f64>()
+            }
+        }
+    }
+
+    /// The expected spectrum at integer frequency `k ≠ 0` of an N-point pattern in dimension
+    /// `k.len()`; at `k = 0` it is `N`.
+    pub fn lattice_power(self, k: &[i64], n: usize) -> f64 {
+        if k.iter().all(|&c| c == 0) {
+            return n as f64;
+        }
+        let scale = (n as f64).powf(1.0 / k.len() as f64);
+        let nu: Vec<f64> = k.iter().map(|&c| c as f64 / scale).collect();
+        self.power(&nu)
+    }
+
+    /// The limit of the radial spectrum at `ν → 0⁺`.
+    pub fn dc_limit(self) -> f64 {
+        match self {
+            ClosedForm::WhiteNoise => 1.0,
+            ClosedForm::Jitter => 0.0,
+        }
+    }
+
+    /// The radial spectrum: the mean of [`power`](Self::power) over the sphere `|ν| = nu` in
+    /// dimension `d` (1 to 3), by Gauss–Legendre panels over one symmetry sector.
+    pub fn radial(self, d: usize, nu: f64) -> f64 {
+        match self {
+            ClosedForm::WhiteNoise => 1.0,
+            ClosedForm::Jitter => jitter_radial(d, nu),
+        }
+    }
+}
+
+/// Angular mean of the jitter spectrum. The integrand oscillates about `ν` times per sector,
+/// so the panel count grows with `ν`.
+fn jitter_radial(d: usize, nu: f64) -> f64 {
+    if nu == 0.0 {
+        return 0.0;
+    }
+    let f = |v: &[f64]| ClosedForm::Jitter.power(v);
+    let panels = 2 + (2.0 * nu).ceil() as usize;
+    let rule = GaussLegendre::new(12);
+    match d {
+        1 => f(&[nu]),
+        2 => {
+            // 8-fold symmetry: the mean over θ ∈ [0, π/4].
+            let sector = PI / 4.0;
+            let width = sector / panels as f64;
+            let mut sum = 0.0;
+            for p in 0..panels {
+                let a = p as f64 * width;
+                sum += rule.integrate(a, a + width, |t| f(&[nu * t.cos(), nu * t.sin()]));
+            }
+            sum / sector
+        }
+        _ => {
+            // One octant: φ ∈ [0, π/2], u = cos θ ∈ [0, 1], uniform measure dφ du.
+            let (wp, wu) = (PI / 2.0 / panels as f64, 1.0 / panels as f64);
+            let mut sum = 0.0;
+            for i in 0..panels {
+                for j in 0..panels {
+                    let (a, b) = (i as f64 * wp, j as f64 * wu);
+                    sum += rule.integrate(a, a + wp, |phi| {
+                        rule.integrate(b, b + wu, |u| {
+                            let s = (1.0 - u * u).max(0.0).sqrt();
+                            f(&[nu * s * phi.cos(), nu * s * phi.sin(), nu * u])
+                        })
+                    });
+                }
+            }
+            sum / (PI / 2.0)
+        }
+    }
+}
