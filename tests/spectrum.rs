@@ -1,0 +1,345 @@
+//! Spectra: engines against each other and against closed forms, with statistical bounds
+//! derived from the number of realizations and lattice points.
+
+use specvar::sampler::*;
+use specvar::spectrum::lattice::{naive_periodogram, Lattice};
+use specvar::spectrum::*;
+
+fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn direct_engine_matches_the_naive_sum() {
+    for (d, n, k) in [(1, 300, 40), (2, 256, 12), (3, 64, 5)] {
+        let p = Random::new(d).unwrap().sample(n, 1, 0).unwrap();
+        let direct = periodogram(&p, k, Engine::Direct).unwrap();
+        let naive = naive_periodogram(&p, k);
+        assert!(max_abs_diff(&direct, &naive) < 1e-9, "d={d}");
+    }
+}
+
+#[test]
+fn fast_engine_matches_direct_within_1e_8() {
+    for (d, n, k) in [
+        (1, 65536, 300),
+        (2, 65536, 24),
+        (2, 4096, 100),
+        (3, 8192, 8),
+    ] {
+        let p = Random::new(d).unwrap().sample(n, 2, 0).unwrap();
+        let direct = periodogram(&p, k, Engine::Direct).unwrap();
+        let fast = periodogram(&p, k, Engine::fast()).unwrap();
+        let err = max_abs_diff(&direct, &fast);
+        assert!(err <= 1e-8, "d={d} n={n} K={k}: {err:e}");
+    }
+}
+
+#[test]
+fn fast_engine_error_follows_its_tolerance() {
+    let p = Random::new(2).unwrap().sample(2000, 3, 0).unwrap();
+    let direct = periodogram(&p, 30, Engine::Direct).unwrap();
+    let loose = periodogram(&p, 30, Engine::Fast { tolerance: 1e-4 }).unwrap();
+    let err = max_abs_diff(&direct, &loose);
+    // Error in S is about ε Σ|c| = ε N; in P = |S|²/N at most about 2 ε N.
+    assert!(err < 2.0 * 1e-4 * 2000.0 && err > 1e-12, "{err:e}");
+}
+
+#[test]
+fn dc_is_n_and_the_spectrum_is_symmetric() {
+    let p = Jitter::new(2).unwrap().sample(64, 4, 0).unwrap();
+    for engine in [Engine::Direct, Engine::fast()] {
+        let v = periodogram(&p, 10, engine).unwrap();
+        let lattice = Lattice {
+            dimension: 2,
+            kmax: 10,
+        };
+        assert_eq!(v[lattice.dc_index()], 64.0);
+        for i in 0..v.len() {
+            assert!((v[i] - v[v.len() - 1 - i]).abs() < 1e-9);
+        }
+    }
+}
+
+#[test]
+fn regular_grid_has_power_only_at_multiples_of_m() {
+    let m = 6;
+    let p = Regular::new(2).unwrap().sample(m * m, 0, 0).unwrap();
+    let lattice = Lattice {
+        dimension: 2,
+        kmax: 20,
+    };
+    for engine in [Engine::Direct, Engine::fast()] {
+        let v = periodogram(&p, 20, engine).unwrap();
+        for (i, &value) in v.iter().enumerate() {
+            let k = lattice.frequency(i);
+            if k[0] % m as i64 == 0 && k[1] % m as i64 == 0 {
+                assert!((value - 36.0).abs() < 1e-8, "{k:?}: {value}");
+            } else {
+                assert!(value.abs() < 1e-8, "{k:?}: {value}");
+            }
+        }
+    }
+}
+
+/// White noise: `P(k)` has mean 1 and variance `1 - 1/N`; `P(k) = P(-k)`, so a ring of `c`
+/// lattice points holds `c/2` distinct values, nearly uncorrelated (covariance O(1/N)). The
+/// ring mean over M realizations then has standard deviation `√(2 / (M c))`.
+#[test]
+fn white_noise_rings_agree_with_one_within_the_derived_bound() {
+    for d in 1..=3 {
+        let m = 48;
+        let params = SpectrumParams {
+            kmax: if d == 3 { 8 } else { 24 },
+            realizations: m,
+            seed: 5,
+            ..Default::default()
+        };
+        let est = estimate(&Random::new(d).unwrap(), 512, &params).unwrap();
+        for b in &est.radial.bins {
+            let sd = (2.0 / (m as f64 * b.count as f64)).sqrt();
+            assert!(
+                (b.power - 1.0).abs() < 5.0 * sd,
+                "d={d} ring {}: {}",
+                b.rho,
+                b.power
+            );
+        }
+        assert!((est.radial.dc_limit - 1.0).abs() < 0.5);
+    }
+}
+
+#[test]
+fn white_noise_anisotropy_is_minus_ten_log_m() {
+    // The expected spectrum over M realizations varies over a ring with variance ≈ 1/M (the
+    // per-value variance 1 over M), so the anisotropy is ≈ -10 log10 M dB. With c/2 ≥ 150
+    // distinct values the relative error of the ring variance is ≤ √(2/150) ≈ 0.12, i.e.
+    // ±0.5 dB at one sigma; we allow 5 sigma (2.5 dB).
+    let m = 32;
+    let params = SpectrumParams {
+        kmax: 64,
+        realizations: m,
+        seed: 2,
+        ..Default::default()
+    };
+    let est = estimate(&Random::new(2).unwrap(), 1024, &params).unwrap();
+    let expected = -10.0 * (m as f64).log10();
+    for b in est.radial.bins.iter().filter(|b| b.count >= 300) {
+        assert!(
+            (b.anisotropy_db - expected).abs() < 2.5,
+            "{}: {}",
+            b.rho,
+            b.anisotropy_db
+        );
+    }
+}
+
+/// Jitter against its closed form `1 - Π sinc²(π k_i / m)`: each ring's mean of the closed
+/// form lies within 5 standard errors (estimated across M = 64 realizations) of the estimate.
+#[test]
+fn jitter_rings_agree_with_the_closed_form() {
+    for (d, n, kmax) in [(1usize, 64usize, 100usize), (2, 256, 40), (3, 512, 12)] {
+        let params = SpectrumParams {
+            kmax,
+            realizations: 64,
+            seed: 8,
+            ..Default::default()
+        };
+        let est = estimate(&Jitter::new(d).unwrap(), n, &params).unwrap();
+        let lattice = est.lattice.lattice;
+        // Ring means of the closed form over the same lattice points.
+        let mut sums = vec![(0.0, 0usize); est.radial.bins.len() + kmax + 2];
+        for i in 0..lattice.len() {
+            if i == lattice.dc_index() || lattice.radius(i) >= kmax as f64 {
+                continue;
+            }
+            let k = lattice.frequency(i);
+            let ring = lattice.radius(i).floor() as usize;
+            sums[ring].0 += ClosedForm::Jitter.lattice_power(&k[..d], n);
+            sums[ring].1 += 1;
+        }
+        for b in &est.radial.bins {
+            let ring = b.rho.floor() as usize;
+            let closed = sums[ring].0 / sums[ring].1 as f64;
+            assert!(
+                (b.power - closed).abs() <= 5.0 * b.stderr + 1e-12,
+                "d={d} ring {ring}: {} vs {closed} ± {}",
+                b.power,
+                b.stderr
+            );
+        }
+        assert!(est.radial.dc_limit < 0.05, "d={d}: {}", est.radial.dc_limit);
+    }
+}
+
+#[test]
+fn jitter_radial_closed_form_matches_a_brute_force_angular_mean() {
+    // Independent route: the mean over many equally spaced angles (2D) or a fine
+    // latitude-longitude grid (3D) of 1 - Π sinc².
+    for nu in [0.1, 0.7, 1.3, 3.7] {
+        let steps = 20000;
+        let brute2: f64 = (0..steps)
+            .map(|i| {
+                let t = std::f64::consts::TAU * (i as f64 + 0.5) / steps as f64;
+                ClosedForm::Jitter.power(&[nu * t.cos(), nu * t.sin()])
+            })
+            .sum::<f64>()
+            / steps as f64;
+        assert!(
+            (ClosedForm::Jitter.radial(2, nu) - brute2).abs() < 1e-9,
+            "2D ν={nu}"
+        );
+        let (nt, np) = (600, 600);
+        let mut brute3 = 0.0;
+        for i in 0..nt {
+            let u = -1.0 + 2.0 * (i as f64 + 0.5) / nt as f64;
+            let s = (1.0 - u * u).sqrt();
+            for j in 0..np {
+                let phi = std::f64::consts::TAU * (j as f64 + 0.5) / np as f64;
+                brute3 +=
+                    ClosedForm::Jitter.power(&[nu * s * phi.cos(), nu * s * phi.sin(), nu * u]);
+            }
+        }
+        brute3 /= (nt * np) as f64;
+        assert!(
+            (ClosedForm::Jitter.radial(3, nu) - brute3).abs() < 1e-5,
+            "3D ν={nu}"
+        );
+    }
+    assert_eq!(
+        ClosedForm::Jitter.radial(1, 0.5),
+        1.0 - (2.0 / std::f64::consts::PI).powi(2)
+    );
+}
+
+#[test]
+fn rings_report_mean_radius_and_counts() {
+    let params = SpectrumParams {
+        kmax: 10,
+        realizations: 2,
+        ..Default::default()
+    };
+    let est = estimate(&Random::new(2).unwrap(), 100, &params).unwrap();
+    let lattice = est.lattice.lattice;
+    let ring3: Vec<f64> = (0..lattice.len())
+        .map(|i| lattice.radius(i))
+        .filter(|r| (3.0..4.0).contains(r))
+        .collect();
+    let bin = est
+        .radial
+        .bins
+        .iter()
+        .find(|b| b.rho >= 3.0 && b.rho < 4.0)
+        .unwrap();
+    assert_eq!(bin.count, ring3.len());
+    let mean = ring3.iter().sum::<f64>() / ring3.len() as f64;
+    assert!((bin.rho - mean).abs() < 1e-12);
+    assert!((bin.nu - mean / 10.0).abs() < 1e-12);
+    // Only complete rings: the outer radius stays within K.
+    assert!(est.radial.bins.iter().all(|b| b.rho < 10.0));
+}
+
+#[test]
+fn poisson_disk_has_a_low_plateau_and_a_peak() {
+    let params = SpectrumParams {
+        kmax: 80,
+        realizations: 16,
+        seed: 1,
+        ..Default::default()
+    };
+    let est = estimate(&PoissonDisk::new(2).unwrap(), 1024, &params).unwrap();
+    let low: Vec<f64> = est
+        .radial
+        .bins
+        .iter()
+        .filter(|b| b.nu < 0.3)
+        .map(|b| b.power)
+        .collect();
+    let mean_low = low.iter().sum::<f64>() / low.len() as f64;
+    // Blue noise: a positive plateau well below white noise at low frequency…
+    assert!(mean_low > 0.02 && mean_low < 0.3, "plateau {mean_low}");
+    // …and a peak above 1 near the packing frequency (ν ≈ 1).
+    let peak = est
+        .radial
+        .bins
+        .iter()
+        .max_by(|a, b| a.power.total_cmp(&b.power))
+        .unwrap();
+    assert!(
+        peak.power > 1.2 && (0.8..1.4).contains(&peak.nu),
+        "{peak:?}"
+    );
+}
+
+#[test]
+fn ccvt_has_near_zero_power_below_its_cutoff() {
+    let params = SpectrumParams {
+        kmax: 48,
+        realizations: 4,
+        seed: 1,
+        ..Default::default()
+    };
+    let est = estimate(&Ccvt::new(2).unwrap(), 1024, &params).unwrap();
+    for b in est.radial.bins.iter().filter(|b| b.nu < 0.45) {
+        assert!(b.power < 0.05, "{b:?}");
+    }
+    assert!(est.radial.bins.iter().any(|b| b.power > 1.2));
+}
+
+#[test]
+fn estimates_do_not_depend_on_thread_count() {
+    let params = SpectrumParams {
+        kmax: 12,
+        realizations: 10,
+        seed: 3,
+        ..Default::default()
+    };
+    let sampler = Jitter::new(2).unwrap();
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap();
+    let two = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap();
+    let a = one.install(|| estimate(&sampler, 64, &params).unwrap());
+    let b = two.install(|| estimate(&sampler, 64, &params).unwrap());
+    assert_eq!(a, b);
+}
+
+#[test]
+fn imported_point_sets_give_the_same_estimate() {
+    let sampler = PoissonDisk::new(2).unwrap();
+    let sets: Vec<_> = (0..6).map(|r| sampler.sample(200, 9, r).unwrap()).collect();
+    let text = specvar::io::write_text(&sets);
+    let read = specvar::io::read_text(&text).unwrap();
+    let params = SpectrumParams {
+        kmax: 16,
+        realizations: 6,
+        seed: 9,
+        engine: Engine::Direct,
+        ..Default::default()
+    };
+    let from_file = estimate_from_sets(&read, &params).unwrap();
+    let direct = estimate(&sampler, 200, &params).unwrap();
+    assert_eq!(from_file.lattice.mean, direct.lattice.mean);
+}
+
+#[test]
+fn bad_spectrum_requests_are_errors() {
+    let p = Random::new(4).unwrap().sample(10, 0, 0).unwrap();
+    assert!(periodogram(&p, 4, Engine::Direct).is_err());
+    let q = Random::new(2).unwrap().sample(10, 0, 0).unwrap();
+    assert!(periodogram(&q, 0, Engine::Direct).is_err());
+    assert!(periodogram(&q, 4, Engine::Fast { tolerance: 0.5 }).is_err());
+    let params = SpectrumParams {
+        realizations: 0,
+        ..Default::default()
+    };
+    assert!(estimate(&Random::new(2).unwrap(), 10, &params).is_err());
+    assert!(estimate_from_sets(&[], &SpectrumParams::default()).is_err());
+}
