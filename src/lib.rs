@@ -41,9 +41,12 @@
 
 pub mod cli;
 pub mod error;
+pub mod integrand;
 pub mod io;
 pub mod plot;
 pub mod pointset;
+pub mod predict;
+pub mod progress;
 pub mod quadrature;
 pub mod report;
 pub mod rng;

@@ -25,6 +25,10 @@ enum Command {
     Sample(cli::SampleArgs),
     /// Power spectrum of a sampler or of point sets from a file: lattice or radial.
     Spectrum(cli::SpectrumArgs),
+    /// Predict the variance of the homogenized estimator from spectra.
+    Predict(cli::PredictArgs),
+    /// Bias of a fixed (not homogenized) pattern, from its spectrum and directly.
+    Bias(cli::BiasArgs),
 }
 
 fn main() -> ExitCode {
@@ -46,6 +50,8 @@ fn main() -> ExitCode {
         Some(Command::Samplers(a)) => cli::samplers(&a),
         Some(Command::Sample(a)) => cli::sample(&a),
         Some(Command::Spectrum(a)) => cli::spectrum(&a),
+        Some(Command::Predict(a)) => cli::predict(&a),
+        Some(Command::Bias(a)) => cli::bias(&a),
         None => cli::default_job(),
     };
     match result {

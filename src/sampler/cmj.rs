@@ -42,6 +42,10 @@ impl Sampler for CorrelatedMultiJitter {
     fn dimension(&self) -> usize {
         self.dimension
     }
+    /// N-rooks stratification puts structure at `k/N` along the axes, not at `k/N^{1/d}`.
+    fn is_scale_invariant(&self) -> bool {
+        false
+    }
     fn sample(&self, n: usize, seed: u64, realization: u64) -> Result<PointSet> {
         self.check_count(n)?;
         // m columns (x cells), r rows (y cells).

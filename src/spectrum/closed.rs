@@ -28,8 +28,12 @@ impl ClosedForm {
     /// # Examples
     /// ```
     /// use specvar::spectrum::ClosedForm;
-    /// // Jitter vanishes at every non-zero multiple of m along an axis.
-    /// assert!(ClosedForm::Jitter.power(&[1.0, 0.0]).abs() < 1e-15);
+    /// // Jitter is white at non-zero multiples of m along an axis…
+    /// assert!((ClosedForm::Jitter.power(&[1.0, 0.0]) - 1.0).abs() < 1e-15);
+    /// // …and rises like π²|ν|²/3 from zero at DC.
+    /// let nu = [0.01, 0.02];
+    /// let expected = std::f64::consts::PI.powi(2) * (0.01f64.powi(2) + 0.02f64.powi(2)) / 3.0;
+    /// assert!((ClosedForm::Jitter.power(&nu) / expected - 1.0).abs() < 1e-3);
     /// assert_eq!(ClosedForm::WhiteNoise.power(&[0.3, 0.1]), 1.0);
     /// ```
     pub fn power(self, nu: &[f64]) -> f64 {

@@ -136,7 +136,7 @@ impl RadialSpectrum {
     /// `(0, dc_limit)` below the first ring, and 1 (white noise) beyond the last ring.
     pub fn power_at(&self, nu: f64) -> f64 {
         let bins = &self.bins;
-        match bins.iter().position(|b| b.nu >= nu) {
+        match Some(bins.partition_point(|b| b.nu < nu)).filter(|&i| i < bins.len()) {
             None => 1.0,
             Some(0) => {
                 let b = &bins[0];

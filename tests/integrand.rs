@@ -1,0 +1,203 @@
+//! Integrands: Parseval, transforms against direct integration, limits, parsing.
+
+use specvar::integrand::*;
+use specvar::quadrature::{integrate_panels, panel_breakpoints, GaussLegendre};
+use std::f64::consts::PI;
+
+fn integrands(d: usize) -> Vec<Box<dyn Integrand>> {
+    vec![
+        Box::new(Ball::new(0.25, vec![0.5; d], 1.0).unwrap()),
+        Box::new(Ball::new(0.2, vec![0.4; d], 4.0 / PI.sqrt()).unwrap()),
+        Box::new(Gaussian::new(0.1, vec![0.5; d], 1.0).unwrap()),
+        Box::new(Gaussian::new(0.0705, vec![0.45; d], 8.0).unwrap()),
+    ]
+}
+
+/// `M ∫_0^L ρ^{d-1} P̆_f dρ` on half-period panels.
+fn radial_energy(f: &dyn Integrand, end: f64) -> f64 {
+    let d = f.dimension();
+    let breaks = panel_breakpoints(end, f.panel_width(), []);
+    let m = sphere_measure(d);
+    integrate_panels(&breaks, 1e-16, |r| {
+        m * r.powi(d as i32 - 1) * f.radial_power(r)
+    })
+    .value
+}
+
+#[test]
+fn parseval_gaussian_to_1e_10() {
+    for d in 1..=3 {
+        for f in integrands(d)
+            .iter()
+            .filter(|f| f.decay_exponent().is_infinite())
+        {
+            let e = radial_energy(f.as_ref(), f.negligible_beyond());
+            assert!(
+                (e / f.spectral_energy() - 1.0).abs() < 1e-10,
+                "{}",
+                f.label()
+            );
+        }
+    }
+}
+
+#[test]
+fn parseval_disk_to_1e_10_with_the_exact_bessel_tail() {
+    // 2D: ∫_L^∞ ρ P̆_f dρ = a² R² (J0(t)² + J1(t)²)/2 at t = 2πRL (SPEC's identity).
+    for f in integrands(2)
+        .iter()
+        .filter(|f| f.decay_exponent().is_finite())
+    {
+        let ball = f.as_ref();
+        let (r, a) = if ball.label().contains("r=0.25") {
+            (0.25, 1.0)
+        } else {
+            (0.2, 4.0 / PI.sqrt())
+        };
+        let end = 200.0;
+        let t = 2.0 * PI * r * end;
+        let tail = 2.0 * PI * a * a * r * r * (libm::j0(t).powi(2) + libm::j1(t).powi(2)) / 2.0;
+        let total = radial_energy(ball, end) + tail;
+        assert!(
+            (total / ball.spectral_energy() - 1.0).abs() < 1e-10,
+            "{}",
+            ball.label()
+        );
+    }
+}
+
+#[test]
+fn parseval_ball_in_1d_and_3d_with_the_envelope_tail() {
+    // Beyond L the power oscillates about its mean a² R^{d-1} / (2π² ρ^{d+1}) (half the peak
+    // envelope); replacing it by the mean leaves an O(L^-2) error relative to the tail.
+    for d in [1, 3] {
+        let f = Ball::new(0.25, vec![0.5; d], 1.0).unwrap();
+        let end = 2000.0;
+        let m = sphere_measure(d);
+        let tail = m * 0.25f64.powi(d as i32 - 1) / (2.0 * PI * PI) / end;
+        let total = radial_energy(&f, end) + tail;
+        assert!((total / f.spectral_energy() - 1.0).abs() < 1e-8, "d={d}");
+    }
+}
+
+#[test]
+fn transforms_match_direct_integration() {
+    // 2D disk by Gauss–Legendre in polar coordinates around the centre (no Bessel function).
+    let disk = Ball::new(0.25, vec![0.4, 0.6], 1.5).unwrap();
+    let rule = GaussLegendre::new(60);
+    for omega in [[0.0, 0.0], [1.0, 0.0], [2.0, 3.0], [-5.0, 1.5]] {
+        let re = rule.integrate(0.0, 0.25, |r| {
+            rule.integrate(0.0, 2.0 * PI, |t| {
+                let x = [0.4 + r * t.cos(), 0.6 + r * t.sin()];
+                1.5 * r * (-2.0 * PI * (omega[0] * x[0] + omega[1] * x[1])).cos()
+            })
+        });
+        let im = rule.integrate(0.0, 0.25, |r| {
+            rule.integrate(0.0, 2.0 * PI, |t| {
+                let x = [0.4 + r * t.cos(), 0.6 + r * t.sin()];
+                1.5 * r * (-2.0 * PI * (omega[0] * x[0] + omega[1] * x[1])).sin()
+            })
+        });
+        let fh = disk.fourier(&omega);
+        assert!(
+            (fh.re - re).abs() < 1e-12 && (fh.im - im).abs() < 1e-12,
+            "{omega:?}"
+        );
+    }
+    // 1D and 3D balls, and Gaussians, by Gauss–Legendre over the line / cube.
+    let rule = GaussLegendre::new(40);
+    let ball1 = Ball::new(0.3, vec![0.45], 2.0).unwrap();
+    for w in [0.0, 0.7, 3.0] {
+        let re = rule.integrate(0.15, 0.75, |x| 2.0 * (-2.0 * PI * w * x).cos());
+        assert!((ball1.fourier(&[w]).re - re).abs() < 1e-13);
+    }
+    let ball3 = Ball::new(0.25, vec![0.5; 3], 1.0).unwrap();
+    for rho in [0.0, 1.0, 2.5] {
+        // Radial: f̂(ρ) = ∫_0^R 4π r² sinc(2πρr) dr for a centred ball.
+        let direct = rule.integrate(0.0, 0.25, |r| {
+            let t = 2.0 * PI * rho * r;
+            4.0 * PI * r * r * if t == 0.0 { 1.0 } else { t.sin() / t }
+        });
+        assert!(
+            (ball3.radial_power(rho) - direct * direct).abs() < 1e-13,
+            "ρ={rho}"
+        );
+    }
+    // A Gaussian this narrow has negligible mass outside the cube: its cube integral of
+    // f e^{-2πiωx} matches the closed form up to that mass.
+    let g = Gaussian::new(0.05, vec![0.5, 0.5], 1.0).unwrap();
+    let panels = GaussLegendre::new(80);
+    for omega in [[0.0, 0.0], [3.0, -2.0]] {
+        let re = panels.integrate(0.0, 1.0, |x| {
+            panels.integrate(0.0, 1.0, |y| {
+                g.eval(&[x, y]) * (-2.0 * PI * (omega[0] * x + omega[1] * y)).cos()
+            })
+        });
+        assert!((g.fourier(&omega).re - re).abs() < 1e-12, "{omega:?}");
+    }
+}
+
+#[test]
+fn values_and_limits_at_zero_frequency() {
+    for d in 1..=3 {
+        for f in integrands(d) {
+            let zero = vec![0.0; d];
+            assert!(
+                (f.fourier(&zero).re - f.spectral_integral()).abs() < 1e-14 * f.spectral_integral()
+            );
+            let small = f.radial_power(1e-7);
+            assert!(
+                (small / f.radial_power(0.0) - 1.0).abs() < 1e-9,
+                "{}",
+                f.label()
+            );
+        }
+    }
+    // The cube integral of a centred Gaussian falls short of the full-space one by its tail mass.
+    let g = Gaussian::new(0.2, vec![0.5], 1.0).unwrap();
+    let tail = 0.2 * (2.0 * PI).sqrt() * libm::erfc(0.5 / (0.2 * 2f64.sqrt()));
+    assert!((g.spectral_integral() - g.integral() - tail).abs() < 1e-15);
+}
+
+#[test]
+fn ball_power_decays_like_its_envelope() {
+    // P̆_f ≤ a² R^{d-1} / (π² ρ^{d+1}) · (1 + O(1/ρ)), the envelope being half the peak mean.
+    for d in 1..=3 {
+        let f = Ball::new(0.25, vec![0.5; d], 1.0).unwrap();
+        for rho in [50.0f64, 100.0, 400.0] {
+            let envelope = 0.25f64.powi(d as i32 - 1) / (PI * PI * rho.powi(d as i32 + 1));
+            assert!(f.radial_power(rho) <= envelope * 1.05, "d={d} ρ={rho}");
+        }
+    }
+}
+
+#[test]
+fn invalid_parameters_are_errors() {
+    assert!(Ball::new(-0.1, vec![0.5; 2], 1.0).is_err());
+    assert!(Ball::new(0.6, vec![0.5; 2], 1.0).is_err());
+    assert!(Ball::new(f64::NAN, vec![0.5; 2], 1.0).is_err());
+    assert!(Ball::new(0.1, vec![0.5; 4], 1.0).is_err());
+    assert!(Gaussian::new(0.0, vec![0.5; 2], 1.0).is_err());
+    assert!(Gaussian::new(0.1, vec![1.5; 2], 1.0).is_err());
+    assert!(Gaussian::new(0.1, vec![0.5; 2], f64::INFINITY).is_err());
+}
+
+#[test]
+fn specs_parse_with_overrides_and_list_keys_on_error() {
+    let s = parse_integrand("gaussian:sigma=0.0705,a=8").unwrap();
+    let g = s.build(2).unwrap();
+    assert!(g.label().contains("sigma=0.0705") && g.label().contains("a=8"));
+    let c = parse_integrand("gaussian:c=0.3;0.5")
+        .unwrap()
+        .build(2)
+        .unwrap();
+    assert!(c.label().contains("[0.3, 0.5]"));
+    assert!(parse_integrand("disk:c=0.3;0.5;0.2")
+        .unwrap()
+        .build(2)
+        .is_err());
+    let e = parse_integrand("disk:sigma=2").unwrap_err().to_string();
+    assert!(e.contains("accepted keys"), "{e}");
+    assert!(parse_integrand("cube").is_err());
+    assert!(parse_integrand("disk:r=abc").is_err());
+}

@@ -1,0 +1,347 @@
+//! Predictions, each against an independent route.
+
+use specvar::integrand::*;
+use specvar::predict::*;
+use specvar::sampler::*;
+use specvar::spectrum::*;
+
+fn disk() -> Ball {
+    Ball::new(0.25, vec![0.5, 0.5], 1.0).unwrap()
+}
+
+#[test]
+fn white_noise_polar_form_is_exact_with_the_dc_term() {
+    for d in 1..=3 {
+        let fs: Vec<Box<dyn Integrand>> = vec![
+            Box::new(Ball::new(0.25, vec![0.5; d], 1.0).unwrap()),
+            Box::new(Ball::new(0.2, vec![0.4; d], 2.2568).unwrap()),
+            Box::new(Gaussian::new(0.1, vec![0.5; d], 1.0).unwrap()),
+        ];
+        for f in &fs {
+            for n in [1, 7, 100, 4096] {
+                let p = predict_polar(
+                    f.as_ref(),
+                    SpectrumSource::Closed(ClosedForm::WhiteNoise),
+                    n,
+                    &PolarParams::default(),
+                )
+                .unwrap();
+                let exact = (f.spectral_energy() - f.spectral_integral().powi(2)) / n as f64;
+                assert!(
+                    (p.variance / exact - 1.0).abs() < 1e-9,
+                    "{} n={n}",
+                    f.label()
+                );
+            }
+        }
+    }
+    // Without the DC term white noise would come out as ∫f²/N: 24% above the truth for the disk.
+    let p = predict_polar(
+        &disk(),
+        SpectrumSource::Closed(ClosedForm::WhiteNoise),
+        64,
+        &PolarParams::default(),
+    )
+    .unwrap();
+    assert!(((p.variance + p.dc_term) / p.variance - 1.0 - 0.2440).abs() < 1e-3);
+}
+
+#[test]
+fn jitter_polar_form_equals_lattice_form_to_1e_6() {
+    let cases: Vec<(Box<dyn Integrand>, Vec<usize>, usize)> = vec![
+        (Box::new(disk()), vec![16, 64, 256], 400),
+        (
+            Box::new(Gaussian::new(0.1, vec![0.5, 0.5], 1.0).unwrap()),
+            vec![16, 64, 256],
+            200,
+        ),
+        (
+            Box::new(Ball::new(0.25, vec![0.5], 1.0).unwrap()),
+            vec![4, 16, 64],
+            20000,
+        ),
+        (
+            Box::new(Gaussian::new(0.1, vec![0.5], 1.0).unwrap()),
+            vec![4, 16, 64],
+            2000,
+        ),
+        (
+            Box::new(Ball::new(0.25, vec![0.5; 3], 1.0).unwrap()),
+            vec![64],
+            48,
+        ),
+        (
+            Box::new(Gaussian::new(0.1, vec![0.5; 3], 1.0).unwrap()),
+            vec![64, 512],
+            48,
+        ),
+    ];
+    for (f, ns, kmax) in &cases {
+        for &n in ns {
+            let polar = predict_polar(
+                f.as_ref(),
+                SpectrumSource::Closed(ClosedForm::Jitter),
+                n,
+                &PolarParams::default(),
+            )
+            .unwrap();
+            let lattice = predict_lattice(
+                f.as_ref(),
+                LatticeSource::Closed(ClosedForm::Jitter),
+                n,
+                *kmax,
+            )
+            .unwrap();
+            let rel = (polar.variance / lattice.variance - 1.0).abs();
+            assert!(
+                rel < 1e-6,
+                "{} n={n}: {} vs {} ({rel:e})",
+                f.label(),
+                polar.variance,
+                lattice.variance
+            );
+        }
+    }
+}
+
+/// The disk (the and SPEC's case) must land within 1%. The Gaussian probes only the few
+/// lowest rings at large N, where the estimate is noisy: it must land within 1% or within 4
+/// standard errors propagated from the rings, whichever is larger.
+#[test]
+fn jitter_with_a_spectrum_estimated_at_4096_is_within_one_percent() {
+    let params = SpectrumParams {
+        kmax: 320,
+        realizations: 64,
+        seed: 11,
+        engine: Engine::fast(),
+        bin_width: 1.0,
+    };
+    let est = estimate(&Jitter::new(2).unwrap(), 4096, &params).unwrap();
+    for f in [
+        Box::new(disk()) as Box<dyn Integrand>,
+        Box::new(Gaussian::new(0.1, vec![0.5, 0.5], 1.0).unwrap()),
+    ] {
+        for n in [16, 64, 256, 1024] {
+            let estimated = predict_polar(
+                f.as_ref(),
+                SpectrumSource::Estimated(&est.radial),
+                n,
+                &PolarParams::default(),
+            )
+            .unwrap();
+            let closed = predict_polar(
+                f.as_ref(),
+                SpectrumSource::Closed(ClosedForm::Jitter),
+                n,
+                &PolarParams::default(),
+            )
+            .unwrap();
+            let rel = (estimated.variance / closed.variance - 1.0).abs();
+            let allowed = if f.decay_exponent().is_finite() {
+                0.01
+            } else {
+                0.01f64.max(4.0 * estimated.spectrum_stderr / closed.variance)
+            };
+            assert!(
+                rel < allowed,
+                "{} n={n}: {rel:.4} (allowed {allowed:.4})",
+                f.label()
+            );
+            assert!(estimated.spectrum_stderr > 0.0);
+        }
+    }
+}
+
+/// Area of the disk (centre c, radius r) below-left of the corner (x, y):
+/// `∫_{-r}^{min(x-cx, r)} (clamp(y - cy, -h, h) + h) dt`, `h = √(r² - t²)`, in closed form.
+fn corner_area(x: f64, y: f64, c: [f64; 2], r: f64) -> f64 {
+    let (xr, yr) = (x - c[0], y - c[1]);
+    let h_int = |t: f64| {
+        let t = t.clamp(-r, r);
+        (t * (r * r - t * t).max(0.0).sqrt() + r * r * (t / r).asin()) / 2.0
+    };
+    let upper = xr.min(r);
+    if upper <= -r || yr <= -r {
+        return 0.0;
+    }
+    // ∫ 2h over [a, b]
+    let full = |a: f64, b: f64| {
+        if b > a {
+            2.0 * (h_int(b) - h_int(a))
+        } else {
+            0.0
+        }
+    };
+    // ∫ (y + h) over [a, b]
+    let partial = |a: f64, b: f64| {
+        if b > a {
+            yr * (b - a) + h_int(b) - h_int(a)
+        } else {
+            0.0
+        }
+    };
+    if yr >= r {
+        return full(-r, upper);
+    }
+    let s = (r * r - yr * yr).sqrt();
+    // |t| > s: h < |y|: the whole chord (y > 0) or nothing (y < 0); |t| < s: from -h to y.
+    let outer = |a: f64, b: f64| if yr > 0.0 { full(a, b) } else { 0.0 };
+    outer(-r, upper.min(-s)) + partial(-s, upper.min(s)) + outer(s, upper)
+}
+
+fn rect_area(x0: f64, x1: f64, y0: f64, y1: f64, c: [f64; 2], r: f64) -> f64 {
+    corner_area(x1, y1, c, r) - corner_area(x0, y1, c, r) - corner_area(x1, y0, c, r)
+        + corner_area(x0, y0, c, r)
+}
+
+/// Homogenized jitter's variance for the disk without Fourier analysis: with grid offset u,
+/// `Var = ∫f²/N - E_u[Σ_j (∫_{cell_j(u)} f)²]`, the mean over u by the midpoint rule on a
+/// `q × q` grid of offsets (the function is periodic in u).
+fn geometric_jitter_variance(m: usize, q: usize) -> f64 {
+    let (c, r) = ([0.5, 0.5], 0.25);
+    let n = (m * m) as f64;
+    let energy = std::f64::consts::PI * r * r;
+    let mut mean = 0.0;
+    for a in 0..q {
+        for b in 0..q {
+            let (ux, uy) = ((a as f64 + 0.5) / q as f64, (b as f64 + 0.5) / q as f64);
+            let mut sum = 0.0;
+            // Cells reaching past 1 wrap to [0, u/m), which the disk (inside [1/4, 3/4]) never
+            // touches for m ≥ 4: the unwrapped rectangle gives the same area.
+            for i in 0..m {
+                for j in 0..m {
+                    let x0 = (i as f64 + ux) / m as f64 - 1.0 / m as f64;
+                    let y0 = (j as f64 + uy) / m as f64 - 1.0 / m as f64;
+                    let area = rect_area(x0, x0 + 1.0 / m as f64, y0, y0 + 1.0 / m as f64, c, r);
+                    sum += area * area;
+                }
+            }
+            mean += sum;
+        }
+    }
+    energy / n - mean / (q * q) as f64
+}
+
+#[test]
+fn corner_areas_add_up_to_the_disk() {
+    let (c, r) = ([0.5, 0.5], 0.25);
+    let whole = rect_area(0.0, 1.0, 0.0, 1.0, c, r);
+    assert!((whole - std::f64::consts::PI / 16.0).abs() < 1e-15);
+    let quarter = rect_area(0.5, 1.0, 0.5, 1.0, c, r);
+    assert!((quarter - std::f64::consts::PI / 64.0).abs() < 1e-15);
+    // A strip [0.5, 0.6] × everything: ∫ 2√(r² - t²) over t ∈ [0, 0.1].
+    let strip = rect_area(0.5, 0.6, 0.0, 1.0, c, r);
+    let exact = 0.1 * (r * r - 0.01f64).sqrt() + r * r * (0.1f64 / r).asin();
+    assert!((strip - exact).abs() < 1e-15);
+}
+
+#[test]
+fn jitter_matches_the_geometric_variance_without_fourier() {
+    for m in [4usize, 8] {
+        let coarse = geometric_jitter_variance(m, 128);
+        let fine = geometric_jitter_variance(m, 256);
+        let fourier = predict_lattice(
+            &disk(),
+            LatticeSource::Closed(ClosedForm::Jitter),
+            m * m,
+            400,
+        )
+        .unwrap();
+        // The offset quadrature's own convergence sets the tolerance.
+        let tolerance = 10.0 * (fine - coarse).abs() + 1e-6 * fine;
+        assert!(
+            (fourier.variance - fine).abs() < tolerance,
+            "m={m}: fourier {} geometric {fine} (coarse {coarse})",
+            fourier.variance
+        );
+    }
+}
+
+/// Where the torus sees the periodized Gaussian and the cube the truncated one, the two differ
+/// by at most the images' values: `2 d a exp(-(1/2)² / (2σ²))` for a centred Gaussian.
+fn truncation_bound(sigma: f64, d: usize) -> f64 {
+    2.0 * d as f64 * (-0.125 / (sigma * sigma)).exp()
+}
+
+#[test]
+fn regular_grid_bias_matches_direct_evaluation() {
+    for d in 1..=3 {
+        let g = Gaussian::new(0.1, vec![0.5; d], 1.0).unwrap();
+        for m in [3usize, 4, 5, 8] {
+            let n = m.pow(d as u32);
+            let points = Regular::new(d).unwrap().sample(n, 0, 0).unwrap();
+            let mu: f64 = points.points().map(|x| g.eval(x)).sum::<f64>() / n as f64;
+            let direct = mu - g.integral();
+            let (fourier, last_shell) = regular_grid_bias(&g, n).unwrap();
+            assert!(last_shell < 1e-15);
+            let tol = 1e-12 + truncation_bound(0.1, d);
+            assert!(
+                (fourier - direct).abs() < tol,
+                "d={d} m={m}: {fourier:e} vs {direct:e}"
+            );
+        }
+    }
+}
+
+#[test]
+fn bias_of_any_fixed_pattern_matches_direct_evaluation() {
+    let g = Gaussian::new(0.08, vec![0.5, 0.5], 2.0).unwrap();
+    for r in 0..3 {
+        let points = Jitter::new(2).unwrap().sample(36, 4, r).unwrap();
+        let mu: f64 = points.points().map(|x| g.eval(x)).sum::<f64>() / 36.0;
+        let direct = mu - g.integral();
+        let fourier = bias_of_pattern(&g, &points, 24).unwrap();
+        assert!(
+            (fourier - direct).abs() < 1e-11 + 2.0 * truncation_bound(0.08, 2),
+            "{fourier} {direct}"
+        );
+    }
+}
+
+#[test]
+fn lattice_form_accepts_an_estimated_spectrum_at_the_target_n() {
+    let params = SpectrumParams {
+        kmax: 40,
+        realizations: 64,
+        seed: 3,
+        ..Default::default()
+    };
+    let est = estimate(&Jitter::new(2).unwrap(), 64, &params).unwrap();
+    let g = Gaussian::new(0.1, vec![0.5, 0.5], 1.0).unwrap();
+    let from_estimate =
+        predict_lattice(&g, LatticeSource::Estimated(&est.lattice), 64, 40).unwrap();
+    let closed = predict_lattice(&g, LatticeSource::Closed(ClosedForm::Jitter), 64, 40).unwrap();
+    // Standard error of Σ w_k P_k: from the per-frequency standard errors, with P(k) = P(-k)
+    // fully correlated (hence the factor 2 on each half).
+    let lattice = est.lattice.lattice;
+    let var: f64 = (0..lattice.len())
+        .filter(|&i| i != lattice.dc_index())
+        .map(|i| {
+            let k = lattice.frequency(i);
+            let w = g.fourier(&[k[0] as f64, k[1] as f64]).norm_sqr();
+            2.0 * (w * est.lattice.stderr[i]).powi(2)
+        })
+        .sum();
+    let se = var.sqrt() / 64.0;
+    assert!(
+        (from_estimate.variance - closed.variance).abs() < 5.0 * se,
+        "{} vs {} ± {se}",
+        from_estimate.variance,
+        closed.variance
+    );
+    assert!(predict_lattice(&g, LatticeSource::Estimated(&est.lattice), 100, 40).is_err());
+}
+
+#[test]
+fn bad_prediction_requests_are_errors() {
+    assert!(predict_polar(
+        &disk(),
+        SpectrumSource::Closed(ClosedForm::Jitter),
+        0,
+        &PolarParams::default()
+    )
+    .is_err());
+    assert!(regular_grid_bias(&disk(), 15).is_err());
+    let p = Random::new(3).unwrap().sample(10, 0, 0).unwrap();
+    assert!(bias_of_pattern(&disk(), &p, 4).is_err());
+}
