@@ -142,8 +142,11 @@ pub fn write_output(path: Option<&std::path::Path>, text: &str) -> Result<()> {
 /// # Errors
 /// As the job it runs.
 pub fn default_job() -> Result<()> {
-    print!("{}", sampler_table());
-    Ok(())
+    report(&ReportArgs {
+        out: PathBuf::from("report"),
+        quick: false,
+        seed: 2016,
+    })
 }
 
 /// Arguments of `specvar spectrum`.
@@ -564,6 +567,60 @@ pub fn bias(args: &BiasArgs) -> Result<()> {
         );
         println!("from its spectrum ({method}): {bias:.9e}");
         println!("direct (μ_N - I):              {direct:.9e}");
+    }
+    Ok(())
+}
+
+/// Arguments of `specvar report`.
+#[derive(Debug, Args)]
+pub struct ReportArgs {
+    /// Output directory.
+    #[arg(long, default_value = "report")]
+    pub out: PathBuf,
+    /// The short run (about a minute).
+    #[arg(long)]
+    pub quick: bool,
+    /// Seed.
+    #[arg(long, default_value_t = 2016)]
+    pub seed: u64,
+}
+
+/// `specvar report`.
+///
+/// # Errors
+/// As [`crate::report::run`].
+pub fn report(args: &ReportArgs) -> Result<()> {
+    let config = crate::report::ReportConfig {
+        out: args.out.clone(),
+        quick: args.quick,
+        seed: args.seed,
+    };
+    let start = std::time::Instant::now();
+    let report = crate::report::run(&config)?;
+    let passed = report.checks.iter().filter(|c| c.pass).count();
+    println!(
+        "report written to {}/report.md in {:.0} s: {passed} of {} cross-checks passed",
+        args.out.display(),
+        start.elapsed().as_secs_f64(),
+        report.checks.len()
+    );
+    println!(
+        "{:<8} {:<9} {:>7} {:>10} {:>12}",
+        "sampler", "integrand", "theory", "predicted", "Monte Carlo"
+    );
+    for row in &report.rates {
+        let name = if row.integrand.starts_with("disk") {
+            "disk"
+        } else {
+            "gaussian"
+        };
+        println!(
+            "{:<8} {:<9} {:>7.2} {:>10.3} {:>12.3}",
+            row.sampler, name, row.theory_rate, row.predicted_rate, row.empirical_rate.slope
+        );
+    }
+    for c in report.checks.iter().filter(|c| !c.pass) {
+        println!("FAIL {}: {}", c.what, c.detail);
     }
     Ok(())
 }

@@ -213,11 +213,13 @@ pub fn predict_polar(
     })
 }
 
-/// The standard error of `N·Var` from the rings' standard errors. `N·Var` is linear in the ring
-/// powers `b_i`: `∂(N·Var)/∂b_i = ∫ W(ρ) φ_i(ρ/scale) dρ - (∂a/∂b_i) I²`, with `W = M ρ^{d-1} P̆_f`,
-/// `φ_i` the interpolation weight of ring i (a hat function, or the extrapolation through `a`
-/// below the first ring) and `a` the DC limit. Rings are independent sets of frequencies, so
-/// the variances add. Weights by 16-point Gauss–Legendre on the prediction's panels.
+/// The standard error of `N·Var` from the rings' standard errors. `N·Var` depends on the ring
+/// powers `b_i` through the interpolated spectrum and the DC limit `a = Σ c_i b_i`:
+/// `∂(N·Var)/∂b_i = ∫ W(ρ) ∂P̆_S/∂b_i dρ - c_i I²`, with `W = M ρ^{d-1} P̆_f`. Between rings the
+/// log-log interpolation `P = b_{j-1}^{1-t} b_j^t` gives `∂P/∂b = (1-t) P/b_{j-1}` and `t P/b_j`;
+/// below the first ring `P = a + (b_0 - a) u`, `u = (ν/ν_0)^γ`, gives `u` for `b_0` and `1 - u`
+/// through `a` (the dependence of `γ` on the rings is neglected). Rings are independent sets of
+/// frequencies, so the variances add. Weights by 16-point Gauss–Legendre on the panels.
 fn propagated_stderr(
     r: &RadialSpectrum,
     breaks: &[f64],
@@ -229,12 +231,14 @@ fn propagated_stderr(
     if bins.len() < 2 {
         return f64::NAN;
     }
-    // a = c0 b0 + c1 b1 (the clamp at 0 is ignored: it only lowers the sensitivity).
-    let (x0, x1) = (bins[0].nu.powi(2), bins[1].nu.powi(2));
-    let (c0, c1) = (x1 / (x1 - x0), -x0 / (x1 - x0));
+    let dc = RadialSpectrum::dc_weights(bins);
+    let clamped = r.dc_limit <= 0.0;
     let mut sensitivity = vec![0.0; bins.len()];
-    sensitivity[0] -= c0 * integral * integral;
-    sensitivity[1] -= c1 * integral * integral;
+    let mut via_dc = 0.0;
+    if !clamped {
+        via_dc -= integral * integral;
+    }
+    let gamma = r.first_segment_exponent();
     let rule = crate::quadrature::gauss_legendre(16);
     for w in breaks.windows(2) {
         let (mid, half) = ((w[0] + w[1]) / 2.0, (w[1] - w[0]) / 2.0);
@@ -244,16 +248,27 @@ fn propagated_stderr(
             let wt = gw * half * weight(rho);
             let j = bins.partition_point(|b| b.nu < nu);
             if j == 0 {
-                // P = a + (b0 - a) t, t = ν/ν0: ∂/∂b0 = t + (1-t) c0, ∂/∂b1 = (1-t) c1.
-                let t = nu / bins[0].nu;
-                sensitivity[0] += wt * (t + (1.0 - t) * c0);
-                sensitivity[1] += wt * (1.0 - t) * c1;
+                let u = (nu / bins[0].nu).powf(gamma);
+                sensitivity[0] += wt * u;
+                if !clamped {
+                    via_dc += wt * (1.0 - u);
+                }
             } else if j < bins.len() {
-                let t = (nu - bins[j - 1].nu) / (bins[j].nu - bins[j - 1].nu);
-                sensitivity[j - 1] += wt * (1.0 - t);
-                sensitivity[j] += wt * t;
+                let (lo, hi) = (&bins[j - 1], &bins[j]);
+                let t = (nu / lo.nu).ln() / (hi.nu / lo.nu).ln();
+                if lo.power > 0.0 && hi.power > 0.0 {
+                    let p = r.power_at(nu);
+                    sensitivity[j - 1] += wt * (1.0 - t) * p / lo.power;
+                    sensitivity[j] += wt * t * p / hi.power;
+                } else {
+                    sensitivity[j - 1] += wt * (1.0 - t);
+                    sensitivity[j] += wt * t;
+                }
             }
         }
+    }
+    for (i, c) in dc {
+        sensitivity[i] += c * via_dc;
     }
     sensitivity
         .iter()

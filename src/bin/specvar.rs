@@ -29,6 +29,8 @@ enum Command {
     Predict(cli::PredictArgs),
     /// Bias of a fixed (not homogenized) pattern, from its spectrum and directly.
     Bias(cli::BiasArgs),
+    /// Reproduce the talk's table with predictions, Monte Carlo, plots and report.md.
+    Report(cli::ReportArgs),
 }
 
 fn main() -> ExitCode {
@@ -52,6 +54,7 @@ fn main() -> ExitCode {
         Some(Command::Spectrum(a)) => cli::spectrum(&a),
         Some(Command::Predict(a)) => cli::predict(&a),
         Some(Command::Bias(a)) => cli::bias(&a),
+        Some(Command::Report(a)) => cli::report(&a),
         None => cli::default_job(),
     };
     match result {

@@ -21,7 +21,9 @@ pub use halton::Halton;
 pub use homogenize::{homogenize, Homogenized};
 pub use jitter::Jitter;
 pub use latin::LatinHypercube;
-pub use poisson::{default_relative_radius, max_packing_radius, PoissonDisk, PoissonMethod};
+pub use poisson::{
+    default_relative_radius, max_packing_radius, PoissonDisk, PoissonMethod, MAX_ATTEMPTS,
+};
 pub use random::Random;
 pub use regular::Regular;
 pub use sobol::Sobol;
@@ -273,7 +275,7 @@ pub(crate) fn uniform<R: rand::Rng>(rng: &mut R) -> f64 {
 
 /// A uniform index in `0..n` (Lemire's multiply-shift; bias below 2^-32 for n < 2^32).
 #[inline]
-pub(crate) fn uniform_index<R: rand::Rng>(rng: &mut R, n: usize) -> usize {
+pub fn uniform_index<R: rand::Rng>(rng: &mut R, n: usize) -> usize {
     ((rng.next_u64() as u128 * n as u128) >> 64) as usize
 }
 

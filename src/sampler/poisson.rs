@@ -10,7 +10,7 @@
 use super::{check_supported, uniform, uniform_index, Sampler};
 use crate::error::{invalid, Error, Result};
 use crate::pointset::{toroidal_distance_sq, wrap, PointSet};
-use crate::rng::{realization_rng, Stream};
+use crate::rng::{realization_rng, splitmix64, Stream};
 use rand_pcg::Pcg64;
 use std::f64::consts::PI;
 
@@ -70,6 +70,8 @@ pub fn default_relative_radius(d: usize) -> f64 {
 /// Deepest subdivision of the active cells; below it, a round of darts that places nothing
 /// ends the run (uncovered gaps then measure under `h · 2^-12`).
 const MAX_LEVEL: u32 = 12;
+/// Attempts before a saturated run is reported as an error.
+pub const MAX_ATTEMPTS: u64 = 64;
 /// Bridson's candidate count per active point.
 const BRIDSON_TRIES: usize = 30;
 
@@ -121,16 +123,38 @@ impl Sampler for PoissonDisk {
     fn dimension(&self) -> usize {
         self.dimension
     }
+    /// A run that fills the torus before placing N points (jamming fluctuates most at small
+    /// N) restarts from the next attempt's stream, up to [`MAX_ATTEMPTS`] times: the pattern is
+    /// dart throwing conditioned on reaching N. Attempts are keyed by (seed, realization,
+    /// attempt), so the result is still reproducible.
     fn sample(&self, n: usize, seed: u64, realization: u64) -> Result<PointSet> {
         self.check_count(n)?;
         let r = self.radius(n);
-        let mut rng = realization_rng(seed, realization, Stream::Points);
-        let mut grid = Grid::new(self.dimension, r, n);
-        match self.method {
-            PoissonMethod::DartThrowing => dart_throwing(&mut grid, n, &mut rng)?,
-            PoissonMethod::Bridson => bridson(&mut grid, n, &mut rng)?,
+        let mut last = None;
+        for attempt in 0..MAX_ATTEMPTS {
+            let key = if attempt == 0 {
+                seed
+            } else {
+                splitmix64(seed ^ splitmix64(attempt))
+            };
+            let mut rng = realization_rng(key, realization, Stream::Points);
+            let mut grid = Grid::new(self.dimension, r, n);
+            let outcome = match self.method {
+                PoissonMethod::DartThrowing => dart_throwing(&mut grid, n, &mut rng),
+                PoissonMethod::Bridson => bridson(&mut grid, n, &mut rng),
+            };
+            match outcome {
+                Ok(()) => return Ok(PointSet::from_trusted(self.dimension, grid.points)),
+                Err(e @ Error::Saturated { .. }) => last = Some(e),
+                Err(e) => return Err(e),
+            }
         }
-        Ok(PointSet::from_trusted(self.dimension, grid.points))
+        Err(last.unwrap_or(Error::Saturated {
+            method: "dart throwing",
+            placed: 0,
+            requested: n,
+            radius: r,
+        }))
     }
 }
 

@@ -3,6 +3,9 @@
 use super::lattice::Lattice;
 use serde::{Deserialize, Serialize};
 
+/// Rings up to this `ν` enter the fit of `P̆_S(0⁺)`.
+const DC_FIT_NU: f64 = 0.2;
+
 /// One ring of lattice frequencies `b·Δ ≤ |k| < (b+1)·Δ`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct RadialBin {
@@ -118,34 +121,83 @@ impl RadialSpectrum {
         }
     }
 
-    /// `P̆_S(0⁺)` from the two lowest rings, extrapolated as `a + b ν²` (the form of every
-    /// smooth isotropic spectrum near 0) and clamped at 0. For jitter and CCVT this gives about
-    /// 0, for white noise about 1, for Poisson disk its low-frequency plateau.
+    /// `P̆_S(0⁺)`: the intercept `a` of a least-squares fit `P = a + b ν²` (the form of every
+    /// smooth isotropic spectrum near 0) over the rings with `ν ≤ 0.2` (at least the lowest 3),
+    /// each weighted by its lattice-point count, clamped at 0. It gives about 0 for jitter and
+    /// CCVT, about 1 for white noise, and the low-frequency plateau of Poisson disk.
     pub fn estimate_dc_limit(bins: &[RadialBin]) -> f64 {
-        match bins {
-            [] => 1.0,
-            [only] => only.power.max(0.0),
-            [a, b, ..] => {
-                let (x1, x2) = (a.nu * a.nu, b.nu * b.nu);
-                ((a.power * x2 - b.power * x1) / (x2 - x1)).max(0.0)
+        Self::dc_weights(bins)
+            .iter()
+            .map(|&(i, c)| c * bins[i].power)
+            .sum::<f64>()
+            .max(0.0)
+    }
+
+    /// The estimate of [`estimate_dc_limit`](Self::estimate_dc_limit) before clamping is linear
+    /// in the ring powers: `a = Σ c_i P_i`. Returns the pairs `(i, c_i)`.
+    pub fn dc_weights(bins: &[RadialBin]) -> Vec<(usize, f64)> {
+        let used = bins
+            .iter()
+            .take_while(|b| b.nu <= DC_FIT_NU)
+            .count()
+            .max(3)
+            .min(bins.len());
+        match used {
+            0 => Vec::new(),
+            1 => vec![(0, 1.0)],
+            _ => {
+                // Weighted least squares of P on x = ν²: a = Σ w_i (Sxx - x̄ Sx... ) in closed form.
+                let w: Vec<f64> = bins[..used].iter().map(|b| b.count as f64).collect();
+                let x: Vec<f64> = bins[..used].iter().map(|b| b.nu * b.nu).collect();
+                let sw: f64 = w.iter().sum();
+                let xm = w.iter().zip(&x).map(|(w, x)| w * x).sum::<f64>() / sw;
+                let sxx: f64 = w.iter().zip(&x).map(|(w, x)| w * (x - xm).powi(2)).sum();
+                // a = ȳ - b x̄ with b = Σ w (x - x̄) y / Sxx: linear in y.
+                (0..used)
+                    .map(|i| (i, w[i] / sw - xm * w[i] * (x[i] - xm) / sxx))
+                    .collect()
             }
         }
     }
 
-    /// The spectrum at scaled frequency `ν`, interpolated linearly between ring radii, from
-    /// `(0, dc_limit)` below the first ring, and 1 (white noise) beyond the last ring.
+    /// The spectrum at scaled frequency `ν`: between rings, interpolated linearly in
+    /// `(ln ν, ln P)` (exact for power laws, which low-frequency spectra are); below the first
+    /// ring, `a + (P_0 - a)(ν/ν_0)^γ` from the DC limit `a`, with `γ` the log-log slope of
+    /// `P - a` between the first two rings (1 when that is undefined); beyond the last ring,
+    /// 1 (white noise).
     pub fn power_at(&self, nu: f64) -> f64 {
         let bins = &self.bins;
         match Some(bins.partition_point(|b| b.nu < nu)).filter(|&i| i < bins.len()) {
             None => 1.0,
             Some(0) => {
-                let b = &bins[0];
-                self.dc_limit + (b.power - self.dc_limit) * nu / b.nu
+                let a = self.dc_limit;
+                a + (bins[0].power - a) * (nu / bins[0].nu).powf(self.first_segment_exponent())
             }
             Some(i) => {
-                let (a, b) = (&bins[i - 1], &bins[i]);
-                a.power + (b.power - a.power) * (nu - a.nu) / (b.nu - a.nu)
+                let (lo, hi) = (&bins[i - 1], &bins[i]);
+                let t = (nu / lo.nu).ln() / (hi.nu / lo.nu).ln();
+                if lo.power > 0.0 && hi.power > 0.0 {
+                    lo.power * (hi.power / lo.power).powf(t)
+                } else {
+                    lo.power + (hi.power - lo.power) * t
+                }
             }
+        }
+    }
+
+    /// `γ` of the segment below the first ring (see [`power_at`](Self::power_at)), in `[0, 8]`.
+    pub fn first_segment_exponent(&self) -> f64 {
+        match &self.bins[..] {
+            [b0, b1, ..] => {
+                let (d0, d1) = (b0.power - self.dc_limit, b1.power - self.dc_limit);
+                let g = (d1 / d0).ln() / (b1.nu / b0.nu).ln();
+                if d0 > 0.0 && d1 > 0.0 && g.is_finite() {
+                    g.clamp(0.0, 8.0)
+                } else {
+                    1.0
+                }
+            }
+            _ => 1.0,
         }
     }
 

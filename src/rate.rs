@@ -1,0 +1,157 @@
+//! Convergence rates: from theory, from spectra, and from Monte Carlo.
+//!
+//! With `P̆_S(ν) ≈ c ν^α` near 0 and `P̆_f(ρ) ~ ρ^{-β}`, the variance falls like
+//! `N^{-1 - min(α, β - d)/d}`, with a `log N` factor when `α = β - d`. A rate here is the
+//! exponent `r` in `Var ∝ N^r`.
+
+use crate::error::{invalid, Result};
+use crate::montecarlo::Z_99;
+use crate::spectrum::RadialSpectrum;
+use serde::Serialize;
+
+/// The asymptotic rate and whether a `log N` factor multiplies it.
+///
+/// # Examples
+/// ```
+/// use specvar::rate::theory_rate;
+/// assert_eq!(theory_rate(2.0, 3.0, 2), (-1.5, false));           // jitter, disk
+/// assert_eq!(theory_rate(2.0, f64::INFINITY, 2), (-2.0, false)); // jitter, Gaussian
+/// assert_eq!(theory_rate(1.0, 3.0, 2), (-1.5, true));            // log case
+/// ```
+pub fn theory_rate(alpha: f64, beta: f64, d: usize) -> (f64, bool) {
+    let excess = beta - d as f64;
+    let exponent = alpha.min(excess);
+    (-1.0 - exponent / d as f64, (alpha - excess).abs() < 1e-9)
+}
+
+/// A weighted least-squares line `y = a + slope · x`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct SlopeFit {
+    /// The slope.
+    pub slope: f64,
+    /// Its standard error.
+    pub stderr: f64,
+    /// 99% interval: `slope ± z_{0.995} · stderr`.
+    pub ci: (f64, f64),
+    /// The intercept.
+    pub intercept: f64,
+    /// Points used.
+    pub points: usize,
+}
+
+/// Fits `y = a + b x` by weighted least squares with known variances of `y` (weights `1/var`).
+/// With `variances = None` the points weigh equally and the standard error comes from the
+/// residuals.
+///
+/// # Errors
+/// Fewer than two points, mismatched lengths, or all `x` equal.
+pub fn weighted_line(x: &[f64], y: &[f64], variances: Option<&[f64]>) -> Result<SlopeFit> {
+    if x.len() != y.len() || x.len() < 2 || variances.is_some_and(|v| v.len() != x.len()) {
+        return Err(invalid(
+            "fit points",
+            x.len(),
+            "at least two, with matching lengths",
+        ));
+    }
+    let w: Vec<f64> = match variances {
+        Some(v) => v.iter().map(|v| 1.0 / v.max(f64::MIN_POSITIVE)).collect(),
+        None => vec![1.0; x.len()],
+    };
+    let sw: f64 = w.iter().sum();
+    let xm = x.iter().zip(&w).map(|(x, w)| x * w).sum::<f64>() / sw;
+    let ym = y.iter().zip(&w).map(|(y, w)| y * w).sum::<f64>() / sw;
+    let sxx: f64 = x.iter().zip(&w).map(|(x, w)| w * (x - xm).powi(2)).sum();
+    if sxx <= 0.0 {
+        return Err(invalid(
+            "fit abscissae",
+            "all equal",
+            "at least two distinct values",
+        ));
+    }
+    let sxy: f64 = x
+        .iter()
+        .zip(y)
+        .zip(&w)
+        .map(|((x, y), w)| w * (x - xm) * (y - ym))
+        .sum();
+    let slope = sxy / sxx;
+    let intercept = ym - slope * xm;
+    let stderr = match variances {
+        Some(_) => (1.0 / sxx).sqrt(),
+        None => {
+            let dof = (x.len() as f64 - 2.0).max(1.0);
+            let rss: f64 = x
+                .iter()
+                .zip(y)
+                .map(|(x, y)| (y - intercept - slope * x).powi(2))
+                .sum();
+            (rss / dof / sxx).sqrt()
+        }
+    };
+    Ok(SlopeFit {
+        slope,
+        stderr,
+        ci: (slope - Z_99 * stderr, slope + Z_99 * stderr),
+        intercept,
+        points: x.len(),
+    })
+}
+
+/// The log-log slope of `values` against `ns`, with relative standard errors `rel_stderr` if
+/// known (the variance of `ln v` is `rel_stderr²`).
+///
+/// # Errors
+/// As [`weighted_line`], or a non-positive value.
+pub fn loglog_slope(ns: &[f64], values: &[f64], rel_stderr: Option<&[f64]>) -> Result<SlopeFit> {
+    if values.iter().chain(ns).any(|v| v.is_nan() || *v <= 0.0) {
+        return Err(invalid(
+            "log-log data",
+            "a non-positive value",
+            "positive N and values",
+        ));
+    }
+    let x: Vec<f64> = ns.iter().map(|n| n.ln()).collect();
+    let y: Vec<f64> = values.iter().map(|v| v.ln()).collect();
+    let var: Option<Vec<f64>> = rel_stderr.map(|r| r.iter().map(|s| s * s).collect());
+    weighted_line(&x, &y, var.as_deref())
+}
+
+/// The low-frequency exponent `α` of a radial spectrum: the weighted log-log slope of the ring
+/// powers over `nu_min ≤ ν ≤ nu_max`, each ring weighted by its relative standard error.
+///
+/// # Errors
+/// Fewer than two usable rings in the range.
+pub fn fit_alpha(radial: &RadialSpectrum, nu_min: f64, nu_max: f64) -> Result<SlopeFit> {
+    let rings: Vec<_> = radial
+        .bins
+        .iter()
+        .filter(|b| b.nu >= nu_min && b.nu <= nu_max && b.power > 0.0)
+        .collect();
+    let x: Vec<f64> = rings.iter().map(|b| b.nu.ln()).collect();
+    let y: Vec<f64> = rings.iter().map(|b| b.power.ln()).collect();
+    let var: Vec<f64> = rings
+        .iter()
+        .map(|b| {
+            let rel = b.stderr / b.power;
+            if rel.is_finite() && rel > 0.0 {
+                rel * rel
+            } else {
+                1.0
+            }
+        })
+        .collect();
+    weighted_line(&x, &y, Some(&var))
+}
+
+/// Where two curves sampled at the same `ns` cross: the N (log-log interpolated) at which
+/// `a - b` changes sign first, or `None`.
+pub fn crossover(ns: &[f64], a: &[f64], b: &[f64]) -> Option<f64> {
+    let diff: Vec<f64> = a.iter().zip(b).map(|(a, b)| a.ln() - b.ln()).collect();
+    (1..ns.len()).find_map(|i| {
+        let (d0, d1) = (diff[i - 1], diff[i]);
+        (d0.signum() != d1.signum() && d0.is_finite() && d1.is_finite()).then(|| {
+            let t = d0 / (d0 - d1);
+            (ns[i - 1].ln() + t * (ns[i].ln() - ns[i - 1].ln())).exp()
+        })
+    })
+}
