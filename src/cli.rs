@@ -624,3 +624,264 @@ pub fn report(args: &ReportArgs) -> Result<()> {
     }
     Ok(())
 }
+
+/// Arguments of `specvar mc`.
+#[derive(Debug, Args)]
+pub struct McArgs {
+    /// Sampler name.
+    #[arg(long, short = 's')]
+    pub sampler: String,
+    /// Integrand spec.
+    #[arg(long, short = 'f', default_value = "disk")]
+    pub integrand: String,
+    /// Points per pattern.
+    #[arg(short = 'n')]
+    pub n: usize,
+    /// Dimension (1 to 3).
+    #[arg(short = 'd', default_value_t = 2)]
+    pub dimension: usize,
+    /// Trials (independent patterns, or patterns × shifts with --shifts).
+    #[arg(long, short = 't', default_value_t = 10000)]
+    pub trials: usize,
+    /// Random shifts per pattern: trials / shifts patterns are drawn (pools for slow samplers).
+    #[arg(long, default_value_t = 1)]
+    pub shifts: usize,
+    /// Seed.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Use the patterns as drawn, without the random toroidal shift.
+    #[arg(long)]
+    pub fixed: bool,
+    /// JSON output.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// `specvar mc`.
+///
+/// # Errors
+/// Bad arguments.
+pub fn mc(args: &McArgs) -> Result<()> {
+    use crate::montecarlo::{empirical_variance_with, McParams};
+    let f = crate::integrand::parse_integrand(&args.integrand)?.build(args.dimension)?;
+    let sampler = build_sampler(&args.sampler, args.dimension, false)?;
+    if args.shifts == 0 || args.trials < 2 * args.shifts {
+        return Err(crate::error::invalid(
+            "trials",
+            args.trials,
+            "at least twice --shifts (two patterns)",
+        ));
+    }
+    let params = McParams {
+        patterns: args.trials / args.shifts,
+        shifts: args.shifts,
+        seed: args.seed,
+        homogenize: !args.fixed,
+    };
+    let bar = crate::progress::bar(
+        params.patterns as u64,
+        format!("monte carlo: {}", args.sampler),
+    );
+    let r = empirical_variance_with(sampler.as_ref(), f.as_ref(), args.n, &params, &|| {
+        bar.inc(1)
+    })?;
+    bar.finish_and_clear();
+    if args.json {
+        let doc = serde_json::json!({
+            "sampler": args.sampler,
+            "integrand": f.label(),
+            "n": args.n,
+            "trials": r.trials,
+            "patterns": r.patterns,
+            "shifts": r.shifts,
+            "homogenized": r.homogenized,
+            "variance": r.variance,
+            "ci_low": r.ci_low,
+            "ci_high": r.ci_high,
+            "interval": r.interval,
+            "bias": r.bias,
+            "bias_stderr": r.bias_stderr,
+        });
+        println!("{doc}");
+    } else {
+        println!(
+            "{} ({}), N = {}, {} on {}",
+            args.sampler,
+            if r.homogenized {
+                "homogenized"
+            } else {
+                "fixed"
+            },
+            args.n,
+            if r.shifts > 1 {
+                format!("{} patterns × {} shifts", r.patterns, r.shifts)
+            } else {
+                format!("{} trials", r.trials)
+            },
+            f.label()
+        );
+        println!(
+            "variance {:.6e}, 99% interval [{:.6e}, {:.6e}] ({:?})",
+            r.variance, r.ci_low, r.ci_high, r.interval
+        );
+        println!("bias     {:.3e} ± {:.1e}", r.bias, r.bias_stderr);
+    }
+    Ok(())
+}
+
+/// Arguments of `specvar rates`.
+#[derive(Debug, Args)]
+pub struct RatesArgs {
+    /// Dimension (1 to 3).
+    #[arg(short = 'd', default_value_t = 2)]
+    pub dimension: usize,
+    /// Comma-separated samplers (scale-invariant ones: random, jitter, poisson, bridson, ccvt).
+    #[arg(long, default_value = "random,jitter,poisson,ccvt")]
+    pub samplers: String,
+    /// Comma-separated integrand specs.
+    #[arg(long, default_value = "disk,gaussian")]
+    pub integrands: String,
+    /// Smallest and largest N of the fit (N = m^d values in between, log-spaced).
+    #[arg(long, num_args = 2, default_values_t = [16, 1024])]
+    pub range: Vec<usize>,
+    /// Monte Carlo trials per N (pools of 32 shifts for poisson, bridson and ccvt).
+    #[arg(long, default_value_t = 4000)]
+    pub trials: usize,
+    /// Seed.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// JSON output.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// N values `m^d` between `lo` and `hi`, about five, log-spaced.
+pub fn rate_ns(lo: usize, hi: usize, d: usize) -> Vec<usize> {
+    let (a, b) = ((lo as f64).ln(), (hi as f64).ln());
+    let mut ns: Vec<usize> = (0..5)
+        .map(|i| {
+            let target = (a + (b - a) * i as f64 / 4.0).exp();
+            let m = target.powf(1.0 / d as f64).round().max(1.0) as usize;
+            m.pow(d as u32)
+        })
+        .collect();
+    ns.dedup();
+    ns
+}
+
+/// `specvar rates`.
+///
+/// # Errors
+/// Bad arguments.
+pub fn rates(args: &RatesArgs) -> Result<()> {
+    use crate::montecarlo::{empirical_variance_with, McParams, Z_99};
+    use crate::predict::{predict_polar, PolarParams, SpectrumSource};
+    use crate::rate::{fit_alpha, loglog_slope, theory_rate};
+    use crate::spectrum::{estimate, Engine, SpectrumParams};
+    let d = args.dimension;
+    let (lo, hi) = (args.range[0], args.range[1]);
+    if lo < 1 || hi <= lo {
+        return Err(crate::error::invalid(
+            "range",
+            format!("{lo} {hi}"),
+            "two N with 1 ≤ low < high",
+        ));
+    }
+    let ns = rate_ns(lo, hi, d);
+    let xs: Vec<f64> = ns.iter().map(|&n| n as f64).collect();
+    let mut rows = Vec::new();
+    for name in args.samplers.split(',').map(str::trim) {
+        let sampler = build_sampler(name, d, false)?;
+        let n_ref = default_reference_n(d);
+        let params = SpectrumParams {
+            kmax: default_kmax(n_ref, d),
+            realizations: if name == "ccvt" { 8 } else { 64 },
+            seed: args.seed,
+            engine: Engine::Auto,
+            bin_width: 1.0,
+        };
+        let spinner = crate::progress::spinner(format!("spectrum of {name} at N = {n_ref}"));
+        let est = estimate(sampler.as_ref(), n_ref, &params)?;
+        spinner.finish_and_clear();
+        let alpha = fit_alpha(&est.radial, 0.0, 0.3)?;
+        let known = match name {
+            "random" | "poisson" | "bridson" => Some(0.0),
+            "jitter" => Some(2.0),
+            _ => None,
+        };
+        for spec in args.integrands.split(',').map(str::trim) {
+            let f = crate::integrand::parse_integrand(spec)?.build(d)?;
+            let a = known.unwrap_or(alpha.slope);
+            let (theory, _) = theory_rate(a, f.decay_exponent(), d);
+            let predicted: Vec<f64> = ns
+                .iter()
+                .map(|&n| {
+                    predict_polar(
+                        f.as_ref(),
+                        SpectrumSource::Estimated(&est.radial),
+                        n,
+                        &PolarParams::default(),
+                    )
+                    .map(|p| p.variance)
+                })
+                .collect::<Result<_>>()?;
+            let shifts = if matches!(name, "poisson" | "bridson" | "ccvt") {
+                32
+            } else {
+                1
+            };
+            let mut mc = Vec::new();
+            let mut rel = Vec::new();
+            let bar = crate::progress::bar(ns.len() as u64, format!("monte carlo: {name}, {spec}"));
+            for &n in &ns {
+                let params = McParams {
+                    patterns: (args.trials / shifts).max(2),
+                    shifts,
+                    seed: args.seed,
+                    homogenize: true,
+                };
+                let r = empirical_variance_with(sampler.as_ref(), f.as_ref(), n, &params, &|| {})?;
+                rel.push((r.ci_high / r.ci_low).ln() / (2.0 * Z_99));
+                mc.push(r.variance);
+                bar.inc(1);
+            }
+            bar.finish_and_clear();
+            let empirical = loglog_slope(&xs, &mc, Some(&rel))?;
+            rows.push(serde_json::json!({
+                "sampler": name,
+                "integrand": f.label(),
+                "dimension": d,
+                "theory_rate": theory,
+                "predicted_rate": loglog_slope(&xs, &predicted, None)?.slope,
+                "empirical_rate": empirical.slope,
+                "empirical_rate_ci": [empirical.ci.0, empirical.ci.1],
+                "alpha": a,
+                "alpha_fitted": alpha.slope,
+                "n_values": ns,
+            }));
+        }
+    }
+    if args.json {
+        println!("{}", serde_json::json!({ "rows": rows }));
+    } else {
+        println!("rates r in Var ∝ N^r over N = {ns:?}, d = {d}");
+        println!(
+            "{:<8} {:<40} {:>7} {:>9} {:>10} {:>19} {:>6}",
+            "sampler", "integrand", "theory", "predicted", "empirical", "99% interval", "alpha"
+        );
+        for r in &rows {
+            println!(
+                "{:<8} {:<40} {:>7.3} {:>9.3} {:>10.3}   [{:>6.3}, {:>6.3}] {:>6.2}",
+                r["sampler"].as_str().unwrap_or(""),
+                r["integrand"].as_str().unwrap_or(""),
+                r["theory_rate"].as_f64().unwrap_or(f64::NAN),
+                r["predicted_rate"].as_f64().unwrap_or(f64::NAN),
+                r["empirical_rate"].as_f64().unwrap_or(f64::NAN),
+                r["empirical_rate_ci"][0].as_f64().unwrap_or(f64::NAN),
+                r["empirical_rate_ci"][1].as_f64().unwrap_or(f64::NAN),
+                r["alpha"].as_f64().unwrap_or(f64::NAN),
+            );
+        }
+    }
+    Ok(())
+}

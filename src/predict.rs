@@ -320,10 +320,11 @@ pub fn predict_lattice(
     };
     let side = lattice.side();
     let rows = lattice.len() / side;
-    let per_row: Vec<(f64, f64, f64)> = (0..rows)
+    // Per row: Σ |f̂|² P, Σ |f̂|², the edge's Σ |f̂|² |1 - P|, and Σ (|f̂|² se(P))².
+    let per_row: Vec<[f64; 4]> = (0..rows)
         .into_par_iter()
         .map(|r| {
-            let (mut weighted, mut plain, mut edge) = (0.0, 0.0, 0.0);
+            let mut acc = [0.0; 4];
             let mut omega = [0.0; 3];
             for i in r * side..(r + 1) * side {
                 if i == lattice.dc_index() {
@@ -334,28 +335,32 @@ pub fn predict_lattice(
                     omega[a] = k[a] as f64;
                 }
                 let power_f = f.fourier(&omega[..d]).norm_sqr();
-                let power_s = match source {
-                    LatticeSource::Closed(c) => c.lattice_power(&k[..d], n),
-                    LatticeSource::Estimated(s) => s.mean[i],
+                let (power_s, se) = match source {
+                    LatticeSource::Closed(c) => (c.lattice_power(&k[..d], n), 0.0),
+                    LatticeSource::Estimated(s) => (s.mean[i], s.stderr[i]),
                 };
-                weighted += power_f * power_s;
-                plain += power_f;
+                acc[0] += power_f * power_s;
+                acc[1] += power_f;
                 if k[..d]
                     .iter()
                     .any(|c| c.unsigned_abs() as usize == kmax.max(lattice.kmax))
                 {
-                    edge += power_f * (1.0 - power_s).abs();
+                    acc[2] += power_f * (1.0 - power_s).abs();
+                }
+                if se.is_finite() {
+                    acc[3] += (power_f * se).powi(2);
                 }
             }
-            (weighted, plain, edge)
+            acc
         })
         .collect();
     let (mut weighted, mut plain) = (CompensatedSum::default(), CompensatedSum::default());
-    let mut edge = 0.0;
-    for (w, p, e) in per_row {
+    let (mut edge, mut noise) = (0.0, 0.0);
+    for [w, p, e, q] in per_row {
         weighted.add(w);
         plain.add(p);
         edge += e;
+        noise += q;
     }
     let i0 = f.spectral_integral();
     let rest = (f.spectral_energy() - i0 * i0 - plain.value()).max(0.0);
@@ -368,7 +373,8 @@ pub fn predict_lattice(
         dc_term: 0.0,
         error_estimate: edge.min(rest) / n as f64,
         evaluations: lattice.len() as u64,
-        spectrum_stderr: 0.0,
+        // P(k) = P(-k) exactly, so the two halves add coherently: 2 Σ (w se)².
+        spectrum_stderr: (2.0 * noise).sqrt() / n as f64,
     })
 }
 

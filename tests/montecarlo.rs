@@ -16,11 +16,22 @@ fn random_interval_covers_the_exact_variance() {
     let f = disk();
     for n in [16, 100] {
         for patterns in [300, 5000] {
-            let params = McParams { patterns, seed: 7, ..Default::default() };
+            let params = McParams {
+                patterns,
+                seed: 7,
+                ..Default::default()
+            };
             let r = empirical_variance(&Random::new(2).unwrap(), &f, n, &params).unwrap();
             let exact = (f.integral_of_square() - f.integral().powi(2)) / n as f64;
-            assert!(r.ci_low <= exact && exact <= r.ci_high, "n={n} {r:?} exact {exact}");
-            let expected = if patterns < 1000 { IntervalMethod::Bootstrap } else { IntervalMethod::LogNormal };
+            assert!(
+                r.ci_low <= exact && exact <= r.ci_high,
+                "n={n} {r:?} exact {exact}"
+            );
+            let expected = if patterns < 1000 {
+                IntervalMethod::Bootstrap
+            } else {
+                IntervalMethod::LogNormal
+            };
             assert_eq!(r.interval, expected);
             // Homogenized: unbiased; the mean error is within 4 standard errors of 0.
             assert!(r.bias.abs() < 4.0 * r.bias_stderr);
@@ -32,10 +43,18 @@ fn random_interval_covers_the_exact_variance() {
 fn jitter_interval_covers_the_lattice_form() {
     let g = Gaussian::new(0.1, vec![0.5, 0.5], 1.0).unwrap();
     for (f, n) in [(&disk() as &dyn Integrand, 64usize), (&g, 16), (&g, 256)] {
-        let params = McParams { patterns: 6000, seed: 3, ..Default::default() };
+        let params = McParams {
+            patterns: 6000,
+            seed: 3,
+            ..Default::default()
+        };
         let r = empirical_variance(&Jitter::new(2).unwrap(), f, n, &params).unwrap();
         let exact = predict_lattice(f, LatticeSource::Closed(ClosedForm::Jitter), n, 300).unwrap();
-        assert!(r.ci_low <= exact.variance && exact.variance <= r.ci_high, "{} n={n}", f.label());
+        assert!(
+            r.ci_low <= exact.variance && exact.variance <= r.ci_high,
+            "{} n={n}",
+            f.label()
+        );
     }
 }
 
@@ -60,19 +79,37 @@ fn a_single_patterns_shift_variance_is_its_own_lattice_form() {
     // The lattice form with the pattern's own periodogram is exact for its shift variance.
     let g = Gaussian::new(0.08, vec![0.5, 0.5], 1.0).unwrap();
     let pattern = Ccvt::new(2).unwrap().sample(64, 5, 0).unwrap();
-    let params = SpectrumParams { kmax: 40, realizations: 1, engine: Engine::Direct, ..Default::default() };
+    let params = SpectrumParams {
+        kmax: 40,
+        realizations: 1,
+        engine: Engine::Direct,
+        ..Default::default()
+    };
     let spectrum = estimate_from_sets(std::slice::from_ref(&pattern), &params).unwrap();
     let exact = predict_lattice(&g, LatticeSource::Estimated(&spectrum.lattice), 64, 40).unwrap();
-    let mc = McParams { patterns: 20, shifts: 500, seed: 1, ..Default::default() };
+    let mc = McParams {
+        patterns: 20,
+        shifts: 500,
+        seed: 1,
+        ..Default::default()
+    };
     let r = empirical_variance(&OnePattern(pattern), &g, 64, &mc).unwrap();
-    assert!(r.ci_low <= exact.variance && exact.variance <= r.ci_high, "{r:?} vs {}", exact.variance);
+    assert!(
+        r.ci_low <= exact.variance && exact.variance <= r.ci_high,
+        "{r:?} vs {}",
+        exact.variance
+    );
     assert_eq!((r.patterns, r.shifts, r.trials), (20, 500, 10000));
 }
 
 #[test]
 fn fixed_patterns_have_the_bias_of_their_spectrum() {
     let g = Gaussian::new(0.1, vec![0.5, 0.5], 1.0).unwrap();
-    let params = McParams { patterns: 10, homogenize: false, ..Default::default() };
+    let params = McParams {
+        patterns: 10,
+        homogenize: false,
+        ..Default::default()
+    };
     let r = empirical_variance(&Regular::new(2).unwrap(), &g, 16, &params).unwrap();
     let (bias, _) = regular_grid_bias(&g, 16).unwrap();
     // Every trial uses the same grid: no variance, and the bias of its spectrum (up to the
@@ -86,8 +123,16 @@ fn fixed_patterns_have_the_bias_of_their_spectrum() {
 fn fixed_jitter_differs_from_homogenized_jitter() {
     // SPEC: fixed jitter is luckier for a centred disk at small N.
     let f = disk();
-    let fixed = McParams { patterns: 20000, homogenize: false, seed: 2, ..Default::default() };
-    let shifted = McParams { homogenize: true, ..fixed };
+    let fixed = McParams {
+        patterns: 20000,
+        homogenize: false,
+        seed: 2,
+        ..Default::default()
+    };
+    let shifted = McParams {
+        homogenize: true,
+        ..fixed
+    };
     let a = empirical_variance(&Jitter::new(2).unwrap(), &f, 16, &fixed).unwrap();
     let b = empirical_variance(&Jitter::new(2).unwrap(), &f, 16, &shifted).unwrap();
     assert!(a.ci_high < b.ci_low, "fixed {a:?} homogenized {b:?}");
@@ -95,11 +140,21 @@ fn fixed_jitter_differs_from_homogenized_jitter() {
 
 #[test]
 fn results_do_not_depend_on_thread_count() {
-    let params = McParams { patterns: 500, seed: 9, ..Default::default() };
+    let params = McParams {
+        patterns: 500,
+        seed: 9,
+        ..Default::default()
+    };
     let f = disk();
     let s = PoissonDisk::new(2).unwrap();
-    let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
-    let two = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap();
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap();
+    let two = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap();
     let a = one.install(|| empirical_variance(&s, &f, 32, &params).unwrap());
     let b = two.install(|| empirical_variance(&s, &f, 32, &params).unwrap());
     assert_eq!(a, b);
@@ -108,7 +163,12 @@ fn results_do_not_depend_on_thread_count() {
 #[test]
 fn shared_patterns_give_the_same_numbers_as_single_runs() {
     let (f, g) = (disk(), Gaussian::new(0.1, vec![0.5, 0.5], 1.0).unwrap());
-    let params = McParams { patterns: 300, shifts: 3, seed: 4, ..Default::default() };
+    let params = McParams {
+        patterns: 300,
+        shifts: 3,
+        seed: 4,
+        ..Default::default()
+    };
     let s = Jitter::new(2).unwrap();
     let both = empirical_variances(&s, &[&f, &g], 16, &params, &|| {}).unwrap();
     assert_eq!(both[0], empirical_variance(&s, &f, 16, &params).unwrap());
@@ -121,7 +181,26 @@ fn bad_monte_carlo_requests_are_errors() {
     let s = Random::new(3).unwrap();
     assert!(empirical_variance(&s, &f, 16, &McParams::default()).is_err());
     let s2 = Random::new(2).unwrap();
-    assert!(empirical_variance(&s2, &f, 16, &McParams { patterns: 1, ..Default::default() }).is_err());
-    assert!(empirical_variance(&s2, &f, 16, &McParams { shifts: 2, homogenize: false, ..Default::default() }).is_err());
+    assert!(empirical_variance(
+        &s2,
+        &f,
+        16,
+        &McParams {
+            patterns: 1,
+            ..Default::default()
+        }
+    )
+    .is_err());
+    assert!(empirical_variance(
+        &s2,
+        &f,
+        16,
+        &McParams {
+            shifts: 2,
+            homogenize: false,
+            ..Default::default()
+        }
+    )
+    .is_err());
     assert!(empirical_variance(&Jitter::new(2).unwrap(), &f, 15, &McParams::default()).is_err());
 }

@@ -47,7 +47,12 @@ fn crossover_of_two_power_laws() {
 
 #[test]
 fn alpha_of_jitter_and_white_noise() {
-    let params = SpectrumParams { kmax: 128, realizations: 32, seed: 1, ..Default::default() };
+    let params = SpectrumParams {
+        kmax: 128,
+        realizations: 32,
+        seed: 1,
+        ..Default::default()
+    };
     let jitter = estimate(&Jitter::new(2).unwrap(), 4096, &params).unwrap();
     let fit = fit_alpha(&jitter.radial, 0.0, 0.3).unwrap();
     assert!((fit.slope - 2.0).abs() < 0.15, "{fit:?}");
@@ -62,7 +67,11 @@ fn measured_jitter_slope_agrees_with_the_predicted_slope() {
     // Monte Carlo slope's 99% interval must contain the exact one.
     let f = Ball::new(0.25, vec![0.5, 0.5], 1.0).unwrap();
     let ns = [16usize, 64, 256, 1024];
-    let params = McParams { patterns: 4000, seed: 12, ..Default::default() };
+    let params = McParams {
+        patterns: 4000,
+        seed: 12,
+        ..Default::default()
+    };
     let mut mc = Vec::new();
     let mut rel = Vec::new();
     let mut exact = Vec::new();
@@ -70,11 +79,18 @@ fn measured_jitter_slope_agrees_with_the_predicted_slope() {
         let r = empirical_variance(&Jitter::new(2).unwrap(), &f, n, &params).unwrap();
         rel.push((r.ci_high / r.ci_low).ln() / (2.0 * Z_99));
         mc.push(r.variance);
-        exact.push(predict_lattice(&f, LatticeSource::Closed(ClosedForm::Jitter), n, 400).unwrap().variance);
+        exact.push(
+            predict_lattice(&f, LatticeSource::Closed(ClosedForm::Jitter), n, 400)
+                .unwrap()
+                .variance,
+        );
     }
     let x: Vec<f64> = ns.iter().map(|&n| n as f64).collect();
     let measured = loglog_slope(&x, &mc, Some(&rel)).unwrap();
     let predicted = loglog_slope(&x, &exact, None).unwrap().slope;
-    assert!(measured.ci.0 <= predicted && predicted <= measured.ci.1, "{measured:?} vs {predicted}");
+    assert!(
+        measured.ci.0 <= predicted && predicted <= measured.ci.1,
+        "{measured:?} vs {predicted}"
+    );
     assert!((predicted + 1.5).abs() < 0.05);
 }

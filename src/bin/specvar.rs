@@ -31,6 +31,10 @@ enum Command {
     Bias(cli::BiasArgs),
     /// Reproduce the talk's table with predictions, Monte Carlo, plots and report.md.
     Report(cli::ReportArgs),
+    /// Monte Carlo variance of the estimator, with a 99% interval.
+    Mc(cli::McArgs),
+    /// Convergence rates: theory, predicted from spectra, measured by Monte Carlo.
+    Rates(cli::RatesArgs),
 }
 
 fn main() -> ExitCode {
@@ -55,6 +59,8 @@ fn main() -> ExitCode {
         Some(Command::Predict(a)) => cli::predict(&a),
         Some(Command::Bias(a)) => cli::bias(&a),
         Some(Command::Report(a)) => cli::report(&a),
+        Some(Command::Mc(a)) => cli::mc(&a),
+        Some(Command::Rates(a)) => cli::rates(&a),
         None => cli::default_job(),
     };
     match result {

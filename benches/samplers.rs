@@ -1,0 +1,49 @@
+//! Sampler speed: Poisson disk (target ≤ 20 ms for 4096 points in 2D) and CCVT (≤ 1 s for
+//! 1024, ≤ 10 s for 4096). Run: `cargo bench --bench samplers`.
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use specvar::sampler::{Ccvt, Jitter, PoissonDisk, PoissonMethod, Random, Sampler};
+use std::hint::black_box;
+use std::time::Duration;
+
+fn samplers(c: &mut Criterion) {
+    let mut g = c.benchmark_group("samplers_2d");
+    g.sample_size(20);
+    let dart = PoissonDisk::new(2).unwrap();
+    let bridson = PoissonDisk::new(2)
+        .unwrap()
+        .with_method(PoissonMethod::Bridson);
+    let mut r = 0u64;
+    g.bench_function("poisson_dart_4096", |b| {
+        b.iter(|| {
+            r += 1;
+            black_box(dart.sample(4096, 1, r).unwrap())
+        })
+    });
+    g.bench_function("poisson_bridson_4096", |b| {
+        b.iter(|| {
+            r += 1;
+            black_box(bridson.sample(4096, 1, r).unwrap())
+        })
+    });
+    g.bench_function("jitter_4096", |b| {
+        b.iter(|| black_box(Jitter::new(2).unwrap().sample(4096, 1, 0).unwrap()))
+    });
+    g.bench_function("random_4096", |b| {
+        b.iter(|| black_box(Random::new(2).unwrap().sample(4096, 1, 0).unwrap()))
+    });
+    g.finish();
+    let mut g = c.benchmark_group("ccvt_2d");
+    g.sample_size(10).measurement_time(Duration::from_secs(20));
+    let ccvt = Ccvt::new(2).unwrap();
+    g.bench_function("ccvt_1024", |b| {
+        b.iter(|| black_box(ccvt.sample(1024, 1, 0).unwrap()))
+    });
+    g.bench_function("ccvt_4096", |b| {
+        b.iter(|| black_box(ccvt.sample(4096, 1, 0).unwrap()))
+    });
+    g.finish();
+}
+
+criterion_group!(benches, samplers);
+criterion_main!(benches);
