@@ -326,9 +326,9 @@ fn format_lattice(spectrum: &crate::spectrum::LatticeSpectrum, json: bool) -> Re
     Ok(out)
 }
 
-/// Arguments of `specvar predict`.
+/// The integration problem shared by `predict` and `mc`.
 #[derive(Debug, Args)]
-pub struct PredictArgs {
+pub struct Problem {
     /// Sampler name.
     #[arg(long, short = 's')]
     pub sampler: String,
@@ -341,6 +341,27 @@ pub struct PredictArgs {
     /// Dimension (1 to 3).
     #[arg(short = 'd', default_value_t = 2)]
     pub dimension: usize,
+}
+
+impl Problem {
+    /// The sampler (fixed; the callers homogenize) and the integrand.
+    ///
+    /// # Errors
+    /// An unknown sampler, a bad integrand spec, or an unsupported dimension or N.
+    pub fn build(&self) -> Result<(Box<dyn Sampler>, Box<dyn crate::integrand::Integrand>)> {
+        let f = crate::integrand::parse_integrand(&self.integrand)?.build(self.dimension)?;
+        let sampler = build_sampler(&self.sampler, self.dimension, false)?;
+        sampler.check_count(self.n)?;
+        Ok((sampler, f))
+    }
+}
+
+/// Arguments of `specvar predict`.
+#[derive(Debug, Args)]
+pub struct PredictArgs {
+    /// Sampler, integrand, N and dimension.
+    #[command(flatten)]
+    pub problem: Problem,
     /// Spectrum source: closed (random and jitter only) or estimated.
     #[arg(long, default_value = "estimated")]
     pub spectrum: String,
@@ -407,10 +428,15 @@ pub fn predict(args: &PredictArgs) -> Result<()> {
         predict_lattice, predict_polar, LatticeSource, PolarParams, SpectrumSource,
     };
     use crate::spectrum::{estimate, ClosedForm, Engine, SpectrumParams};
-    let f = crate::integrand::parse_integrand(&args.integrand)?.build(args.dimension)?;
-    let sampler = build_sampler(&args.sampler, args.dimension, false)?;
-    sampler.check_count(args.n)?;
-    let closed = match args.sampler.as_str() {
+    let (sampler, f) = args.problem.build()?;
+    let Problem {
+        sampler: name,
+        n,
+        dimension,
+        ..
+    } = &args.problem;
+    let (n, dimension) = (*n, *dimension);
+    let closed = match name.as_str() {
         "random" => Some(ClosedForm::WhiteNoise),
         "jitter" => Some(ClosedForm::Jitter),
         _ => None,
@@ -420,19 +446,18 @@ pub fn predict(args: &PredictArgs) -> Result<()> {
             let c = closed.ok_or_else(|| {
                 crate::error::invalid(
                     "spectrum",
-                    format!("closed for {}", args.sampler),
+                    format!("closed for {}", name),
                     "closed forms exist for random and jitter; use --spectrum estimated",
                 )
             })?;
             let polar = predict_polar(
                 f.as_ref(),
                 SpectrumSource::Closed(c),
-                args.n,
+                n,
                 &PolarParams::default(),
             )?;
-            let kmax = (8.0 * (args.n as f64).powf(1.0 / args.dimension as f64)).ceil() as usize;
-            let lattice =
-                predict_lattice(f.as_ref(), LatticeSource::Closed(c), args.n, kmax.max(64))?;
+            let kmax = (8.0 * (n as f64).powf(1.0 / dimension as f64)).ceil() as usize;
+            let lattice = predict_lattice(f.as_ref(), LatticeSource::Closed(c), n, kmax.max(64))?;
             (polar, Some(lattice))
         }
         "estimated" => {
@@ -444,19 +469,17 @@ pub fn predict(args: &PredictArgs) -> Result<()> {
                     .collect();
                 return Err(crate::error::invalid(
                     "sampler",
-                    &args.sampler,
+                    name,
                     format!(
                         "a scale-invariant sampler for a rescaled spectrum: {}",
                         invariant.join(", ")
                     ),
                 ));
             }
-            let n_ref = args
-                .reference_n
-                .unwrap_or(default_reference_n(args.dimension));
+            let n_ref = args.reference_n.unwrap_or(default_reference_n(dimension));
             sampler.check_count(n_ref)?;
             let params = SpectrumParams {
-                kmax: default_kmax(n_ref, args.dimension),
+                kmax: default_kmax(n_ref, dimension),
                 realizations: args.realizations,
                 seed: args.seed,
                 engine: Engine::Auto,
@@ -464,21 +487,21 @@ pub fn predict(args: &PredictArgs) -> Result<()> {
             };
             let progress = crate::progress::spinner(format!(
                 "estimating the {} spectrum at N = {n_ref}",
-                args.sampler
+                name
             ));
             let est = estimate(sampler.as_ref(), n_ref, &params)?;
             progress.finish_and_clear();
             let polar = predict_polar(
                 f.as_ref(),
                 SpectrumSource::Estimated(&est.radial),
-                args.n,
+                n,
                 &PolarParams::default(),
             )?;
-            let lattice = if n_ref == args.n {
+            let lattice = if n_ref == n {
                 Some(predict_lattice(
                     f.as_ref(),
                     LatticeSource::Estimated(&est.lattice),
-                    args.n,
+                    n,
                     params.kmax,
                 )?)
             } else {
@@ -496,10 +519,10 @@ pub fn predict(args: &PredictArgs) -> Result<()> {
     };
     if args.json {
         let doc = serde_json::json!({
-            "sampler": args.sampler,
+            "sampler": name,
             "integrand": f.label(),
-            "n": args.n,
-            "dimension": args.dimension,
+            "n": n,
+            "dimension": dimension,
             "variance": polar.variance,
             "variance_lattice": lattice.as_ref().map(|l| l.variance),
             "dc_term": polar.dc_term,
@@ -511,7 +534,7 @@ pub fn predict(args: &PredictArgs) -> Result<()> {
     } else {
         println!(
             "sampler      {} (homogenized), N = {}, d = {}",
-            args.sampler, args.n, args.dimension
+            name, n, dimension
         );
         println!("integrand    {}", f.label());
         println!("spectrum     {}", polar.spectrum_source);
@@ -628,18 +651,9 @@ pub fn report(args: &ReportArgs) -> Result<()> {
 /// Arguments of `specvar mc`.
 #[derive(Debug, Args)]
 pub struct McArgs {
-    /// Sampler name.
-    #[arg(long, short = 's')]
-    pub sampler: String,
-    /// Integrand spec.
-    #[arg(long, short = 'f', default_value = "disk")]
-    pub integrand: String,
-    /// Points per pattern.
-    #[arg(short = 'n')]
-    pub n: usize,
-    /// Dimension (1 to 3).
-    #[arg(short = 'd', default_value_t = 2)]
-    pub dimension: usize,
+    /// Sampler, integrand, N and dimension.
+    #[command(flatten)]
+    pub problem: Problem,
     /// Trials (independent patterns, or patterns × shifts with --shifts).
     #[arg(long, short = 't', default_value_t = 10000)]
     pub trials: usize,
@@ -663,8 +677,11 @@ pub struct McArgs {
 /// Bad arguments.
 pub fn mc(args: &McArgs) -> Result<()> {
     use crate::montecarlo::{empirical_variance_with, McParams};
-    let f = crate::integrand::parse_integrand(&args.integrand)?.build(args.dimension)?;
-    let sampler = build_sampler(&args.sampler, args.dimension, false)?;
+    let (sampler, f) = args.problem.build()?;
+    let Problem {
+        sampler: name, n, ..
+    } = &args.problem;
+    let n = *n;
     if args.shifts == 0 || args.trials < 2 * args.shifts {
         return Err(crate::error::invalid(
             "trials",
@@ -678,19 +695,14 @@ pub fn mc(args: &McArgs) -> Result<()> {
         seed: args.seed,
         homogenize: !args.fixed,
     };
-    let bar = crate::progress::bar(
-        params.patterns as u64,
-        format!("monte carlo: {}", args.sampler),
-    );
-    let r = empirical_variance_with(sampler.as_ref(), f.as_ref(), args.n, &params, &|| {
-        bar.inc(1)
-    })?;
+    let bar = crate::progress::bar(params.patterns as u64, format!("monte carlo: {}", name));
+    let r = empirical_variance_with(sampler.as_ref(), f.as_ref(), n, &params, &|| bar.inc(1))?;
     bar.finish_and_clear();
     if args.json {
         let doc = serde_json::json!({
-            "sampler": args.sampler,
+            "sampler": name,
             "integrand": f.label(),
-            "n": args.n,
+            "n": n,
             "trials": r.trials,
             "patterns": r.patterns,
             "shifts": r.shifts,
@@ -706,13 +718,13 @@ pub fn mc(args: &McArgs) -> Result<()> {
     } else {
         println!(
             "{} ({}), N = {}, {} on {}",
-            args.sampler,
+            name,
             if r.homogenized {
                 "homogenized"
             } else {
                 "fixed"
             },
-            args.n,
+            n,
             if r.shifts > 1 {
                 format!("{} patterns × {} shifts", r.patterns, r.shifts)
             } else {

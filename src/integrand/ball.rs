@@ -1,6 +1,6 @@
 //! The ball (the disk in 2D, an interval in 1D) of constant height.
 
-use super::{check_centre, shift_phase, unit_ball_volume, Integrand};
+use super::{check_parameters, shift_phase, unit_ball_volume, Integrand};
 use crate::error::{invalid, Result};
 use num_complex::Complex64;
 use std::f64::consts::PI;
@@ -33,17 +33,7 @@ impl Ball {
     /// assert!(Ball::new(0.3, vec![0.2, 0.5], 1.0).is_err()); // sticks out of the square
     /// ```
     pub fn new(radius: f64, centre: Vec<f64>, height: f64) -> Result<Self> {
-        let d = centre.len();
-        if !(1..=3).contains(&d) {
-            return Err(invalid("dimension", d, "1 to 3 for a ball"));
-        }
-        if !(radius.is_finite() && radius > 0.0) {
-            return Err(invalid("radius", radius, "positive and finite"));
-        }
-        if !height.is_finite() {
-            return Err(invalid("height", height, "finite"));
-        }
-        check_centre(&centre, d)?;
+        check_parameters("ball", "radius", radius, &centre, height)?;
         if centre.iter().any(|&c| c - radius < 0.0 || c + radius > 1.0) {
             return Err(invalid(
                 "radius",

@@ -1,7 +1,7 @@
 //! The isotropic Gaussian.
 
-use super::{check_centre, shift_phase, Integrand};
-use crate::error::{invalid, Result};
+use super::{check_parameters, shift_phase, Integrand};
+use crate::error::Result;
 use num_complex::Complex64;
 use std::f64::consts::PI;
 
@@ -33,17 +33,7 @@ impl Gaussian {
     /// assert!((g.integral() - 2.0 * std::f64::consts::PI * 0.01).abs() < 1e-7);
     /// ```
     pub fn new(sigma: f64, centre: Vec<f64>, height: f64) -> Result<Self> {
-        let d = centre.len();
-        if !(1..=3).contains(&d) {
-            return Err(invalid("dimension", d, "1 to 3 for a Gaussian"));
-        }
-        if !(sigma.is_finite() && sigma > 0.0) {
-            return Err(invalid("sigma", sigma, "positive and finite"));
-        }
-        if !height.is_finite() {
-            return Err(invalid("height", height, "finite"));
-        }
-        check_centre(&centre, d)?;
+        check_parameters("Gaussian", "sigma", sigma, &centre, height)?;
         Ok(Self {
             sigma,
             centre,

@@ -68,6 +68,28 @@ pub fn unit_ball_volume(d: usize) -> f64 {
     PI.powf(d as f64 / 2.0) / Gamma::gamma(d as f64 / 2.0 + 1.0)
 }
 
+/// Validates the parameters every integrand shares: dimension 1 to 3 (the centre's length), a
+/// positive finite scale (`scale_name`: radius or σ), a finite height, a centre in the cube.
+pub(crate) fn check_parameters(
+    kind: &str,
+    scale_name: &'static str,
+    scale: f64,
+    centre: &[f64],
+    height: f64,
+) -> Result<()> {
+    let d = centre.len();
+    if !(1..=3).contains(&d) {
+        return Err(invalid("dimension", d, format!("1 to 3 for a {kind}")));
+    }
+    if !(scale.is_finite() && scale > 0.0) {
+        return Err(invalid(scale_name, scale, "positive and finite"));
+    }
+    if !height.is_finite() {
+        return Err(invalid("height", height, "finite"));
+    }
+    check_centre(centre, d)
+}
+
 /// Validates a centre: `d` coordinates in `[0, 1]`.
 pub(crate) fn check_centre(centre: &[f64], d: usize) -> Result<()> {
     if centre.len() != d || centre.iter().any(|c| !(0.0..=1.0).contains(c)) {
