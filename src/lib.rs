@@ -29,12 +29,38 @@
 //! `P̆_f(ρ) ~ ρ^{-β}`, the variance falls like `N^{-1 - min(α, β - d)/d}`: jitter (α = 2) on a
 //! disk (β = 3) in 2D converges as `N^{-1.5}`, on a Gaussian as `N^{-2}`.
 //!
-//! ## Example
+//! ## Map of the crate
+//!
+//! - [`sampler`]: ten samplers behind one [`Sampler`] trait, keyed by (seed, realization);
+//!   [`sampler::Homogenized`] adds the random shift.
+//! - [`pointset`] and [`io`]: point sets and their files (UTK text, JSON).
+//! - [`spectrum`]: periodograms (direct and NUFFT engines), expected and radial spectra,
+//!   closed forms.
+//! - [`integrand`]: balls and Gaussians with closed-form transforms.
+//! - [`predict`]: polar and lattice variance, the DC term, bias of fixed patterns.
+//! - [`montecarlo`]: empirical variance with 99% intervals, pools for slow samplers.
+//! - [`rate`]: theoretical, predicted and measured convergence rates.
+//! - [`report`]: the reproduction report that `cargo run --release` writes.
+//!
+//! ## Example: predict, then check
 //! ```
-//! use specvar::sampler::{Homogenized, Jitter, Sampler};
-//! let jitter = Homogenized::new(Jitter::new(2).unwrap());
-//! let points = jitter.sample(64, 42, 0).unwrap();
-//! assert_eq!(points.len(), 64);
+//! use specvar::integrand::{Ball, Integrand};
+//! use specvar::montecarlo::{empirical_variance, McParams};
+//! use specvar::predict::{predict_polar, PolarParams, SpectrumSource};
+//! use specvar::sampler::Jitter;
+//! use specvar::spectrum::{estimate, SpectrumParams};
+//!
+//! let disk = Ball::new(0.25, vec![0.5, 0.5], 1.0)?;
+//! let jitter = Jitter::new(2)?;
+//! // The spectrum, once, at a reference N; it serves every N through ν = ρ/√N.
+//! let params = SpectrumParams { kmax: 96, realizations: 16, ..Default::default() };
+//! let spectrum = estimate(&jitter, 1024, &params)?;
+//! let predicted = predict_polar(&disk, SpectrumSource::Estimated(&spectrum.radial), 64, &PolarParams::default())?;
+//! // Monte Carlo of the homogenized estimator at N = 64.
+//! let measured = empirical_variance(&jitter, &disk, 64, &McParams { patterns: 4000, ..Default::default() })?;
+//! let band = 3.0 * predicted.spectrum_stderr;
+//! assert!(predicted.variance + band > measured.ci_low && predicted.variance - band < measured.ci_high);
+//! # Ok::<(), specvar::Error>(())
 //! ```
 
 #![warn(missing_docs)]

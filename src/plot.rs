@@ -26,6 +26,8 @@ pub struct Series {
     pub bars: Option<Vec<(f64, f64)>>,
     /// Line or markers.
     pub style: Style,
+    /// Palette index; series of one sampler share it.
+    pub color: usize,
 }
 
 /// Axis scales and labels of a line plot.
@@ -95,7 +97,7 @@ pub fn line_plot(path: &Path, axes: &Axes, series: &[Series]) -> Result<()> {
         .caption(&axes.title, ("sans-serif", 18))
         .margin(12)
         .x_label_area_size(42)
-        .y_label_area_size(64);
+        .y_label_area_size(72);
     // plotters types a log axis differently from a linear one: four cases, one drawing routine.
     match (axes.log_x, axes.log_y) {
         (true, true) => {
@@ -139,10 +141,12 @@ where
         .configure_mesh()
         .x_desc(axes.x_label.as_str())
         .y_desc(axes.y_label.as_str())
+        .x_label_formatter(&|v| tick(*v))
+        .y_label_formatter(&|v| tick(*v))
         .draw()
         .map_err(plot_error)?;
-    for (i, s) in series.iter().enumerate() {
-        let color = PALETTE[i % PALETTE.len()];
+    for s in series {
+        let color = PALETTE[s.color % PALETTE.len()];
         let keep =
             |p: &(f64, f64)| p.0.is_finite() && p.1.is_finite() && (!axes.log_y || p.1 > 0.0);
         let pts: Vec<(f64, f64)> = s.points.iter().copied().filter(keep).collect();
@@ -175,6 +179,19 @@ where
         .draw()
         .map_err(plot_error)?;
     Ok(())
+}
+
+/// A short tick label: plain for moderate values, scientific otherwise.
+fn tick(v: f64) -> String {
+    let a = v.abs();
+    if v == 0.0 {
+        "0".into()
+    } else if !(1e-2..1e4).contains(&a) {
+        format!("{v:.0e}")
+    } else {
+        let text = format!("{v:.3}");
+        text.trim_end_matches('0').trim_end_matches('.').to_string()
+    }
 }
 
 /// Encodes a `width × height` grid of values (row-major, top row first) as a grayscale PNG on

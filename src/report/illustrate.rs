@@ -18,7 +18,7 @@ pub struct Illustration {
     pub grid_spectrum: Vec<(i64, f64)>,
     /// The integrand.
     pub integrand: String,
-    /// `(k, |f̂(k)|²)` on a fine grid of real k.
+    /// `(k, |f̂(k)|²)` on a fine grid of real `|k| ≤ 24` (beyond, below 1e-16 of the peak).
     pub integrand_spectrum: Vec<(f64, f64)>,
     /// `(N, error from the spectrum Σ f̂(Nq)* Ŝ(Nq), error μ_N - I measured directly)`.
     pub errors: Vec<(usize, f64, f64)>,
@@ -39,9 +39,9 @@ pub fn compute() -> Result<Illustration> {
         .map(|(i, &v)| (i as i64 - kmax as i64, v))
         .collect();
     let f = Gaussian::new(0.05, vec![0.5], 1.0)?;
-    let integrand_spectrum = (0..=480)
+    let integrand_spectrum = (0..=240)
         .map(|i| {
-            let k = -48.0 + 0.2 * i as f64;
+            let k = -24.0 + 0.2 * i as f64;
             (k, f.fourier(&[k]).norm_sqr())
         })
         .collect();

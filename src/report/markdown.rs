@@ -42,7 +42,7 @@ fn file_stem(label: &str) -> &'static str {
 fn variance_plots(dir: &Path, report: &Report, fs: &[&dyn Integrand]) -> Result<()> {
     for (j, f) in fs.iter().enumerate() {
         let mut series = Vec::new();
-        for s in &report.samplers {
+        for (color, s) in report.samplers.iter().enumerate() {
             let ns = report.ns.iter().map(|&n| n as f64);
             series.push(Series {
                 label: format!("{} predicted", s.sampler),
@@ -52,6 +52,7 @@ fn variance_plots(dir: &Path, report: &Report, fs: &[&dyn Integrand]) -> Result<
                     .collect(),
                 bars: None,
                 style: Style::Line,
+                color,
             });
             series.push(Series {
                 label: format!("{} Monte Carlo (99%)", s.sampler),
@@ -63,10 +64,9 @@ fn variance_plots(dir: &Path, report: &Report, fs: &[&dyn Integrand]) -> Result<
                         .collect(),
                 ),
                 style: Style::Points,
+                color,
             });
         }
-        // Pair each sampler's curve and points in one colour: the plot cycles colours per
-        // series, so interleave a colour index by drawing order.
         let axes = Axes {
             title: format!("variance of the homogenized estimator, {}", f.label()),
             x_label: "N".into(),
@@ -87,11 +87,13 @@ fn spectrum_plots(dir: &Path, report: &Report, estimates: &[SpectrumEstimate]) -
     let series: Vec<Series> = report
         .samplers
         .iter()
-        .map(|s| Series {
+        .enumerate()
+        .map(|(color, s)| Series {
             label: s.sampler.clone(),
             points: s.spectrum.bins.iter().map(|b| (b.nu, b.power)).collect(),
             bars: None,
             style: Style::Line,
+            color,
         })
         .collect();
     let axes = Axes {
@@ -134,6 +136,7 @@ fn illustration_plots(dir: &Path, report: &Report) -> Result<()> {
             .collect(),
         bars: None,
         style: Style::Points,
+        color: 0,
     };
     let axes = Axes {
         title: format!(
@@ -151,6 +154,7 @@ fn illustration_plots(dir: &Path, report: &Report) -> Result<()> {
         points: ill.integrand_spectrum.clone(),
         bars: None,
         style: Style::Line,
+        color: 1,
     };
     let replicas = Series {
         label: format!("replica positions for N = {}", ill.grid_n),
@@ -165,6 +169,7 @@ fn illustration_plots(dir: &Path, report: &Report) -> Result<()> {
             .collect(),
         bars: None,
         style: Style::Points,
+        color: 2,
     };
     let axes = Axes {
         title: "1D: the integrand's power spectrum |f̂(k)|² and where the replicas sample it".into(),
@@ -187,6 +192,7 @@ fn illustration_plots(dir: &Path, report: &Report) -> Result<()> {
             .collect(),
         bars: None,
         style: Style::Line,
+        color: 3,
     };
     let direct = Series {
         label: "|μ_N - I| measured".into(),
@@ -197,6 +203,7 @@ fn illustration_plots(dir: &Path, report: &Report) -> Result<()> {
             .collect(),
         bars: None,
         style: Style::Points,
+        color: 4,
     };
     let axes = Axes {
         title: "1D: the error grows as the replicas reach DC (N falls)".into(),

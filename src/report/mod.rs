@@ -52,6 +52,7 @@ pub fn plot_spectrum(path: &Path, label: &str, est: &SpectrumEstimate, radial: b
             points,
             bars,
             style: Style::Line,
+            color: 0,
         };
         let axes = Axes {
             title: format!("radial power spectrum, {title}"),
