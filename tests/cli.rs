@@ -1,0 +1,167 @@
+//! The command line: exit codes, one-line errors, output formats and JSON keys.
+
+use std::process::Command;
+
+fn specvar(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_specvar"))
+        .args(args)
+        .output()
+        .expect("the binary runs");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn json(text: &str) -> serde_json::Value {
+    serde_json::from_str(text.trim()).expect("valid JSON")
+}
+
+#[test]
+fn bad_input_prints_one_line_and_exits_2() {
+    for args in [
+        vec!["sample", "-s", "jitter", "-n", "15"],
+        vec!["sample", "-s", "nope", "-n", "4"],
+        vec!["sample", "--bogus"],
+        vec!["predict", "-s", "jitter", "-n", "16", "-f", "disk:q=1"],
+        vec!["predict", "-s", "halton", "-n", "16"],
+        vec!["mc", "-s", "ccvt", "-n", "16", "-d", "5"],
+        vec!["spectrum", "--input", "/nonexistent/points.txt"],
+    ] {
+        let (code, _, err) = specvar(&args);
+        assert_eq!(code, 2, "{args:?}");
+        assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
+    }
+    let (_, _, err) = specvar(&["sample", "-s", "jitter", "-n", "15"]);
+    assert!(err.contains("9 or 16"));
+}
+
+#[test]
+fn malformed_files_report_the_line() {
+    let path = std::env::temp_dir().join("specvar_cli_bad.txt");
+    std::fs::write(&path, "0.1 0.2\n0.3 0.4\n0.5 1.5\n").unwrap();
+    let (code, _, err) = specvar(&["spectrum", "--input", path.to_str().unwrap(), "--radial"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("line 3"), "{err}");
+}
+
+#[test]
+fn sample_writes_utk_text_and_json() {
+    let (code, out, _) = specvar(&[
+        "sample",
+        "-s",
+        "jitter",
+        "-n",
+        "16",
+        "-m",
+        "2",
+        "--homogenize",
+    ]);
+    assert_eq!(code, 0);
+    let sets = specvar::io::read_text(&out).unwrap();
+    assert_eq!((sets.len(), sets[0].len()), (2, 16));
+    let (_, out, _) = specvar(&["sample", "-s", "sobol", "-n", "8", "-d", "3", "--json"]);
+    let sets = specvar::io::read_json(&out).unwrap();
+    assert_eq!((sets[0].len(), sets[0].dimension()), (8, 3));
+}
+
+#[test]
+fn json_outputs_have_the_documented_keys() {
+    let (_, out, _) = specvar(&[
+        "spectrum", "-s", "random", "-n", "64", "-m", "4", "--kmax", "8", "--radial", "--json",
+    ]);
+    let v = json(&out);
+    for key in ["n", "dimension", "realizations", "method", "bins"] {
+        assert!(v.get(key).is_some(), "radial: {key}");
+    }
+    for key in ["nu", "rho", "power", "stderr", "count", "anisotropy_db"] {
+        assert!(v["bins"][0].get(key).is_some(), "bin: {key}");
+    }
+    let (_, out, _) = specvar(&[
+        "spectrum", "-s", "random", "-n", "64", "-m", "2", "--kmax", "4", "--json",
+    ]);
+    let v = json(&out);
+    assert_eq!(v["values"].as_array().unwrap().len(), 81);
+    let (_, out, _) = specvar(&[
+        "predict",
+        "-s",
+        "jitter",
+        "-f",
+        "disk",
+        "-n",
+        "64",
+        "--spectrum",
+        "closed",
+        "--json",
+    ]);
+    let v = json(&out);
+    for key in [
+        "sampler",
+        "integrand",
+        "n",
+        "dimension",
+        "variance",
+        "variance_lattice",
+        "dc_term",
+        "spectrum_source",
+        "quadrature_error",
+    ] {
+        assert!(v.get(key).is_some(), "predict: {key}");
+    }
+    let (_, out, _) = specvar(&[
+        "mc", "-s", "jitter", "-f", "disk", "-n", "16", "--trials", "500", "--json",
+    ]);
+    let v = json(&out);
+    for key in [
+        "sampler",
+        "integrand",
+        "n",
+        "trials",
+        "variance",
+        "ci_low",
+        "ci_high",
+        "bias",
+    ] {
+        assert!(v.get(key).is_some(), "mc: {key}");
+    }
+    let (_, out, _) = specvar(&[
+        "bias", "-s", "regular", "-f", "gaussian", "-n", "16", "--json",
+    ]);
+    assert!(json(&out)["bias"].as_f64().unwrap() < 0.0);
+    let (_, out, _) = specvar(&[
+        "rates",
+        "--samplers",
+        "jitter",
+        "--integrands",
+        "gaussian",
+        "--range",
+        "16",
+        "256",
+        "--trials",
+        "300",
+        "--json",
+    ]);
+    let v = json(&out);
+    for key in [
+        "sampler",
+        "integrand",
+        "dimension",
+        "theory_rate",
+        "predicted_rate",
+        "empirical_rate",
+        "empirical_rate_ci",
+        "alpha",
+    ] {
+        assert!(v["rows"][0].get(key).is_some(), "rates: {key}");
+    }
+}
+
+#[test]
+fn samplers_lists_every_sampler() {
+    let (code, out, _) = specvar(&["samplers"]);
+    assert_eq!(code, 0);
+    for name in specvar::SamplerKind::names() {
+        assert!(out.contains(name), "{name}");
+    }
+}
