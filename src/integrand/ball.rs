@@ -1,6 +1,6 @@
 //! The ball (the disk in 2D, an interval in 1D) of constant height.
 
-use super::{check_parameters, shift_phase, unit_ball_volume, Integrand};
+use super::{check_parameters, shift_phase, squared_distance, unit_ball_volume, Integrand};
 use crate::error::{invalid, Result};
 use num_complex::Complex64;
 use std::f64::consts::PI;
@@ -111,11 +111,7 @@ impl Integrand for Ball {
         self.centre.len()
     }
     fn eval(&self, x: &[f64]) -> f64 {
-        let r2: f64 = x
-            .iter()
-            .zip(&self.centre)
-            .map(|(a, b)| (a - b) * (a - b))
-            .sum();
+        let r2 = squared_distance(x, &self.centre);
         if r2 < self.radius * self.radius {
             self.height
         } else {

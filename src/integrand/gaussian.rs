@@ -1,6 +1,6 @@
 //! The isotropic Gaussian.
 
-use super::{check_parameters, shift_phase, Integrand};
+use super::{check_parameters, shift_phase, squared_distance, Integrand};
 use crate::error::Result;
 use num_complex::Complex64;
 use std::f64::consts::PI;
@@ -67,11 +67,7 @@ impl Integrand for Gaussian {
         self.centre.len()
     }
     fn eval(&self, x: &[f64]) -> f64 {
-        let r2: f64 = x
-            .iter()
-            .zip(&self.centre)
-            .map(|(a, b)| (a - b) * (a - b))
-            .sum();
+        let r2 = squared_distance(x, &self.centre);
         self.height * (-r2 / (2.0 * self.sigma * self.sigma)).exp()
     }
     fn integral(&self) -> f64 {

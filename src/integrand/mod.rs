@@ -102,6 +102,11 @@ pub(crate) fn check_centre(centre: &[f64], d: usize) -> Result<()> {
     Ok(())
 }
 
+/// `|x - centre|²` (Euclidean, not toroidal: integrands live on the cube).
+pub(crate) fn squared_distance(x: &[f64], centre: &[f64]) -> f64 {
+    x.iter().zip(centre).map(|(a, b)| (a - b) * (a - b)).sum()
+}
+
 /// The phase factor `e^{-2πi ω·x0}` of a shift to `x0`.
 pub(crate) fn shift_phase(omega: &[f64], centre: &[f64]) -> Complex64 {
     let phase: f64 = omega.iter().zip(centre).map(|(w, c)| w * c).sum();
