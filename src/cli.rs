@@ -556,18 +556,17 @@ pub fn predict(args: &PredictArgs) -> Result<()> {
 /// Bad arguments.
 pub fn bias(args: &BiasArgs) -> Result<()> {
     let f = crate::integrand::parse_integrand(&args.integrand)?.build(args.dimension)?;
+    // One fixed pattern serves both the spectral bias and the direct check.
+    let points =
+        build_sampler(&args.sampler, args.dimension, false)?.sample(args.n, args.seed, 0)?;
     let (bias, truncation, method) = if args.sampler == "regular" {
         let (b, t) = crate::predict::regular_grid_bias(f.as_ref(), args.n)?;
         (b, t, "exact regular-grid spectrum")
     } else {
-        let sampler = build_sampler(&args.sampler, args.dimension, false)?;
-        let points = sampler.sample(args.n, args.seed, 0)?;
         let b = crate::predict::bias_of_pattern(f.as_ref(), &points, args.kmax)?;
         (b, f64::NAN, "lattice sum over realization 0")
     };
-    let points =
-        build_sampler(&args.sampler, args.dimension, false)?.sample(args.n, args.seed, 0)?;
-    let mu = points.points().map(|x| f.eval(x)).sum::<f64>() / args.n as f64;
+    let mu = crate::montecarlo::estimate_integral(f.as_ref(), &points);
     let direct = mu - f.integral();
     if args.json {
         let doc = serde_json::json!({
