@@ -461,7 +461,8 @@ pub fn predict(args: &PredictArgs) -> Result<()> {
             (polar, Some(lattice))
         }
         "estimated" => {
-            if !sampler.is_scale_invariant() {
+            let n_ref = args.reference_n.unwrap_or(default_reference_n(dimension));
+            if n_ref != n && !sampler.is_scale_invariant_at(n) {
                 let invariant: Vec<&str> = SamplerKind::ALL
                     .iter()
                     .filter(|k| k.build(2).is_ok_and(|s| s.is_scale_invariant()))
@@ -471,12 +472,12 @@ pub fn predict(args: &PredictArgs) -> Result<()> {
                     "sampler",
                     name,
                     format!(
-                        "a scale-invariant sampler for a rescaled spectrum: {}",
+                        "a scale-invariant sampler for a spectrum rescaled from N = {n_ref} \
+                         ({}; jitter at N = m^d), or --reference-n {n}",
                         invariant.join(", ")
                     ),
                 ));
             }
-            let n_ref = args.reference_n.unwrap_or(default_reference_n(dimension));
             sampler.check_count(n_ref)?;
             let params = SpectrumParams {
                 kmax: default_kmax(n_ref, dimension),

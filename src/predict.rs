@@ -153,6 +153,18 @@ pub fn predict_polar(
 ) -> Result<Prediction> {
     check_n(n)?;
     let d = f.dimension();
+    if let SpectrumSource::Closed(ClosedForm::Jitter) = source {
+        if crate::sampler::perfect_root(n, d).is_none() {
+            return Err(invalid(
+                "N",
+                n,
+                format!(
+                    "m^{d} for jitter's closed radial form (rectangular strata are \
+                     anisotropic: use the lattice form)"
+                ),
+            ));
+        }
+    }
     if let SpectrumSource::Estimated(r) = source {
         if r.dimension != d {
             return Err(Error::Mismatch(format!(

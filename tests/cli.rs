@@ -21,7 +21,7 @@ fn json(text: &str) -> serde_json::Value {
 #[test]
 fn bad_input_prints_one_line_and_exits_2() {
     for args in [
-        vec!["sample", "-s", "jitter", "-n", "15"],
+        vec!["sample", "-s", "jitter", "-n", "17"],
         vec!["sample", "-s", "nope", "-n", "4"],
         vec!["sample", "--bogus"],
         vec!["predict", "-s", "jitter", "-n", "16", "-f", "disk:q=1"],
@@ -33,8 +33,8 @@ fn bad_input_prints_one_line_and_exits_2() {
         assert_eq!(code, 2, "{args:?}");
         assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
     }
-    let (_, _, err) = specvar(&["sample", "-s", "jitter", "-n", "15"]);
-    assert!(err.contains("9 or 16"));
+    let (_, _, err) = specvar(&["sample", "-s", "jitter", "-n", "17"]);
+    assert!(err.contains("16 or 18"), "{err}");
 }
 
 #[test]

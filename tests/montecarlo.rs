@@ -202,5 +202,5 @@ fn bad_monte_carlo_requests_are_errors() {
         }
     )
     .is_err());
-    assert!(empirical_variance(&Jitter::new(2).unwrap(), &f, 15, &McParams::default()).is_err());
+    assert!(empirical_variance(&Jitter::new(2).unwrap(), &f, 17, &McParams::default()).is_err());
 }

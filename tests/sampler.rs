@@ -105,9 +105,22 @@ fn jitter_puts_one_point_in_each_stratum() {
 }
 
 #[test]
+fn jitter_stratifies_96_points_as_12_by_8() {
+    let p = Jitter::new(2).unwrap().sample(96, 5, 2).unwrap();
+    let mut counts = [[0; 8]; 12];
+    for x in p.points() {
+        counts[(x[0] * 12.0) as usize][(x[1] * 8.0) as usize] += 1;
+    }
+    assert!(counts.iter().flatten().all(|&c| c == 1));
+    assert_eq!(specvar::sampler::strata(96, 2), Some(vec![12, 8]));
+}
+
+#[test]
 fn jitter_rejects_non_powers_and_names_the_nearest() {
-    let e = Jitter::new(2).unwrap().sample(15, 0, 0).unwrap_err();
-    assert!(e.to_string().contains("9 or 16"), "{e}");
+    let e = Jitter::new(2).unwrap().sample(17, 0, 0).unwrap_err();
+    assert!(e.to_string().contains("16 or 18"), "{e}");
+    let e = Jitter::new(2).unwrap().sample(22, 0, 0).unwrap_err();
+    assert!(e.to_string().contains("20 or 24"), "{e}"); // 22 = 2 × 11 is too elongated
     let e = Jitter::new(3).unwrap().sample(30, 0, 0).unwrap_err();
     assert!(e.to_string().contains("27 or 64"), "{e}");
     assert!(matches!(e, Error::UnsupportedCount { .. }));

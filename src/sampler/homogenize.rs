@@ -59,6 +59,9 @@ impl<S: Sampler> Sampler for Homogenized<S> {
     fn is_scale_invariant(&self) -> bool {
         self.inner.is_scale_invariant()
     }
+    fn is_scale_invariant_at(&self, n: usize) -> bool {
+        self.inner.is_scale_invariant_at(n)
+    }
 }
 
 impl Sampler for Box<dyn Sampler> {
@@ -76,5 +79,8 @@ impl Sampler for Box<dyn Sampler> {
     }
     fn is_scale_invariant(&self) -> bool {
         (**self).is_scale_invariant()
+    }
+    fn is_scale_invariant_at(&self, n: usize) -> bool {
+        (**self).is_scale_invariant_at(n)
     }
 }

@@ -1,13 +1,14 @@
 //! Jittered (stratified) sampling.
 
-use super::regular::for_each_cell;
-use super::{check_perfect_power, check_supported, in_cell, uniform, Sampler};
+use super::regular::{check_strata, for_each_cell};
+use super::{check_supported, in_cell, perfect_root, uniform, Sampler};
 use crate::error::Result;
 use crate::pointset::{PointSet, MAX_DIMENSION};
 use crate::rng::{realization_rng, Stream};
 
-/// One uniform point in each cell of an `m^d` grid (`N = m^d`). Its expected power spectrum
-/// at integer `k ≠ 0` is `1 - Π_i sinc²(π k_i / m)`.
+/// One uniform point in each cell of a grid of [`super::strata`]: `N = m^d`, or in 2D a
+/// near-square `a × b` rectangle (`96 = 12 × 8`). Its expected power spectrum at integer
+/// `k ≠ 0` is `1 - Π_i sinc²(π k_i / m_i)` with `m_i` cells along axis `i`.
 #[derive(Debug, Clone, Copy)]
 pub struct Jitter {
     dimension: usize,
@@ -32,16 +33,20 @@ impl Sampler for Jitter {
         self.dimension
     }
     fn check_count(&self, n: usize) -> Result<()> {
-        check_perfect_power(self.name(), self.dimension, n).map(|_| ())
+        check_strata(self.name(), self.dimension, n).map(|_| ())
     }
     fn sample(&self, n: usize, seed: u64, realization: u64) -> Result<PointSet> {
         let d = self.dimension;
-        let m = check_perfect_power(self.name(), d, n)?;
+        let cells = check_strata(self.name(), d, n)?;
         let mut rng = realization_rng(seed, realization, Stream::Points);
         let mut coords = vec![0.0; n * d];
-        for_each_cell(m, d, |i, axis, cell| {
-            coords[i * d + axis] = in_cell(cell, uniform(&mut rng), m);
+        for_each_cell(&cells, |i, axis, cell| {
+            coords[i * d + axis] = in_cell(cell, uniform(&mut rng), cells[axis]);
         });
         Ok(PointSet::from_trusted(d, coords))
+    }
+    /// Square strata scale with N; a rectangle's spectrum is not a rescaled square one.
+    fn is_scale_invariant_at(&self, n: usize) -> bool {
+        perfect_root(n, self.dimension).is_some()
     }
 }

@@ -25,7 +25,7 @@ pub use poisson::{
     default_relative_radius, max_packing_radius, PoissonDisk, PoissonMethod, MAX_ATTEMPTS,
 };
 pub use random::Random;
-pub use regular::Regular;
+pub use regular::{strata, Regular};
 pub use sobol::Sobol;
 
 use crate::error::{Error, Result};
@@ -58,6 +58,13 @@ pub trait Sampler: Send + Sync {
     /// one spectrum estimated at a reference N serves every N.
     fn is_scale_invariant(&self) -> bool {
         true
+    }
+
+    /// Whether the spectrum at this particular `n` is the common one in `ν`: jitter's
+    /// rectangular strata (`96 = 12 × 8`) are not a rescaled square grid.
+    fn is_scale_invariant_at(&self, n: usize) -> bool {
+        let _ = n;
+        self.is_scale_invariant()
     }
 }
 
@@ -147,7 +154,7 @@ impl SamplerKind {
     /// The rule N must follow, in words.
     pub fn count_rule(self) -> &'static str {
         match self {
-            SamplerKind::Regular | SamplerKind::Jitter => "N = m^d",
+            SamplerKind::Regular | SamplerKind::Jitter => "N = m^d; 2D: or a×b, b<a≤2b",
             _ => "any N >= 1",
         }
     }
@@ -183,7 +190,8 @@ impl SamplerKind {
     /// let jitter = SamplerKind::Jitter.build(2).unwrap();
     /// let points = jitter.sample(16, 1, 0).unwrap();
     /// assert_eq!(points.len(), 16);
-    /// assert!(jitter.sample(15, 1, 0).is_err()); // 15 is not a square: 9 or 16
+    /// assert_eq!(jitter.sample(96, 1, 0).unwrap().len(), 96); // 12 × 8 strata
+    /// assert!(jitter.sample(17, 1, 0).is_err()); // prime: use 16 or 18
     /// ```
     pub fn build(self, d: usize) -> Result<Box<dyn Sampler>> {
         Ok(match self {
@@ -238,33 +246,6 @@ pub(crate) fn check_positive(sampler: &'static str, d: usize, n: usize) -> Resul
 pub fn perfect_root(n: usize, d: usize) -> Option<usize> {
     let guess = (n as f64).powf(1.0 / d as f64).round() as usize;
     (guess.saturating_sub(1)..=guess + 1).find(|&m| m >= 1 && m.checked_pow(d as u32) == Some(n))
-}
-
-/// Errors unless `n = m^d`; the error names the nearest perfect powers below and above.
-pub(crate) fn check_perfect_power(sampler: &'static str, d: usize, n: usize) -> Result<usize> {
-    if let Some(m) = perfect_root(n, d) {
-        return Ok(m);
-    }
-    let below = (n as f64).powf(1.0 / d as f64).floor().max(1.0) as usize;
-    let below = if below.pow(d as u32) > n {
-        below - 1
-    } else {
-        below
-    };
-    let lower = below.pow(d as u32);
-    let upper = (below + 1).pow(d as u32);
-    let nearest = if lower == 0 {
-        format!("{upper}")
-    } else {
-        format!("{lower} or {upper}")
-    };
-    Err(Error::UnsupportedCount {
-        sampler,
-        n,
-        dimension: d,
-        rule: format!("N must be m^{d} for an integer m"),
-        nearest,
-    })
 }
 
 /// A uniform draw in `[0, 1)` with 53 random bits.

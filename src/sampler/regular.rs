@@ -1,10 +1,11 @@
 //! The cell-centred regular grid.
 
-use super::{check_perfect_power, check_supported, Sampler};
-use crate::error::Result;
+use super::{check_supported, cmj::near_square_factors, perfect_root, Sampler};
+use crate::error::{Error, Result};
 use crate::pointset::{PointSet, MAX_DIMENSION};
 
-/// Points at the cell centres `(j + 1/2)/m` of an `m^d` grid. Deterministic: the seed and the
+/// Points at the cell centres of a grid of [`strata`]: `m^d` cells, or in 2D a near-square
+/// `a × b` rectangle (`96 = 12 × 8`). Deterministic: the seed and the
 /// realization are ignored, so use [`super::Homogenized`] for a randomized version.
 #[derive(Debug, Clone, Copy)]
 pub struct Regular {
@@ -22,14 +23,64 @@ impl Regular {
     }
 }
 
-/// Calls `f(point_index, axis, cell)` for the `m^d` cells of a grid, last axis fastest.
-pub(crate) fn for_each_cell(m: usize, d: usize, mut f: impl FnMut(usize, usize, usize)) {
-    let n = m.pow(d as u32);
+/// The cells per axis of a grid with `n` cells in dimension `d`: `[m; d]` when `n = m^d`; in 2D
+/// otherwise the most nearly square rectangle `a × b = n` with `b < a ≤ 2b` (`a` cells along
+/// x), so that `96 = 12 × 8`; `None` for any other `n`.
+///
+/// # Examples
+/// ```
+/// use specvar::sampler::strata;
+/// assert_eq!(strata(100, 2), Some(vec![10, 10]));
+/// assert_eq!(strata(96, 2), Some(vec![12, 8]));
+/// assert_eq!(strata(97, 2), None); // prime: only a 97 × 1 strip
+/// assert_eq!(strata(96, 3), None);
+/// ```
+pub fn strata(n: usize, d: usize) -> Option<Vec<usize>> {
+    if let Some(m) = perfect_root(n, d) {
+        return Some(vec![m; d]);
+    }
+    if d != 2 || n == 0 {
+        return None;
+    }
+    let (b, a) = near_square_factors(n);
+    (a <= 2 * b).then(|| vec![a, b])
+}
+
+/// The strata of `n` cells, or an error naming the rule and the nearest counts that have them.
+pub(crate) fn check_strata(sampler: &'static str, d: usize, n: usize) -> Result<Vec<usize>> {
+    if let Some(s) = strata(n, d) {
+        return Ok(s);
+    }
+    let below = (1..n).rev().find(|&c| strata(c, d).is_some());
+    let above = (n + 1..).find(|&c| strata(c, d).is_some());
+    let nearest = match (below, above) {
+        (Some(b), Some(a)) => format!("{b} or {a}"),
+        (None, Some(a)) => format!("{a}"),
+        _ => "1".to_string(),
+    };
+    let rule = if d == 2 {
+        "N must be m^2, or a × b with b < a ≤ 2b (e.g. 96 = 12 × 8)".to_string()
+    } else {
+        format!("N must be m^{d} for an integer m")
+    };
+    Err(Error::UnsupportedCount {
+        sampler,
+        n,
+        dimension: d,
+        rule,
+        nearest,
+    })
+}
+
+/// Calls `f(point_index, axis, cell)` for the cells of a grid with `cells[axis]` cells per
+/// axis, last axis fastest.
+pub(crate) fn for_each_cell(cells: &[usize], mut f: impl FnMut(usize, usize, usize)) {
+    let n: usize = cells.iter().product();
     for i in 0..n {
         let mut rest = i;
-        for axis in (0..d).rev() {
-            f(i, axis, rest % m);
-            rest /= m;
+        for axis in (0..cells.len()).rev() {
+            f(i, axis, rest % cells[axis]);
+            rest /= cells[axis];
         }
     }
 }
@@ -42,14 +93,14 @@ impl Sampler for Regular {
         self.dimension
     }
     fn check_count(&self, n: usize) -> Result<()> {
-        check_perfect_power(self.name(), self.dimension, n).map(|_| ())
+        check_strata(self.name(), self.dimension, n).map(|_| ())
     }
     fn sample(&self, n: usize, _seed: u64, _realization: u64) -> Result<PointSet> {
         let d = self.dimension;
-        let m = check_perfect_power(self.name(), d, n)?;
+        let cells = check_strata(self.name(), d, n)?;
         let mut coords = vec![0.0; n * d];
-        for_each_cell(m, d, |i, axis, cell| {
-            coords[i * d + axis] = (cell as f64 + 0.5) / m as f64;
+        for_each_cell(&cells, |i, axis, cell| {
+            coords[i * d + axis] = (cell as f64 + 0.5) / cells[axis] as f64;
         });
         Ok(PointSet::from_trusted(d, coords))
     }

@@ -1,6 +1,7 @@
 //! Closed-form expected power spectra: white noise and jittered sampling.
 
 use crate::quadrature::GaussLegendre;
+use crate::sampler::strata;
 use std::f64::consts::PI;
 
 /// `sin(x)/x`, with its limit 1 at 0.
@@ -52,13 +53,18 @@ impl ClosedForm {
     }
 
     /// The expected spectrum at integer frequency `k ≠ 0` of an N-point pattern in dimension
-    /// `k.len()`; at `k = 0` it is `N`.
+    /// `k.len()`; at `k = 0` it is `N`. Jitter uses the sampler's [`strata`] (`m_i` cells
+    /// along axis `i`, `ν_i = k_i / m_i`), or `m = N^{1/d}` for counts without strata.
     pub fn lattice_power(self, k: &[i64], n: usize) -> f64 {
         if k.iter().all(|&c| c == 0) {
             return n as f64;
         }
-        let scale = (n as f64).powf(1.0 / k.len() as f64);
-        let nu: Vec<f64> = k.iter().map(|&c| c as f64 / scale).collect();
+        let d = k.len();
+        let cells: Vec<f64> = match strata(n, d) {
+            Some(cells) => cells.iter().map(|&m| m as f64).collect(),
+            None => vec![(n as f64).powf(1.0 / d as f64); d],
+        };
+        let nu: Vec<f64> = k.iter().zip(&cells).map(|(&c, m)| c as f64 / m).collect();
         self.power(&nu)
     }
 
