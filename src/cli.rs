@@ -421,6 +421,10 @@ pub fn default_kmax(n_ref: usize, d: usize) -> usize {
 
 /// `specvar predict`.
 ///
+/// An isotropic integrand gets the polar form (with the spectrum rescaled from a reference N
+/// for scale-invariant samplers) and, when the spectrum is at N itself, the lattice form too. A
+/// grid integrand is anisotropic: it gets the lattice form with the spectrum at N.
+///
 /// # Errors
 /// Bad arguments.
 pub fn predict(args: &PredictArgs) -> Result<()> {
@@ -429,6 +433,7 @@ pub fn predict(args: &PredictArgs) -> Result<()> {
     };
     use crate::spectrum::{estimate, ClosedForm, Engine, SpectrumParams};
     let (sampler, f) = args.problem.build()?;
+    let is_grid = crate::integrand::parse_integrand(&args.problem.integrand)?.kind == "grid";
     let Problem {
         sampler: name,
         n,
@@ -441,7 +446,7 @@ pub fn predict(args: &PredictArgs) -> Result<()> {
         "jitter" => Some(ClosedForm::Jitter),
         _ => None,
     };
-    let (polar, lattice) = match args.spectrum.as_str() {
+    let (main, lattice) = match args.spectrum.as_str() {
         "closed" => {
             let c = closed.ok_or_else(|| {
                 crate::error::invalid(
@@ -450,18 +455,32 @@ pub fn predict(args: &PredictArgs) -> Result<()> {
                     "closed forms exist for random and jitter; use --spectrum estimated",
                 )
             })?;
-            let polar = predict_polar(
-                f.as_ref(),
-                SpectrumSource::Closed(c),
-                n,
-                &PolarParams::default(),
-            )?;
             let kmax = (8.0 * (n as f64).powf(1.0 / dimension as f64)).ceil() as usize;
             let lattice = predict_lattice(f.as_ref(), LatticeSource::Closed(c), n, kmax.max(64))?;
-            (polar, Some(lattice))
+            if is_grid {
+                (lattice, None)
+            } else {
+                let source = SpectrumSource::Closed(c);
+                let polar = predict_polar(f.as_ref(), source, n, &PolarParams::default())?;
+                (polar, Some(lattice))
+            }
         }
         "estimated" => {
-            let n_ref = args.reference_n.unwrap_or(default_reference_n(dimension));
+            let default_ref = if is_grid {
+                n
+            } else {
+                default_reference_n(dimension)
+            };
+            let n_ref = args.reference_n.unwrap_or(default_ref);
+            if is_grid && n_ref != n {
+                return Err(crate::error::invalid(
+                    "reference N",
+                    n_ref,
+                    format!(
+                        "N = {n} for a grid integrand (the lattice form needs the spectrum at N)"
+                    ),
+                ));
+            }
             if n_ref != n && !sampler.is_scale_invariant_at(n) {
                 let invariant: Vec<&str> = SamplerKind::ALL
                     .iter()
@@ -492,23 +511,20 @@ pub fn predict(args: &PredictArgs) -> Result<()> {
             ));
             let est = estimate(sampler.as_ref(), n_ref, &params)?;
             progress.finish_and_clear();
-            let polar = predict_polar(
-                f.as_ref(),
-                SpectrumSource::Estimated(&est.radial),
-                n,
-                &PolarParams::default(),
-            )?;
             let lattice = if n_ref == n {
-                Some(predict_lattice(
-                    f.as_ref(),
-                    LatticeSource::Estimated(&est.lattice),
-                    n,
-                    params.kmax,
-                )?)
+                let source = LatticeSource::Estimated(&est.lattice);
+                Some(predict_lattice(f.as_ref(), source, n, params.kmax)?)
             } else {
                 None
             };
-            (polar, lattice)
+            match lattice {
+                Some(l) if is_grid => (l, None),
+                _ => {
+                    let source = SpectrumSource::Estimated(&est.radial);
+                    let polar = predict_polar(f.as_ref(), source, n, &PolarParams::default())?;
+                    (polar, lattice)
+                }
+            }
         }
         other => {
             return Err(crate::error::invalid(
@@ -518,37 +534,55 @@ pub fn predict(args: &PredictArgs) -> Result<()> {
             ))
         }
     };
-    if args.json {
+    print_prediction(&args.problem, f.label(), &main, lattice.as_ref(), args.json);
+    Ok(())
+}
+
+/// Prints `predict`'s result as text or JSON.
+fn print_prediction(
+    problem: &Problem,
+    integrand: String,
+    main: &crate::predict::Prediction,
+    lattice: Option<&crate::predict::Prediction>,
+    json: bool,
+) {
+    if json {
         let doc = serde_json::json!({
-            "sampler": name,
-            "integrand": f.label(),
-            "n": n,
-            "dimension": dimension,
-            "variance": polar.variance,
-            "variance_lattice": lattice.as_ref().map(|l| l.variance),
-            "dc_term": polar.dc_term,
-            "spectrum_source": polar.spectrum_source,
-            "quadrature_error": polar.error_estimate,
-            "spectrum_stderr": polar.spectrum_stderr,
+            "sampler": problem.sampler,
+            "integrand": integrand,
+            "n": problem.n,
+            "dimension": problem.dimension,
+            "form": main.form,
+            "variance": main.variance,
+            "variance_lattice": lattice.map(|l| l.variance),
+            "dc_term": main.dc_term,
+            "spectrum_source": main.spectrum_source,
+            "quadrature_error": main.error_estimate,
+            "spectrum_stderr": main.spectrum_stderr,
         });
         println!("{doc}");
-    } else {
-        println!(
-            "sampler      {} (homogenized), N = {}, d = {}",
-            name, n, dimension
-        );
-        println!("integrand    {}", f.label());
-        println!("spectrum     {}", polar.spectrum_source);
-        println!(
-            "variance     {:.6e} (polar form; quadrature error {:.1e}, spectrum noise ±{:.1e})",
-            polar.variance, polar.error_estimate, polar.spectrum_stderr
-        );
-        println!("DC term      {:.6e} (already subtracted)", polar.dc_term);
-        if let Some(l) = lattice {
-            println!("lattice form {:.6e}", l.variance);
-        }
+        return;
     }
-    Ok(())
+    println!(
+        "sampler      {} (homogenized), N = {}, d = {}",
+        problem.sampler, problem.n, problem.dimension
+    );
+    println!("integrand    {integrand}");
+    println!("spectrum     {}", main.spectrum_source);
+    let (form, error) = match main.form {
+        crate::predict::Form::Polar => ("polar form; quadrature error", main.error_estimate),
+        crate::predict::Form::Lattice => ("lattice form; truncation bound", main.error_estimate),
+    };
+    println!(
+        "variance     {:.6e} ({form} {error:.1e}, spectrum noise ±{:.1e})",
+        main.variance, main.spectrum_stderr
+    );
+    if main.form == crate::predict::Form::Polar {
+        println!("DC term      {:.6e} (already subtracted)", main.dc_term);
+    }
+    if let Some(l) = lattice {
+        println!("lattice form {:.6e}", l.variance);
+    }
 }
 
 /// `specvar bias`.
@@ -895,5 +929,130 @@ pub fn rates(args: &RatesArgs) -> Result<()> {
             );
         }
     }
+    Ok(())
+}
+
+/// Arguments of `specvar render-ao`.
+#[derive(Debug, Args)]
+pub struct RenderAoArgs {
+    /// Sampler name, or `all` for the comparison run over every 2D sampler.
+    #[arg(long, short = 's', default_value = "all")]
+    pub sampler: String,
+    /// Secondary rays (points) per pixel.
+    #[arg(long, default_value_t = 96)]
+    pub rays: usize,
+    /// Image width in pixels.
+    #[arg(long, default_value_t = 128)]
+    pub width: usize,
+    /// Image height in pixels.
+    #[arg(long, default_value_t = 128)]
+    pub height: usize,
+    /// Independent uniform rays per pixel of the reference (cached in the output directory).
+    #[arg(long, default_value_t = 16384)]
+    pub reference_rays: usize,
+    /// Output directory: images, reference cache, table.
+    #[arg(long, default_value = "render")]
+    pub out: PathBuf,
+    /// Maximum occlusion distance (the room's side is 1).
+    #[arg(long, default_value_t = 0.5)]
+    pub max_distance: f64,
+    /// Distinct patterns per image, each shared by pixels under their own shifts.
+    #[arg(long, default_value_t = 1024)]
+    pub patterns: usize,
+    /// Cells per side of each pixel's visibility grid for the prediction.
+    #[arg(long, default_value_t = 64)]
+    pub grid: usize,
+    /// Largest frequency per axis of the prediction's lattice.
+    #[arg(long, default_value_t = 64)]
+    pub kmax: usize,
+    /// Use every STRIDE-th pixel per axis for the prediction.
+    #[arg(long, default_value_t = 1)]
+    pub stride: usize,
+    /// Realizations of the sampler's spectrum at N for the prediction.
+    #[arg(long, default_value_t = 512)]
+    pub spectrum_realizations: usize,
+    /// Seed.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// JSON output.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// `specvar render-ao`.
+///
+/// # Errors
+/// Bad arguments or unwritable output.
+pub fn render_ao(args: &RenderAoArgs) -> Result<()> {
+    use crate::render::{
+        all_2d_samplers, measured_ratio, run_comparison, write_comparison, ComparisonConfig,
+        PixelPowerParams, RenderParams,
+    };
+    let samplers = if args.sampler == "all" {
+        all_2d_samplers()
+    } else {
+        SamplerKind::from_name(&args.sampler)?.build(2)?;
+        vec![args.sampler.clone()]
+    };
+    let config = ComparisonConfig {
+        width: args.width,
+        height: args.height,
+        samplers,
+        render: RenderParams {
+            rays: args.rays,
+            max_distance: args.max_distance,
+            seed: args.seed,
+            patterns: args.patterns,
+        },
+        reference_rays: args.reference_rays,
+        pixel_power: PixelPowerParams {
+            resolution: args.grid,
+            kmax: args.kmax,
+            stride: args.stride,
+        },
+        spectrum_realizations: args.spectrum_realizations,
+        cache_dir: args.out.clone(),
+    };
+    let run = run_comparison(&config)?;
+    write_comparison(&args.out, &run.rows, &run.reference)?;
+    if args.json {
+        let rows: Vec<serde_json::Value> = run
+            .rows
+            .iter()
+            .map(|r| {
+                serde_json::json!({
+                    "sampler": r.sampler,
+                    "rays": r.rays,
+                    "mse": r.measured.mse,
+                    "mse_stderr": r.measured.stderr,
+                    "predicted_mse": r.predicted.variance,
+                    "predicted_stderr": r.predicted.spectrum_stderr,
+                })
+            })
+            .collect();
+        match rows.as_slice() {
+            [one] => println!("{one}"),
+            _ => println!("{}", serde_json::Value::Array(rows)),
+        }
+        return Ok(());
+    }
+    println!(
+        "{} × {} pixels, {} rays per pixel; reference: {} rays per pixel{}",
+        args.width,
+        args.height,
+        args.rays,
+        args.reference_rays,
+        if run.reference_cached {
+            " (cached)"
+        } else {
+            ""
+        }
+    );
+    println!("prediction: {}", run.power_label);
+    print!("{}", crate::render::comparison_table(&run.rows));
+    if let Some(r) = measured_ratio(&run.rows, "random", "jitter") {
+        println!("random / jitter MSE: {r:.2} (talk: 5.54)");
+    }
+    println!("images and table in {}", args.out.display());
     Ok(())
 }

@@ -76,6 +76,7 @@ pub mod predict;
 pub mod progress;
 pub mod quadrature;
 pub mod rate;
+pub mod render;
 pub mod report;
 pub mod rng;
 pub mod sampler;

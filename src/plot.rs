@@ -224,15 +224,87 @@ pub fn heatmap_png(values: &[f64], width: usize, height: usize, decades: f64) ->
             (t.clamp(0.0, 1.0) * 255.0).round() as u8
         })
         .collect();
+    gray_png(&pixels, width, height)
+}
+
+/// Encodes 8-bit grey pixels (row-major, top row first) as PNG.
+///
+/// # Errors
+/// A pixel count other than `width × height`.
+pub fn gray_png(pixels: &[u8], width: usize, height: usize) -> Result<Vec<u8>> {
+    if pixels.len() != width * height {
+        return Err(Error::Mismatch(format!(
+            "{} pixels for a {width} × {height} image",
+            pixels.len()
+        )));
+    }
     let mut out = Vec::new();
     {
         let mut encoder = png::Encoder::new(&mut out, width as u32, height as u32);
         encoder.set_color(png::ColorType::Grayscale);
         encoder.set_depth(png::BitDepth::Eight);
         let mut writer = encoder.write_header().map_err(plot_error)?;
-        writer.write_image_data(&pixels).map_err(plot_error)?;
+        writer.write_image_data(pixels).map_err(plot_error)?;
     }
     Ok(out)
+}
+
+/// One captioned image of a strip.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StripPanel {
+    /// First caption line (e.g. the sampler).
+    pub title: String,
+    /// Second caption line (e.g. the error).
+    pub caption: String,
+    /// The image, PNG-encoded.
+    pub png: Vec<u8>,
+    /// Its width in pixels.
+    pub width: usize,
+    /// Its height in pixels.
+    pub height: usize,
+}
+
+/// Writes images side by side as SVG (PNGs embedded, shown at least 256 pixels wide with
+/// nearest-neighbour scaling), each captioned underneath, under a title.
+///
+/// # Errors
+/// An unwritable file.
+pub fn image_strip(path: &Path, title: &str, panels: &[StripPanel]) -> Result<()> {
+    let scale = panels
+        .iter()
+        .map(|p| (256.0 / p.width.max(1) as f64).max(1.0))
+        .fold(1.0, f64::max);
+    let gap = 12.0;
+    let mut x = gap;
+    let mut body = String::new();
+    let mut tallest: f64 = 0.0;
+    for p in panels {
+        let (w, h) = (p.width as f64 * scale, p.height as f64 * scale);
+        tallest = tallest.max(h);
+        body.push_str(&format!(
+            r#"<image x="{x}" y="36" width="{w}" height="{h}" style="image-rendering:pixelated" href="data:image/png;base64,{}"/>
+<text x="{cx}" y="{t1}" text-anchor="middle" font-size="14">{}</text>
+<text x="{cx}" y="{t2}" text-anchor="middle" font-size="12">{}</text>
+"#,
+            base64(&p.png),
+            escape(&p.title),
+            escape(&p.caption),
+            cx = x + w / 2.0,
+            t1 = 36.0 + h + 18.0,
+            t2 = 36.0 + h + 34.0,
+        ));
+        x += w + gap;
+    }
+    let svg = format!(
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{x}" height="{total}" font-family="sans-serif">
+<rect width="100%" height="100%" fill="white"/>
+<text x="{gap}" y="24" font-size="16">{}</text>
+{body}</svg>
+"#,
+        escape(title),
+        total = 36.0 + tallest + 44.0,
+    );
+    std::fs::write(path, svg).map_err(|e| Error::Io(format!("{}: {e}", path.display())))
 }
 
 /// Standard base64 (RFC 4648) with padding, for embedding images in SVG.

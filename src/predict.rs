@@ -299,46 +299,41 @@ pub enum LatticeSource<'a> {
     Estimated(&'a LatticeSpectrum),
 }
 
-/// The lattice-form variance of the homogenized estimator with `n` points, summed over
-/// `|k_i| ≤ kmax` (for an estimated spectrum, its own K), with `P_S = 1` assumed beyond.
-///
-/// # Errors
-/// `n = 0`, a dimension mismatch, or an estimated spectrum at another N.
-pub fn predict_lattice(
-    f: &dyn Integrand,
-    source: LatticeSource<'_>,
-    n: usize,
-    kmax: usize,
-) -> Result<Prediction> {
-    check_n(n)?;
-    let d = f.dimension();
-    let (lattice, label) = match source {
-        LatticeSource::Closed(c) => (
-            Lattice { dimension: d, kmax },
-            format!("closed form ({c:?})").to_lowercase(),
-        ),
-        LatticeSource::Estimated(s) => {
-            if s.n != n || s.lattice.dimension != d {
-                return Err(Error::Mismatch(format!(
-                    "lattice spectrum of N = {} in {}D for N = {n} in {d}D",
-                    s.n, s.lattice.dimension
-                )));
-            }
-            (
-                s.lattice,
-                format!("estimated at N = {} ({} realizations)", s.n, s.realizations),
-            )
+/// An integrand's power `|f̂(k)|²` on a lattice of integer frequencies, with the energy beyond
+/// it: everything the lattice form needs from the integrand. The mean of these over many
+/// integrands (the pixels of an image) predicts their mean variance, since the variance is
+/// linear in the power.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LatticePower {
+    /// The frequencies.
+    pub lattice: Lattice,
+    /// `|f̂(k)|²` in lattice order (0 at DC, which the variance excludes).
+    pub power: Vec<f64>,
+    /// `∫ f² - I² - Σ_{k≠0 in the lattice} |f̂(k)|²` by Parseval: the energy beyond the lattice.
+    pub beyond: f64,
+    /// What it is the power of.
+    pub label: String,
+}
+
+impl LatticePower {
+    /// The power of `f` on `lattice` (computed in parallel over rows).
+    ///
+    /// # Errors
+    /// A lattice of another dimension than `f`.
+    pub fn of(f: &dyn Integrand, lattice: Lattice) -> Result<Self> {
+        let d = f.dimension();
+        if lattice.dimension != d {
+            return Err(Error::Mismatch(format!(
+                "lattice of dimension {} for an integrand of dimension {d}",
+                lattice.dimension
+            )));
         }
-    };
-    let side = lattice.side();
-    let rows = lattice.len() / side;
-    // Per row: Σ |f̂|² P, Σ |f̂|², the edge's Σ |f̂|² |1 - P|, and Σ (|f̂|² se(P))².
-    let per_row: Vec<[f64; 4]> = (0..rows)
-        .into_par_iter()
-        .map(|r| {
-            let mut acc = [0.0; 4];
+        let side = lattice.side();
+        let mut power = vec![0.0; lattice.len()];
+        power.par_chunks_mut(side).enumerate().for_each(|(r, row)| {
             let mut omega = [0.0; 3];
-            for i in r * side..(r + 1) * side {
+            for (j, slot) in row.iter_mut().enumerate() {
+                let i = r * side + j;
                 if i == lattice.dc_index() {
                     continue;
                 }
@@ -346,44 +341,155 @@ pub fn predict_lattice(
                 for a in 0..d {
                     omega[a] = k[a] as f64;
                 }
-                let power_f = f.fourier(&omega[..d]).norm_sqr();
+                *slot = f.fourier(&omega[..d]).norm_sqr();
+            }
+        });
+        let mut inside = CompensatedSum::default();
+        power.iter().for_each(|&p| inside.add(p));
+        let i0 = f.spectral_integral();
+        Ok(Self {
+            lattice,
+            beyond: (f.spectral_energy() - i0 * i0 - inside.value()).max(0.0),
+            power,
+            label: f.label(),
+        })
+    }
+
+    /// The mean of several powers on one lattice.
+    ///
+    /// # Errors
+    /// No parts, or parts on different lattices.
+    pub fn mean(parts: &[LatticePower], label: impl Into<String>) -> Result<Self> {
+        let first = parts
+            .first()
+            .ok_or_else(|| invalid("lattice powers", 0, "at least one"))?;
+        if parts.iter().any(|p| p.lattice != first.lattice) {
+            return Err(Error::Mismatch(
+                "lattice powers on different lattices".into(),
+            ));
+        }
+        let scale = 1.0 / parts.len() as f64;
+        let mut power = vec![0.0; first.power.len()];
+        for part in parts {
+            for (acc, p) in power.iter_mut().zip(&part.power) {
+                *acc += p * scale;
+            }
+        }
+        Ok(Self {
+            lattice: first.lattice,
+            power,
+            beyond: parts.iter().map(|p| p.beyond).sum::<f64>() * scale,
+            label: label.into(),
+        })
+    }
+}
+
+/// The lattice-form variance of the homogenized estimator with `n` points, summed over
+/// `|k_i| ≤ kmax` (for an estimated spectrum, its own K), with `P_S = 1` assumed beyond.
+///
+/// # Errors
+/// `n = 0`, a dimension mismatch, or an estimated spectrum at another N.
+///
+/// # Examples
+/// ```
+/// use specvar::integrand::{Ball, Integrand};
+/// use specvar::predict::{predict_lattice, LatticeSource};
+/// use specvar::spectrum::ClosedForm;
+/// let disk = Ball::new(0.25, vec![0.5, 0.5], 1.0).unwrap();
+/// let p = predict_lattice(&disk, LatticeSource::Closed(ClosedForm::WhiteNoise), 64, 32).unwrap();
+/// let exact = (disk.integral_of_square() - disk.integral().powi(2)) / 64.0;
+/// assert!((p.variance - exact).abs() < 1e-12 * exact);
+/// ```
+pub fn predict_lattice(
+    f: &dyn Integrand,
+    source: LatticeSource<'_>,
+    n: usize,
+    kmax: usize,
+) -> Result<Prediction> {
+    let d = f.dimension();
+    let lattice = match source {
+        LatticeSource::Closed(_) => Lattice { dimension: d, kmax },
+        LatticeSource::Estimated(s) => s.lattice,
+    };
+    if lattice.dimension != d {
+        return Err(Error::Mismatch(format!(
+            "lattice spectrum of N = {n} in {}D for an integrand in {d}D",
+            lattice.dimension
+        )));
+    }
+    predict_from_power(&LatticePower::of(f, lattice)?, source, n)
+}
+
+/// The lattice-form variance from an integrand's power on the lattice (see [`LatticePower`]):
+/// `(Σ_{k≠0} |f̂(k)|² P_S(k) + beyond) / N`, the energy beyond the lattice counted as white.
+///
+/// # Errors
+/// `n = 0`, or an estimated spectrum at another N or on another lattice.
+pub fn predict_from_power(
+    power: &LatticePower,
+    source: LatticeSource<'_>,
+    n: usize,
+) -> Result<Prediction> {
+    check_n(n)?;
+    let lattice = power.lattice;
+    let d = lattice.dimension;
+    let label = match source {
+        LatticeSource::Closed(c) => format!("closed form ({c:?})").to_lowercase(),
+        LatticeSource::Estimated(s) => {
+            if s.n != n || s.lattice != lattice {
+                return Err(Error::Mismatch(format!(
+                    "lattice spectrum of N = {} in {}D with K = {} for N = {n} in {d}D with K = {}",
+                    s.n, s.lattice.dimension, s.lattice.kmax, lattice.kmax
+                )));
+            }
+            format!("estimated at N = {} ({} realizations)", s.n, s.realizations)
+        }
+    };
+    let side = lattice.side();
+    let edge = lattice.kmax as u64;
+    // Per row: Σ |f̂|² P, the edge's Σ |f̂|² |1 - P|, and Σ (|f̂|² se(P))².
+    let per_row: Vec<[f64; 3]> = power
+        .power
+        .par_chunks(side)
+        .enumerate()
+        .map(|(r, row)| {
+            let mut acc = [0.0; 3];
+            for (j, &power_f) in row.iter().enumerate() {
+                let i = r * side + j;
+                if i == lattice.dc_index() {
+                    continue;
+                }
+                let k = lattice.frequency(i);
                 let (power_s, se) = match source {
                     LatticeSource::Closed(c) => (c.lattice_power(&k[..d], n), 0.0),
                     LatticeSource::Estimated(s) => (s.mean[i], s.stderr[i]),
                 };
                 acc[0] += power_f * power_s;
-                acc[1] += power_f;
-                if k[..d]
-                    .iter()
-                    .any(|c| c.unsigned_abs() as usize == kmax.max(lattice.kmax))
-                {
-                    acc[2] += power_f * (1.0 - power_s).abs();
+                if k[..d].iter().any(|c| c.unsigned_abs() == edge) {
+                    acc[1] += power_f * (1.0 - power_s).abs();
                 }
                 if se.is_finite() {
-                    acc[3] += (power_f * se).powi(2);
+                    acc[2] += (power_f * se).powi(2);
                 }
             }
             acc
         })
         .collect();
-    let (mut weighted, mut plain) = (CompensatedSum::default(), CompensatedSum::default());
-    let (mut edge, mut noise) = (0.0, 0.0);
-    for [w, p, e, q] in per_row {
+    let mut weighted = CompensatedSum::default();
+    let (mut edge_sum, mut noise) = (0.0, 0.0);
+    for [w, e, q] in per_row {
         weighted.add(w);
-        plain.add(p);
-        edge += e;
+        edge_sum += e;
         noise += q;
     }
-    let i0 = f.spectral_integral();
-    let rest = (f.spectral_energy() - i0 * i0 - plain.value()).max(0.0);
     Ok(Prediction {
         form: Form::Lattice,
         spectrum_source: label,
         n,
         dimension: d,
-        variance: (weighted.value() + rest) / n as f64,
+        variance: (weighted.value() + power.beyond) / n as f64,
         dc_term: 0.0,
-        error_estimate: edge.min(rest) / n as f64,
+        error_estimate: edge_sum.min(power.beyond) / n as f64,
         evaluations: lattice.len() as u64,
         // P(k) = P(-k) exactly, so the two halves add coherently: 2 Σ (w se)².
         spectrum_stderr: (2.0 * noise).sqrt() / n as f64,

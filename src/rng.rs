@@ -19,6 +19,8 @@ pub enum Stream {
     Trial = 3,
     /// Integrands drawn at random.
     Integrand = 4,
+    /// The independent rays of a reference image.
+    Reference = 5,
 }
 
 /// SplitMix64 finalizer: a bijective 64-bit mixer.

@@ -142,7 +142,12 @@ fn white_noise_anisotropy_is_minus_ten_log_m() {
 #[test]
 fn jitter_rings_agree_with_the_closed_form() {
     // 96 = 12 × 8: rectangular strata, whose closed form uses k_x / 12 and k_y / 8.
-    for (d, n, kmax) in [(1usize, 64usize, 100usize), (2, 256, 40), (2, 96, 40), (3, 512, 12)] {
+    for (d, n, kmax) in [
+        (1usize, 64usize, 100usize),
+        (2, 256, 40),
+        (2, 96, 40),
+        (3, 512, 12),
+    ] {
         let params = SpectrumParams {
             kmax,
             realizations: 64,

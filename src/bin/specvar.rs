@@ -35,6 +35,8 @@ enum Command {
     Mc(cli::McArgs),
     /// Convergence rates: theory, predicted from spectra, measured by Monte Carlo.
     Rates(cli::RatesArgs),
+    /// Render ambient occlusion with a sampler (or all): image, MSE, MSE predicted from spectra.
+    RenderAo(cli::RenderAoArgs),
 }
 
 fn main() -> ExitCode {
@@ -61,6 +63,7 @@ fn main() -> ExitCode {
         Some(Command::Report(a)) => cli::report(&a),
         Some(Command::Mc(a)) => cli::mc(&a),
         Some(Command::Rates(a)) => cli::rates(&a),
+        Some(Command::RenderAo(a)) => cli::render_ao(&a),
         None => cli::default_job(),
     };
     match result {

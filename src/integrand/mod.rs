@@ -1,4 +1,5 @@
-//! Integrands with closed-form Fourier transforms.
+//! Integrands with closed-form Fourier transforms: balls, Gaussians, and functions tabulated
+//! on a grid ([`GridIntegrand`], whose coefficients come from an FFT).
 //!
 //! An [`Integrand`] lives on the unit cube `[0,1)^d`. Monte Carlo integrates it there, so its
 //! exact integral over the cube ([`Integrand::integral`]) is the ground truth. The Fourier
@@ -8,10 +9,14 @@
 
 mod ball;
 mod gaussian;
+mod grid;
+mod grid_io;
 mod spec;
 
 pub use ball::Ball;
 pub use gaussian::Gaussian;
+pub use grid::GridIntegrand;
+pub use grid_io::{read_grid_file, read_grid_png, read_grid_text};
 pub use spec::{parse_integrand, IntegrandSpec};
 
 use crate::error::{invalid, Result};

@@ -1,0 +1,141 @@
+//! Grid files: a function tabulated on `[0,1)²` as text or as a PNG image.
+//!
+//! **Text:** one row of cells per line, values separated by white space or commas; lines that
+//! begin with `#` and blank lines are skipped. Every row has the same number of values.
+//!
+//! **PNG:** grey, grey with alpha, RGB or RGBA, 8 or 16 bits (palette and low bit depths are
+//! expanded). A cell's value is the stored grey level in `[0, 1]`, or for colour the Rec. 709
+//! luma `0.2126 R + 0.7152 G + 0.0722 B` of the stored values (no gamma decoding); alpha is
+//! ignored.
+//!
+//! In both, the first row is the top of the picture: it becomes the cells at the largest `y`, so
+//! that an image keeps its orientation in the unit square (`y` up).
+
+use super::GridIntegrand;
+use crate::error::{Error, Result};
+use std::path::Path;
+
+/// Parses a text grid.
+///
+/// # Errors
+/// A value that is not a finite number, a row of another length than the first, or no rows;
+/// the message names the line.
+///
+/// # Examples
+/// ```
+/// use specvar::integrand::{read_grid_text, Integrand};
+/// let f = read_grid_text("# a 3 × 2 grid\n1 0 0\n0, 0, 1\n").unwrap();
+/// assert_eq!((f.width(), f.height()), (3, 2));
+/// assert_eq!(f.eval(&[0.1, 0.9]), 1.0); // the first line is the top row
+/// assert!(read_grid_text("1 0\n1\n").is_err());
+/// ```
+pub fn read_grid_text(text: &str) -> Result<GridIntegrand> {
+    let mut rows: Vec<Vec<f64>> = Vec::new();
+    for (i, line) in text.lines().enumerate() {
+        let line_number = i + 1;
+        let trimmed = line.trim();
+        if trimmed.is_empty() || trimmed.starts_with('#') {
+            continue;
+        }
+        let row = trimmed
+            .split(|c: char| c.is_whitespace() || c == ',')
+            .filter(|t| !t.is_empty())
+            .map(|t| match t.parse::<f64>() {
+                Ok(v) if v.is_finite() => Ok(v),
+                _ => Err(parse_error(
+                    line_number,
+                    format!("'{t}' is not a finite number"),
+                )),
+            })
+            .collect::<Result<Vec<f64>>>()?;
+        if let Some(first) = rows.first() {
+            if row.len() != first.len() {
+                return Err(parse_error(
+                    line_number,
+                    format!(
+                        "{} values, but the first row has {}",
+                        row.len(),
+                        first.len()
+                    ),
+                ));
+            }
+        }
+        rows.push(row);
+    }
+    if rows.is_empty() {
+        return Err(parse_error(
+            text.lines().count().max(1),
+            "no rows: expected lines of numbers",
+        ));
+    }
+    let width = rows[0].len();
+    let height = rows.len();
+    let values: Vec<f64> = rows.into_iter().rev().flatten().collect();
+    GridIntegrand::new(width, height, values)
+}
+
+/// Decodes a PNG image into a grid, one cell per pixel.
+///
+/// # Errors
+/// Bytes that are not a PNG image the decoder can read.
+pub fn read_grid_png(bytes: &[u8]) -> Result<GridIntegrand> {
+    let bad = |e: png::DecodingError| Error::Io(format!("not a readable PNG image: {e}"));
+    let mut decoder = png::Decoder::new(bytes);
+    decoder.set_transformations(png::Transformations::EXPAND);
+    let mut reader = decoder.read_info().map_err(bad)?;
+    let mut buffer = vec![0; reader.output_buffer_size()];
+    let info = reader.next_frame(&mut buffer).map_err(bad)?;
+    let (width, height) = (info.width as usize, info.height as usize);
+    let samples: Vec<f64> = match info.bit_depth {
+        png::BitDepth::Sixteen => buffer[..info.buffer_size()]
+            .chunks_exact(2)
+            .map(|b| u16::from_be_bytes([b[0], b[1]]) as f64 / 65535.0)
+            .collect(),
+        _ => buffer[..info.buffer_size()]
+            .iter()
+            .map(|&b| b as f64 / 255.0)
+            .collect(),
+    };
+    let channels = samples.len() / (width * height).max(1);
+    let luma = |p: &[f64]| match channels {
+        1 | 2 => p[0],
+        _ => 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2],
+    };
+    let mut values = vec![0.0; width * height];
+    for (row, pixels) in samples.chunks_exact(width * channels).enumerate() {
+        let y = height - 1 - row;
+        for (x, p) in pixels.chunks_exact(channels).enumerate() {
+            values[y * width + x] = luma(p);
+        }
+    }
+    GridIntegrand::new(width, height, values)
+}
+
+/// Reads a grid file: PNG when the file starts with the PNG signature, text otherwise. The
+/// integrand is named after the file.
+///
+/// # Errors
+/// As [`read_grid_text`] and [`read_grid_png`], and [`Error::Io`] if the file cannot be read.
+pub fn read_grid_file(path: &Path) -> Result<GridIntegrand> {
+    let bytes = std::fs::read(path).map_err(|e| Error::Io(format!("{}: {e}", path.display())))?;
+    let grid = if bytes.starts_with(b"\x89PNG\r\n\x1a\n") {
+        read_grid_png(&bytes)?
+    } else {
+        let text = String::from_utf8(bytes)
+            .map_err(|_| Error::Io(format!("{}: neither PNG nor UTF-8 text", path.display())))?;
+        read_grid_text(&text)?
+    };
+    let name = path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into(),
+    );
+    let label = format!("grid({name}, {}×{})", grid.width(), grid.height());
+    Ok(grid.with_name(label))
+}
+
+fn parse_error(line: usize, message: impl Into<String>) -> Error {
+    Error::Parse {
+        line,
+        message: message.into(),
+    }
+}

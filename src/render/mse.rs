@@ -1,0 +1,198 @@
+//! The image's mean squared error: measured against the reference, and predicted from the
+//! pixels' visibility spectra.
+
+use super::{Frame, Reference, Rendering};
+use crate::error::{invalid, Result};
+use crate::predict::{predict_from_power, LatticePower, LatticeSource, Prediction};
+use crate::sampler::Sampler;
+use crate::spectrum::{estimate, Engine, Lattice, SpectrumParams};
+use rayon::prelude::*;
+
+/// A measured MSE with its standard error.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct MseEstimate {
+    /// `mean_p [(I_p - R_p)² - v_p]`: the squared error against the reference minus the
+    /// reference's own estimated pixel variance `v_p`, an unbiased estimate of the image's MSE
+    /// against the exact ambient occlusion.
+    pub mse: f64,
+    /// Its standard error: the spread of the per-pixel terms, with the pixels that share a
+    /// pattern summed into one independent unit first (`√(Σ_g S_g²)/P` over the pattern
+    /// groups `g` of the deviations' sums `S_g`, with the factor `G/(G-1)`).
+    pub stderr: f64,
+    /// `mean_p (I_p - R_p)²`, before the reference's noise is removed.
+    pub raw_mse: f64,
+    /// `mean_p v_p`: what the reference's own noise adds to `raw_mse`.
+    pub reference_noise: f64,
+    /// Pixels.
+    pub pixels: usize,
+    /// Independent units (patterns in use).
+    pub groups: usize,
+}
+
+/// Measures a rendering's MSE against the reference.
+///
+/// # Errors
+/// Images of different sizes or a reference of fewer than 2 rays.
+pub fn measure_mse(rendering: &Rendering, reference: &Reference) -> Result<MseEstimate> {
+    reference.check_size(&rendering.image)?;
+    let pixels = rendering.image.values.len();
+    let mut raw = 0.0;
+    let mut noise = 0.0;
+    let terms: Vec<f64> = (0..pixels)
+        .map(|p| {
+            let e = rendering.image.values[p] - reference.image.values[p];
+            let v = reference.pixel_variance(p);
+            raw += e * e;
+            noise += v;
+            e * e - v
+        })
+        .collect();
+    let count = pixels as f64;
+    let mse = terms.iter().sum::<f64>() / count;
+    let groups = rendering
+        .pattern
+        .iter()
+        .copied()
+        .max()
+        .map_or(0, |m| m as usize + 1);
+    let mut sums = vec![0.0; groups];
+    let mut used = vec![false; groups];
+    for (p, t) in terms.iter().enumerate() {
+        let g = rendering.pattern[p] as usize;
+        sums[g] += t - mse;
+        used[g] = true;
+    }
+    let units = used.iter().filter(|&&u| u).count();
+    let correction = units as f64 / (units as f64 - 1.0).max(1.0);
+    let variance = sums.iter().map(|s| s * s).sum::<f64>() / (count * count) * correction;
+    Ok(MseEstimate {
+        mse,
+        stderr: variance.sqrt(),
+        raw_mse: raw / count,
+        reference_noise: noise / count,
+        pixels,
+        groups: units,
+    })
+}
+
+/// How the pixels' visibilities are rasterized for the prediction.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PixelPowerParams {
+    /// Cells per side of each pixel's visibility grid in primary sample space (one ray per
+    /// cell centre). Default 64.
+    pub resolution: usize,
+    /// The lattice `|k_i| ≤ kmax` on which the power is kept; beyond it the sampler is taken as
+    /// white. Default 64 (`ν = k/√N` up to 6.5 at N = 96).
+    pub kmax: usize,
+    /// Every `stride`-th pixel along each axis, from pixel (0, 0), enters the mean. Default 1
+    /// (every pixel).
+    pub stride: usize,
+}
+
+impl Default for PixelPowerParams {
+    fn default() -> Self {
+        Self {
+            resolution: 64,
+            kmax: 64,
+            stride: 1,
+        }
+    }
+}
+
+/// The mean over pixels of `|V̂_p(k)|²` on the lattice `|k_i| ≤ kmax`, with the mean energy
+/// beyond it: the image's integrand for the lattice-form prediction of its MSE
+/// ([`crate::predict::predict_from_power`]). Pixels whose primary ray leaves the scene have no
+/// variance and enter with zero power. Calls `tick` once per pixel row visited.
+///
+/// # Errors
+/// A zero resolution, stride or `kmax`, or a non-positive maximum distance.
+pub fn pixel_power(
+    frame: &Frame,
+    max_distance: f64,
+    params: &PixelPowerParams,
+    tick: &(dyn Fn() + Sync),
+) -> Result<LatticePower> {
+    for (name, v) in [
+        ("grid resolution", params.resolution),
+        ("stride", params.stride),
+        ("kmax", params.kmax),
+    ] {
+        if v == 0 {
+            return Err(invalid(name, 0, "at least 1"));
+        }
+    }
+    if !(max_distance.is_finite() && max_distance > 0.0) {
+        return Err(invalid("max distance", max_distance, "positive and finite"));
+    }
+    let lattice = Lattice {
+        dimension: 2,
+        kmax: params.kmax,
+    };
+    let rows: Vec<usize> = (0..frame.height()).step_by(params.stride).collect();
+    let columns: Vec<usize> = (0..frame.width()).step_by(params.stride).collect();
+    // Rows are summed in order afterwards, so the result does not depend on the thread count.
+    let per_row: Vec<(Vec<f64>, f64)> = rows
+        .par_iter()
+        .map(|&y| {
+            let mut power = vec![0.0; lattice.len()];
+            let mut beyond = 0.0;
+            for &x in &columns {
+                let Some(point) = frame.point(y * frame.width() + x) else {
+                    continue;
+                };
+                let grid = point.visibility_grid(frame.scene(), params.resolution, max_distance)?;
+                let part = LatticePower::of(&grid, lattice)?;
+                power.iter_mut().zip(&part.power).for_each(|(a, p)| *a += p);
+                beyond += part.beyond;
+            }
+            tick();
+            Ok((power, beyond))
+        })
+        .collect::<Result<_>>()?;
+    let mut power = vec![0.0; lattice.len()];
+    let mut beyond = 0.0;
+    for (row_power, row_beyond) in per_row {
+        power.iter_mut().zip(&row_power).for_each(|(a, p)| *a += p);
+        beyond += row_beyond;
+    }
+    let count = (rows.len() * columns.len()) as f64;
+    Ok(LatticePower {
+        lattice,
+        power: power.into_iter().map(|p| p / count).collect(),
+        beyond: beyond / count,
+        label: format!(
+            "mean visibility power of {} of {} × {} pixels ({}² grid per pixel)",
+            rows.len() * columns.len(),
+            frame.width(),
+            frame.height(),
+            params.resolution
+        ),
+    })
+}
+
+/// The image MSE predicted for `sampler` with `n` rays: its lattice spectrum at `n` estimated
+/// from `realizations` homogenized patterns of seed `seed` on `power`'s lattice, then the
+/// lattice form against the pixels' mean power.
+///
+/// # Errors
+/// A sampler that cannot produce `n` points in 2D, or fewer than 2 realizations.
+pub fn predict_mse(
+    sampler: &dyn Sampler,
+    power: &LatticePower,
+    n: usize,
+    realizations: usize,
+    seed: u64,
+) -> Result<Prediction> {
+    if realizations < 2 {
+        return Err(invalid("spectrum realizations", realizations, "at least 2"));
+    }
+    let params = SpectrumParams {
+        kmax: power.lattice.kmax,
+        realizations,
+        seed,
+        engine: Engine::Auto,
+        bin_width: 1.0,
+    };
+    let spectrum = estimate(sampler, n, &params)?.lattice;
+    predict_from_power(power, LatticeSource::Estimated(&spectrum), n)
+}
