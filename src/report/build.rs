@@ -172,6 +172,8 @@ pub struct Report {
     pub illustration: super::illustrate::Illustration,
     /// Seconds per stage.
     pub timings: Vec<(String, f64)>,
+    /// The rendering experiment.
+    pub ambient_occlusion: super::ambient::AoSection,
     /// Whether this was the quick run.
     pub quick: bool,
 }
@@ -240,8 +242,15 @@ pub fn run(config: &ReportConfig) -> Result<Report> {
     }
     let rates = rate_rows(&samplers, &f_refs, &plan)?;
     let crossovers = crossovers(&samplers, &f_refs, &plan)?;
-    let checks = checks(&samplers, &rates, &f_refs);
+    let mut checks = checks(&samplers, &rates, &f_refs);
     let illustration = super::illustrate::compute()?;
+    let start = std::time::Instant::now();
+    let ambient_occlusion = super::ambient::run(&config.out.join("ao"), config.quick, config.seed)?;
+    timings.push((
+        "ambient-occlusion renders".to_string(),
+        start.elapsed().as_secs_f64(),
+    ));
+    checks.extend(super::ambient::checks(&ambient_occlusion));
     let report = Report {
         ns: plan.ns.clone(),
         integrands: f_refs.iter().map(|f| f.label()).collect(),
@@ -250,6 +259,7 @@ pub fn run(config: &ReportConfig) -> Result<Report> {
         crossovers,
         checks,
         illustration,
+        ambient_occlusion,
         timings,
         quick: config.quick,
     };

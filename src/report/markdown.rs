@@ -370,6 +370,8 @@ fn markdown(report: &Report) -> String {
     for (n, s, d) in &ill.errors {
         let _ = writeln!(md, "| {n} | {s:.6e} | {d:.6e} |");
     }
+    md.push('\n');
+    md.push_str(&super::ambient::markdown(&report.ambient_occlusion));
     let _ = writeln!(md, "\n## Cross-checks\n");
     let _ = writeln!(
         md,

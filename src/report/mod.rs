@@ -6,10 +6,12 @@
 //! rates, finds crossovers, and writes everything to a directory with a `report.md` that ties
 //! it together. It uses only the public API.
 
+mod ambient;
 mod build;
 mod illustrate;
 mod markdown;
 
+pub use ambient::AoSection;
 pub use build::{run, Check, Crossover, RateRow, Report, ReportConfig, SamplerSeries};
 
 use crate::error::Result;
