@@ -165,3 +165,90 @@ fn samplers_lists_every_sampler() {
         assert!(out.contains(name), "{name}");
     }
 }
+
+#[test]
+fn render_ao_writes_images_and_prints_the_json_keys() {
+    let dir = std::env::temp_dir().join("specvar-cli-render");
+    let _ = std::fs::remove_dir_all(&dir);
+    let out_dir = dir.to_string_lossy().into_owned();
+    let args = [
+        "render-ao",
+        "--sampler",
+        "jitter",
+        "--rays",
+        "96",
+        "--width",
+        "6",
+        "--height",
+        "4",
+        "--reference-rays",
+        "256",
+        "--grid",
+        "16",
+        "--kmax",
+        "16",
+        "--spectrum-realizations",
+        "8",
+        "--out",
+        &out_dir,
+        "--json",
+    ];
+    let (code, out, err) = specvar(&args);
+    assert_eq!(code, 0, "{err}");
+    let v = json(&out);
+    for key in ["sampler", "rays", "mse", "mse_stderr", "predicted_mse"] {
+        assert!(v.get(key).is_some(), "render-ao: {key}");
+    }
+    assert_eq!(v["rays"], 96);
+    for file in [
+        "ao-jitter.png",
+        "reference.png",
+        "strip.svg",
+        "comparison.md",
+    ] {
+        assert!(dir.join(file).exists(), "{file}");
+    }
+    for bad in [
+        vec!["render-ao", "--sampler", "nope"],
+        vec!["render-ao", "--sampler", "jitter", "--rays", "17"],
+        vec!["render-ao", "--sampler", "random", "--width", "0"],
+        vec!["render-ao", "--sampler", "random", "--max-distance", "-1"],
+    ] {
+        let (code, _, err) = specvar(&bad);
+        assert_eq!(code, 2, "{bad:?}");
+        assert_eq!(err.trim().lines().count(), 1, "{bad:?}: {err}");
+    }
+}
+
+#[test]
+fn predict_accepts_grid_files_and_names_bad_lines() {
+    let dir = std::env::temp_dir().join("specvar-cli-grid");
+    std::fs::create_dir_all(&dir).unwrap();
+    let good = dir.join("g.txt");
+    std::fs::write(&good, "0 1 1 0\n1 1 1 1\n0 1 1 0\n0 0 0 0\n").unwrap();
+    let spec = format!("grid:{}", good.display());
+    let (code, out, err) = specvar(&[
+        "predict",
+        "-s",
+        "random",
+        "-n",
+        "16",
+        "-f",
+        &spec,
+        "--spectrum",
+        "closed",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v = json(&out);
+    // 8 of 16 cells are 1: (1/2 - 1/4) / 16.
+    let variance = v["variance"].as_f64().unwrap();
+    assert!((variance - 0.25 / 16.0).abs() < 1e-15, "{variance}");
+    assert_eq!(v["form"], "lattice");
+    let bad = dir.join("bad.txt");
+    std::fs::write(&bad, "0 1\n1 oops\n").unwrap();
+    let spec = format!("grid:{}", bad.display());
+    let (code, _, err) = specvar(&["predict", "-s", "random", "-n", "16", "-f", &spec]);
+    assert_eq!(code, 2);
+    assert!(err.contains("line 2"), "{err}");
+}

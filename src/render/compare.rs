@@ -233,6 +233,13 @@ pub struct Comparison {
 /// # Errors
 /// As [`compare`], [`super::cached_reference`] and [`super::pixel_power`].
 pub fn run_comparison(config: &ComparisonConfig) -> Result<Comparison> {
+    // Every request is checked before the expensive reference.
+    config.render.check()?;
+    for name in &config.samplers {
+        SamplerKind::from_name(name)?
+            .build(2)?
+            .check_count(config.render.rays)?;
+    }
     let frame = Frame::new(
         super::geometry::Scene::cornell_box(),
         config.width,

@@ -123,7 +123,11 @@ impl Default for RenderParams {
 }
 
 impl RenderParams {
-    fn check(&self) -> Result<()> {
+    /// Checks the parameters.
+    ///
+    /// # Errors
+    /// Zero rays or patterns, or a maximum distance that is not positive and finite.
+    pub fn check(&self) -> Result<()> {
         if self.rays == 0 {
             return Err(invalid("rays", 0, "at least 1"));
         }
