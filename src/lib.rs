@@ -36,10 +36,13 @@
 //! - [`pointset`] and [`io`]: point sets and their files (UTK text, JSON).
 //! - [`spectrum`]: periodograms (direct and NUFFT engines), expected and radial spectra,
 //!   closed forms.
-//! - [`integrand`]: balls and Gaussians with closed-form transforms.
+//! - [`integrand`]: balls and Gaussians with closed-form transforms, and functions tabulated on
+//!   a grid (images, text files) whose transforms come from an FFT.
 //! - [`predict`]: polar and lattice variance, the DC term, bias of fixed patterns.
 //! - [`montecarlo`]: empirical variance with 99% intervals, pools for slow samplers.
 //! - [`rate`]: theoretical, predicted and measured convergence rates.
+//! - [`render`]: ambient occlusion rendered with every sampler, its measured MSE, and its MSE
+//!   predicted from the pixels' visibility spectra by the lattice form.
 //! - [`report`]: the reproduction report that `cargo run --release` writes.
 //!
 //! ## Example: predict, then check
