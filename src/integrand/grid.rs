@@ -24,14 +24,15 @@ use std::f64::consts::PI;
 /// assert_eq!(f.integral(), 0.5);
 /// assert_eq!(f.eval(&[0.25, 0.25]), 1.0);
 /// assert_eq!(f.eval(&[0.75, 0.25]), 0.0);
-/// // Parseval: Σ_k |f̂(k)|² = ∫ f², up to the sum's truncation.
+/// // Parseval: Σ_k |f̂(k)|² = ∫ f² = 1/2; the jumps leave a tail beyond |k_i| ≤ 100 that
+/// // falls like 1/K along the axes.
 /// let mut sum = 0.0;
-/// for kx in -200..=200 {
-///     for ky in -200..=200 {
+/// for kx in -100..=100 {
+///     for ky in -100..=100 {
 ///         sum += f.fourier(&[kx as f64, ky as f64]).norm_sqr();
 ///     }
 /// }
-/// assert!((sum - f.integral_of_square()).abs() < 1e-3);
+/// assert!(sum < 0.5 && sum > 0.99 * 0.5);
 /// ```
 #[derive(Debug, Clone)]
 pub struct GridIntegrand {
