@@ -406,17 +406,14 @@ pub fn predict_lattice(
     n: usize,
     kmax: usize,
 ) -> Result<Prediction> {
-    let d = f.dimension();
     let lattice = match source {
-        LatticeSource::Closed(_) => Lattice { dimension: d, kmax },
+        LatticeSource::Closed(_) => Lattice {
+            dimension: f.dimension(),
+            kmax,
+        },
         LatticeSource::Estimated(s) => s.lattice,
     };
-    if lattice.dimension != d {
-        return Err(Error::Mismatch(format!(
-            "lattice spectrum of N = {n} in {}D for an integrand in {d}D",
-            lattice.dimension
-        )));
-    }
+    // A lattice of another dimension is refused by `LatticePower::of`.
     predict_from_power(&LatticePower::of(f, lattice)?, source, n)
 }
 

@@ -67,6 +67,18 @@ pub struct ReferenceKey {
 }
 
 impl ReferenceKey {
+    /// The key of a reference of `frame` with `rays` rays per pixel.
+    pub fn new(frame: &super::Frame, rays: usize, max_distance: f64, seed: u64) -> Self {
+        Self {
+            scene: frame.scene().name.clone(),
+            width: frame.width(),
+            height: frame.height(),
+            rays,
+            max_distance,
+            seed,
+        }
+    }
+
     /// The cache file for this key in `dir`.
     pub fn path_in(&self, dir: &Path) -> PathBuf {
         dir.join(format!(

@@ -131,18 +131,20 @@ impl RenderParams {
         if self.rays == 0 {
             return Err(invalid("rays", 0, "at least 1"));
         }
-        if !(self.max_distance.is_finite() && self.max_distance > 0.0) {
-            return Err(invalid(
-                "max distance",
-                self.max_distance,
-                "positive and finite",
-            ));
-        }
+        check_max_distance(self.max_distance)?;
         if self.patterns == 0 {
             return Err(invalid("patterns", 0, "at least 1"));
         }
         Ok(())
     }
+}
+
+/// Errors unless the maximum occlusion distance is positive and finite.
+pub(crate) fn check_max_distance(max_distance: f64) -> Result<()> {
+    if !(max_distance.is_finite() && max_distance > 0.0) {
+        return Err(invalid("max distance", max_distance, "positive and finite"));
+    }
+    Ok(())
 }
 
 /// A rendered image and which pattern each pixel used (pixels sharing a pattern are not
@@ -286,11 +288,7 @@ pub fn render_reference(
     if rays < 2 {
         return Err(invalid("reference rays", rays, "at least 2"));
     }
-    RenderParams {
-        max_distance,
-        ..Default::default()
-    }
-    .check()?;
+    check_max_distance(max_distance)?;
     let values = per_row(frame, tick, |p| {
         frame.point(p).map_or(1.0, |point| {
             let mut rng = realization_rng(seed, p as u64, Stream::Reference);
@@ -304,14 +302,7 @@ pub fn render_reference(
         })
     });
     Ok(Reference {
-        key: ReferenceKey {
-            scene: frame.scene().name.clone(),
-            width: frame.width(),
-            height: frame.height(),
-            rays,
-            max_distance,
-            seed,
-        },
+        key: ReferenceKey::new(frame, rays, max_distance, seed),
         image: AoImage {
             width: frame.width(),
             height: frame.height(),
@@ -333,14 +324,7 @@ pub fn cached_reference(
     seed: u64,
     tick: &(dyn Fn() + Sync),
 ) -> Result<(Reference, bool)> {
-    let key = ReferenceKey {
-        scene: frame.scene().name.clone(),
-        width: frame.width(),
-        height: frame.height(),
-        rays,
-        max_distance,
-        seed,
-    };
+    let key = ReferenceKey::new(frame, rays, max_distance, seed);
     if let Some(cached) = Reference::load(dir, &key)? {
         return Ok((cached, true));
     }

@@ -121,9 +121,7 @@ pub fn pixel_power(
             return Err(invalid(name, 0, "at least 1"));
         }
     }
-    if !(max_distance.is_finite() && max_distance > 0.0) {
-        return Err(invalid("max distance", max_distance, "positive and finite"));
-    }
+    super::check_max_distance(max_distance)?;
     let lattice = Lattice {
         dimension: 2,
         kmax: params.kmax,
