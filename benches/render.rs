@@ -18,7 +18,9 @@ fn render(c: &mut Criterion) {
     g.sample_size(10);
     g.throughput(Throughput::Elements((32 * 32 * params.rays) as u64));
     g.bench_function("ao_32x32_jitter_96_rays", |b| {
-        b.iter(|| black_box(render_ao(&frame, &jitter, &params, &|| {}).unwrap()))
+        b.iter(|| {
+            black_box(render_ao(&frame, &jitter, &params, &specvar::progress::Silent).unwrap())
+        })
     });
     // A pixel on the floor near the blocks: a visibility with several occluders.
     let point = *frame.point(32 * 28 + 12).unwrap();

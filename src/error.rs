@@ -1,9 +1,12 @@
 //! The crate's single error type.
 
+use std::path::Path;
+use std::sync::Arc;
 use thiserror::Error;
 
 /// Every failure the library reports. Messages say what was wrong and what is allowed.
-#[derive(Debug, Error, Clone, PartialEq)]
+#[derive(Debug, Error, Clone)]
+#[non_exhaustive]
 pub enum Error {
     /// A parameter is outside its allowed range.
     #[error("invalid {name}: {value} ({allowed})")]
@@ -59,17 +62,75 @@ pub enum Error {
         /// What was wrong.
         message: String,
     },
-    /// Point sets or spectra that must agree do not.
+    /// Point sets, spectra or integrands that must agree do not.
     #[error("mismatch: {0}")]
     Mismatch(String),
-    /// An input/output failure.
-    #[error("i/o error: {0}")]
-    Io(String),
+    /// A route of prediction asked for outside the domain where it is valid.
+    #[error("{route} is not valid here: {reason}")]
+    OutsideValidity {
+        /// The route asked for.
+        route: String,
+        /// Which of its assumptions fails, and what to use instead.
+        reason: String,
+    },
+    /// A computation would need more memory or work than the budget allows.
+    #[error("{what} would need {needed}, above the budget of {budget}; {advice}")]
+    TooLarge {
+        /// What would be computed.
+        what: String,
+        /// The memory or work it needs, in words.
+        needed: String,
+        /// The budget, in words.
+        budget: String,
+        /// What to lower (or how to raise the budget).
+        advice: String,
+    },
+    /// A result that cannot be represented (infinite or not a number), with the reason.
+    #[error("no finite answer: {0}")]
+    NotFinite(String),
+    /// An input/output failure, with the path or stream it concerns.
+    #[error("{context}: {source}")]
+    Io {
+        /// The file, directory or stream.
+        context: String,
+        /// The operating system's error.
+        #[source]
+        source: Arc<std::io::Error>,
+    },
+    /// Data that could not be encoded or decoded (JSON, PNG, plots).
+    #[error("{context}: {message}")]
+    Format {
+        /// What was being encoded or decoded.
+        context: String,
+        /// The encoder's or decoder's message.
+        message: String,
+    },
+}
+
+impl Error {
+    /// An I/O error about `path`.
+    pub fn io(path: &Path, source: std::io::Error) -> Self {
+        Error::Io {
+            context: path.display().to_string(),
+            source: Arc::new(source),
+        }
+    }
+
+    /// A format error about `context`.
+    pub fn format(context: impl Into<String>, message: impl std::fmt::Display) -> Self {
+        Error::Format {
+            context: context.into(),
+            message: message.to_string(),
+        }
+    }
 }
 
 impl From<std::io::Error> for Error {
     fn from(e: std::io::Error) -> Self {
-        Error::Io(e.to_string())
+        Error::Io {
+            context: "i/o".into(),
+            source: Arc::new(e),
+        }
     }
 }
 
@@ -82,5 +143,14 @@ pub(crate) fn invalid(name: &'static str, value: impl ToString, allowed: impl To
         name,
         value: value.to_string(),
         allowed: allowed.to_string(),
+    }
+}
+
+/// `value` if it is finite, else [`Error::NotFinite`] saying what it was.
+pub(crate) fn finite(value: f64, what: impl FnOnce() -> String) -> Result<f64> {
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(Error::NotFinite(what()))
     }
 }

@@ -184,7 +184,7 @@ pub fn write_json(sets: &[PointSet]) -> Result<String> {
             .map(|s| s.points().map(<[f64]>::to_vec).collect())
             .collect(),
     };
-    serde_json::to_string(&doc).map_err(|e| Error::Io(e.to_string()))
+    serde_json::to_string(&doc).map_err(|e| Error::format("point sets", e))
 }
 
 /// Reads a point-set file, choosing JSON when the first non-blank character is `{`.
@@ -192,11 +192,38 @@ pub fn write_json(sets: &[PointSet]) -> Result<String> {
 /// # Errors
 /// As [`read_text`] and [`read_json`], and [`Error::Io`] if the file cannot be read.
 pub fn read_file(path: &std::path::Path) -> Result<Vec<PointSet>> {
-    let text =
-        std::fs::read_to_string(path).map_err(|e| Error::Io(format!("{}: {e}", path.display())))?;
+    let bytes = read_bounded(path)?;
+    let text = String::from_utf8(bytes)
+        .map_err(|_| Error::format(path.display().to_string(), "not UTF-8 text"))?;
     if text.trim_start().starts_with('{') {
         read_json(&text)
     } else {
         read_text(&text)
     }
+}
+
+/// The largest input file read, in bytes (1 GiB): a bound checked while reading, so that a
+/// device or a runaway file fails fast instead of filling memory.
+pub const MAX_FILE_BYTES: u64 = 1 << 30;
+
+/// Reads a whole file of at most [`MAX_FILE_BYTES`].
+///
+/// # Errors
+/// An unreadable file, or one larger than the bound ([`Error::TooLarge`]).
+pub fn read_bounded(path: &std::path::Path) -> Result<Vec<u8>> {
+    use std::io::Read;
+    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    let mut bytes = Vec::new();
+    file.take(MAX_FILE_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| Error::io(path, e))?;
+    if bytes.len() as u64 > MAX_FILE_BYTES {
+        return Err(Error::TooLarge {
+            what: format!("reading {}", path.display()),
+            needed: "more than 1 GiB".into(),
+            budget: "1 GiB".into(),
+            advice: "split the file".into(),
+        });
+    }
+    Ok(bytes)
 }

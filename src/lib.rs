@@ -32,47 +32,54 @@
 //! ## Map of the crate
 //!
 //! - [`sampler`]: ten samplers behind one [`Sampler`] trait, keyed by (seed, realization);
-//!   [`sampler::Homogenized`] adds the random shift.
+//!   [`SamplerKind`] holds every fact about each (closed form, scale invariance, isotropy,
+//!   cost); [`sampler::Homogenized`] adds the random shift.
 //! - [`pointset`] and [`io`]: point sets and their files (UTK text, JSON).
-//! - [`spectrum`]: periodograms (direct and NUFFT engines), expected and radial spectra,
-//!   closed forms.
+//! - [`spectrum`]: periodograms (direct and NUFFT engines, with caller-owned scratch), expected
+//!   and radial spectra, closed forms.
 //! - [`integrand`]: balls and Gaussians with closed-form transforms, and functions tabulated on
-//!   a grid (images, text files) whose transforms come from an FFT.
-//! - [`predict`]: polar and lattice variance, the DC term, bias of fixed patterns.
-//! - [`montecarlo`]: empirical variance with 99% intervals, pools for slow samplers.
-//! - [`rate`]: theoretical, predicted and measured convergence rates.
+//!   a grid (images, text files) whose transforms come from an FFT; [`integrand::IntegrandKind`]
+//!   and [`integrand::IntegrandSpec`] name them.
+//! - [`predict`]: the one call [`predict::predict`] that chooses a valid route; the polar and
+//!   lattice forms with the DC term; bias of fixed patterns.
+//! - [`montecarlo`]: empirical variance with 99% intervals, pools for costly samplers.
+//! - [`rate`]: theoretical, predicted and measured convergence rates; the rate study.
 //! - [`render`]: ambient occlusion rendered with every sampler, its measured MSE, and its MSE
 //!   predicted from the pixels' visibility spectra by the lattice form.
 //! - [`report`]: the reproduction report that `cargo run --release` writes.
+//! - [`progress`], [`output`], [`cache`]: progress observers, atomic outputs, the cache
+//!   directory.
+//!
+//! The `cli` feature (on by default) builds the `specvar` command line; without it the library
+//! compiles no clap, indicatif or plotters (`default-features = false`; add `plot` for SVG
+//! plots).
 //!
 //! ## Example: predict, then check
 //! ```
-//! use specvar::integrand::{Ball, Integrand};
-//! use specvar::montecarlo::{empirical_variance, McParams};
-//! use specvar::predict::{predict_polar, PolarParams, SpectrumSource};
-//! use specvar::sampler::Jitter;
-//! use specvar::spectrum::{estimate, SpectrumParams};
+//! use specvar::prelude::*;
 //!
 //! let disk = Ball::new(0.25, vec![0.5, 0.5], 1.0)?;
 //! let jitter = Jitter::new(2)?;
-//! // The spectrum, once, at a reference N; it serves every N through ν = ρ/√N.
-//! let params = SpectrumParams { kmax: 96, realizations: 16, ..Default::default() };
-//! let spectrum = estimate(&jitter, 1024, &params)?;
-//! let predicted = predict_polar(&disk, SpectrumSource::Estimated(&spectrum.radial), 64, &PolarParams::default())?;
+//! // One call: the route (here the polar form with jitter's closed-form spectrum), its reason
+//! // and its error budget.
+//! let problem = Problem::new(&jitter, &disk, 64)?;
+//! let params = PredictParams { spectrum: SpectrumChoice::Closed, ..Default::default() };
+//! let predicted = predict(&problem, &params)?;
 //! // Monte Carlo of the homogenized estimator at N = 64.
 //! let measured = empirical_variance(&jitter, &disk, 64, &McParams { patterns: 4000, ..Default::default() })?;
-//! let band = 3.0 * predicted.spectrum_stderr;
+//! let band = predicted.budget.half_width(3.0);
 //! assert!(predicted.variance + band > measured.ci_low && predicted.variance - band < measured.ci_high);
 //! # Ok::<(), specvar::Error>(())
 //! ```
 
 #![warn(missing_docs)]
 
-pub mod cli;
+pub mod cache;
 pub mod error;
 pub mod integrand;
 pub mod io;
 pub mod montecarlo;
+pub mod output;
 pub mod plot;
 pub mod pointset;
 pub mod predict;
@@ -88,3 +95,21 @@ pub mod spectrum;
 pub use error::{Error, Result};
 pub use pointset::PointSet;
 pub use sampler::{Sampler, SamplerKind};
+
+/// The names most programs need: `use specvar::prelude::*;`.
+pub mod prelude {
+    pub use crate::error::{Error, Result};
+    pub use crate::integrand::{
+        parse_integrand, Ball, Gaussian, GridIntegrand, Integrand, IntegrandKind, IntegrandSpec,
+    };
+    pub use crate::montecarlo::{empirical_variance, McParams, McResult};
+    pub use crate::pointset::PointSet;
+    pub use crate::predict::{predict, PredictParams, Prediction, Problem, SpectrumChoice};
+    pub use crate::progress::{Progress, Silent};
+    pub use crate::rate::{run_study, StudyConfig};
+    pub use crate::sampler::{
+        Ccvt, CorrelatedMultiJitter, Halton, Homogenized, Jitter, LatinHypercube, PoissonDisk,
+        Random, Regular, Sampler, SamplerKind, Sobol,
+    };
+    pub use crate::spectrum::{estimate, estimate_from_sets, SpectrumEstimate, SpectrumParams};
+}

@@ -18,9 +18,10 @@
 
 use crate::error::{invalid, Result};
 use crate::integrand::Integrand;
-use crate::pointset::PointSet;
+use crate::pointset::{wrap, PointSet, MAX_DIMENSION};
+use crate::progress::{Progress, Silent};
 use crate::rng::{realization_rng, Stream};
-use crate::sampler::{homogenize, Sampler};
+use crate::sampler::{homogenizing_shift, Pool, Sampler, SamplerKind};
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -43,6 +44,37 @@ pub struct McParams {
     /// Homogenize (random toroidal shift). Without it the pattern is used as drawn, `shifts`
     /// must be 1, and the variance is the sample variance about the mean error.
     pub homogenize: bool,
+}
+
+impl McParams {
+    /// `trials` estimator evaluations spent as the sampler's cost asks ([`SamplerKind::pool`]):
+    /// one fresh pattern per trial for cheap samplers, a pool of patterns under many shifts for
+    /// costly ones; without homogenization every trial is a fresh pattern.
+    ///
+    /// # Examples
+    /// ```
+    /// use specvar::montecarlo::McParams;
+    /// use specvar::sampler::SamplerKind;
+    /// let ccvt = McParams::pooled(SamplerKind::Ccvt, 8192, 0, true);
+    /// assert!(ccvt.shifts > 1 && ccvt.patterns * ccvt.shifts >= 8192);
+    /// assert_eq!(McParams::pooled(SamplerKind::Jitter, 8192, 0, true).shifts, 1);
+    /// ```
+    pub fn pooled(kind: SamplerKind, trials: usize, seed: u64, homogenize: bool) -> Self {
+        let pool = if homogenize {
+            kind.pool(trials)
+        } else {
+            Pool {
+                patterns: trials,
+                shifts: 1,
+            }
+        };
+        Self {
+            patterns: pool.patterns,
+            shifts: pool.shifts,
+            seed,
+            homogenize,
+        }
+    }
 }
 
 impl Default for McParams {
@@ -98,6 +130,22 @@ pub fn estimate_integral(f: &dyn Integrand, points: &PointSet) -> f64 {
     points.points().map(|x| f.eval(x)).sum::<f64>() / points.len() as f64
 }
 
+/// The estimator on `points` translated by `shift` modulo 1, without forming the translated set.
+pub fn estimate_shifted(f: &dyn Integrand, points: &PointSet, shift: &[f64]) -> f64 {
+    let d = points.dimension();
+    let mut x = [0.0; MAX_DIMENSION];
+    let sum: f64 = points
+        .points()
+        .map(|p| {
+            for a in 0..d {
+                x[a] = wrap(p[a] + shift[a]);
+            }
+            f.eval(&x[..d])
+        })
+        .sum();
+    sum / points.len() as f64
+}
+
 /// Runs Monte Carlo integration of `f` with `sampler` at `n` points.
 ///
 /// Parallel over patterns; the result is identical for any thread count (per-pattern values
@@ -124,11 +172,11 @@ pub fn empirical_variance(
     n: usize,
     params: &McParams,
 ) -> Result<McResult> {
-    empirical_variance_with(sampler, f, n, params, &|| {})
+    empirical_variance_with(sampler, f, n, params, &Silent)
 }
 
-/// Monte Carlo for several integrands on the same patterns and shifts, calling `tick` after
-/// each pattern (for progress bars). Results are in the order of `integrands`.
+/// Monte Carlo for several integrands on the same patterns and shifts, advancing `progress` by
+/// one step per pattern. Results are in the order of `integrands`.
 ///
 /// # Errors
 /// As [`empirical_variance`].
@@ -137,12 +185,74 @@ pub fn empirical_variances(
     integrands: &[&dyn Integrand],
     n: usize,
     params: &McParams,
-    tick: &(dyn Fn() + Sync),
+    progress: &dyn Progress,
 ) -> Result<Vec<McResult>> {
     for f in integrands {
-        check(sampler, *f, params)?;
+        check(sampler.dimension(), *f, params)?;
     }
     sampler.check_count(n)?;
+    run(integrands, n, params, progress, |p| {
+        sampler.sample(n, params.seed, p as u64)
+    })
+}
+
+/// Monte Carlo on given point sets (e.g. a renderer's patterns read from a file): every set is
+/// one pattern, used under `params.shifts` random shifts of `params.seed` (`params.patterns`
+/// is ignored: it is the number of sets), with the interval from the sets (two-level).
+///
+/// # Errors
+/// Fewer than two sets, sets of different sizes, a dimension mismatch, or bad parameters.
+///
+/// # Examples
+/// ```
+/// use specvar::integrand::{Gaussian, Integrand};
+/// use specvar::montecarlo::{empirical_variances_of_sets, McParams};
+/// use specvar::sampler::{Jitter, Sampler};
+/// let sets: Vec<_> = (0..64).map(|r| Jitter::new(2).unwrap().sample(64, 9, r).unwrap()).collect();
+/// let f = Gaussian::new(0.1, vec![0.5, 0.5], 1.0)?;
+/// let params = McParams { shifts: 32, ..Default::default() };
+/// let r = &empirical_variances_of_sets(&sets, &[&f], &params, &specvar::progress::Silent)?[0];
+/// assert_eq!((r.patterns, r.shifts), (64, 32));
+/// # Ok::<(), specvar::Error>(())
+/// ```
+pub fn empirical_variances_of_sets(
+    sets: &[PointSet],
+    integrands: &[&dyn Integrand],
+    params: &McParams,
+    progress: &dyn Progress,
+) -> Result<Vec<McResult>> {
+    let first = sets
+        .first()
+        .ok_or_else(|| invalid("point sets", 0, "at least two"))?;
+    if sets
+        .iter()
+        .any(|s| s.len() != first.len() || s.dimension() != first.dimension())
+    {
+        return Err(crate::error::Error::Mismatch(
+            "all point sets must have the same dimension and number of points".into(),
+        ));
+    }
+    let params = McParams {
+        patterns: sets.len(),
+        ..*params
+    };
+    for f in integrands {
+        check(first.dimension(), *f, &params)?;
+    }
+    run(integrands, first.len(), &params, progress, |p| {
+        Ok(sets[p].clone())
+    })
+}
+
+/// The shared core: `params.patterns` patterns from `pattern`, each under `params.shifts`
+/// shifts, every integrand on each; parallel over patterns, reduced in order.
+fn run(
+    integrands: &[&dyn Integrand],
+    n: usize,
+    params: &McParams,
+    progress: &dyn Progress,
+    pattern: impl Fn(usize) -> Result<PointSet> + Sync,
+) -> Result<Vec<McResult>> {
     let truths: Vec<f64> = integrands.iter().map(|f| f.integral()).collect();
     let s = params.shifts;
     let k = integrands.len();
@@ -150,20 +260,22 @@ pub fn empirical_variances(
     let per_pattern: Vec<Result<Vec<(f64, f64)>>> = (0..params.patterns)
         .into_par_iter()
         .map(|p| {
-            let base = sampler.sample(n, params.seed, p as u64)?;
+            let base = pattern(p)?;
+            let d = base.dimension();
             let mut sums = vec![(0.0, 0.0); k];
             for shift in 0..s {
-                let mut pts = base.clone();
-                if params.homogenize {
-                    homogenize(&mut pts, params.seed, (p * s + shift) as u64);
-                }
+                let u = if params.homogenize {
+                    homogenizing_shift(d, params.seed, (p * s + shift) as u64)
+                } else {
+                    [0.0; MAX_DIMENSION]
+                };
                 for (j, f) in integrands.iter().enumerate() {
-                    let e = estimate_integral(*f, &pts) - truths[j];
+                    let e = estimate_shifted(*f, &base, &u[..d]) - truths[j];
                     sums[j].0 += e / s as f64;
                     sums[j].1 += e * e / s as f64;
                 }
             }
-            tick();
+            progress.advance(1);
             Ok(sums)
         })
         .collect();
@@ -177,7 +289,7 @@ pub fn empirical_variances(
         .collect())
 }
 
-/// As [`empirical_variance`], calling `tick` after each pattern.
+/// As [`empirical_variance`], advancing `progress` by one step per pattern.
 ///
 /// # Errors
 /// As [`empirical_variance`].
@@ -186,9 +298,9 @@ pub fn empirical_variance_with(
     f: &dyn Integrand,
     n: usize,
     params: &McParams,
-    tick: &(dyn Fn() + Sync),
+    progress: &dyn Progress,
 ) -> Result<McResult> {
-    let mut results = empirical_variances(sampler, &[f], n, params, tick)?;
+    let mut results = empirical_variances(sampler, &[f], n, params, progress)?;
     Ok(results.remove(0))
 }
 
@@ -222,11 +334,11 @@ fn summarize(n: usize, params: &McParams, means: &[f64], squares: &[f64]) -> McR
     }
 }
 
-fn check(sampler: &dyn Sampler, f: &dyn Integrand, params: &McParams) -> Result<()> {
-    if sampler.dimension() != f.dimension() {
+fn check(d: usize, f: &dyn Integrand, params: &McParams) -> Result<()> {
+    if d != f.dimension() {
         return Err(invalid(
             "dimension",
-            sampler.dimension(),
+            d,
             format!("the integrand's dimension {}", f.dimension()),
         ));
     }

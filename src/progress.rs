@@ -1,25 +1,39 @@
-//! Progress display on standard error (hidden when it is not a terminal).
+//! Progress reporting for long routines, without drawing anything.
+//!
+//! Long library routines take a `&dyn Progress` and tell it which stage they are in and how far
+//! it has got; the command line turns that into progress bars, a notebook could print it, and
+//! [`Silent`] ignores it. The library itself never writes to the terminal.
 
-use indicatif::{ProgressBar, ProgressStyle};
-
-/// A bar for `len` steps of `stage`.
-pub fn bar(len: u64, stage: impl Into<String>) -> ProgressBar {
-    let bar = ProgressBar::new(len);
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{msg:40} [{bar:30}] {pos}/{len} {elapsed_precise} (eta {eta})",
-        )
-        .unwrap_or_else(|_| ProgressStyle::default_bar())
-        .progress_chars("=> "),
-    );
-    bar.set_message(stage.into());
-    bar
+/// Receives the progress of a long computation. Every method has an empty default, so an
+/// observer implements only what it shows. Called from several threads at once.
+pub trait Progress: Sync {
+    /// A stage of `total` steps begins (`total = 0`: unknown length).
+    fn begin(&self, stage: &str, total: u64) {
+        let _ = (stage, total);
+    }
+    /// `steps` more steps of the current stage are done.
+    fn advance(&self, steps: u64) {
+        let _ = steps;
+    }
+    /// The current stage is done.
+    fn end(&self) {}
 }
 
-/// A spinner for a stage of unknown length.
-pub fn spinner(stage: impl Into<String>) -> ProgressBar {
-    let bar = ProgressBar::new_spinner();
-    bar.set_message(stage.into());
-    bar.enable_steady_tick(std::time::Duration::from_millis(120));
-    bar
+/// Shows nothing.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Silent;
+
+impl Progress for Silent {}
+
+/// Runs `work` as one stage of `total` steps of `progress`, ending the stage whatever happens.
+pub(crate) fn stage<T>(
+    progress: &dyn Progress,
+    name: &str,
+    total: u64,
+    work: impl FnOnce() -> T,
+) -> T {
+    progress.begin(name, total);
+    let out = work();
+    progress.end();
+    out
 }

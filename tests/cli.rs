@@ -150,11 +150,18 @@ fn json_outputs_have_the_documented_keys() {
         "theory_rate",
         "predicted_rate",
         "empirical_rate",
-        "empirical_rate_ci",
         "alpha",
+        "alpha_source",
     ] {
         assert!(v["rows"][0].get(key).is_some(), "rates: {key}");
     }
+    for key in ["slope", "stderr", "ci"] {
+        assert!(
+            v["rows"][0]["empirical_rate"].get(key).is_some(),
+            "rates: {key}"
+        );
+    }
+    assert!(v["n_values"].as_array().is_some_and(|a| a.len() >= 2));
 }
 
 #[test]

@@ -1,7 +1,7 @@
 //! Integrands: Parseval, transforms against direct integration, limits, parsing.
 
 use specvar::integrand::*;
-use specvar::predict::{predict_lattice, LatticeSource};
+use specvar::predict::{predict_lattice, SpectrumSource};
 use specvar::quadrature::{integrate_panels, panel_breakpoints, GaussLegendre};
 use specvar::sampler::Jitter;
 use specvar::spectrum::ClosedForm;
@@ -286,7 +286,7 @@ fn grid_radial_power_is_the_angular_mean() {
 fn grid_lattice_form_with_white_noise_is_the_exact_variance() {
     let g = small_grid();
     let exact = (g.integral_of_square() - g.integral().powi(2)) / 32.0;
-    let p = predict_lattice(&g, LatticeSource::Closed(ClosedForm::WhiteNoise), 32, 16).unwrap();
+    let p = predict_lattice(&g, &SpectrumSource::Closed(ClosedForm::WhiteNoise), 32, 16).unwrap();
     assert!(
         (p.variance - exact).abs() < 1e-14,
         "{} vs {exact}",
@@ -316,7 +316,7 @@ fn grid_lattice_form_agrees_with_monte_carlo() {
         })
         .collect();
     let g = GridIntegrand::new(m, m, values).unwrap();
-    let predicted = predict_lattice(&g, LatticeSource::Closed(ClosedForm::Jitter), 96, 256)
+    let predicted = predict_lattice(&g, &SpectrumSource::Closed(ClosedForm::Jitter), 96, 256)
         .unwrap()
         .variance;
     let params = specvar::montecarlo::McParams {

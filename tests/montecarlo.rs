@@ -49,7 +49,8 @@ fn jitter_interval_covers_the_lattice_form() {
             ..Default::default()
         };
         let r = empirical_variance(&Jitter::new(2).unwrap(), f, n, &params).unwrap();
-        let exact = predict_lattice(f, LatticeSource::Closed(ClosedForm::Jitter), n, 300).unwrap();
+        let exact =
+            predict_lattice(f, &SpectrumSource::Closed(ClosedForm::Jitter), n, 300).unwrap();
         assert!(
             r.ci_low <= exact.variance && exact.variance <= r.ci_high,
             "{} n={n}",
@@ -86,7 +87,7 @@ fn a_single_patterns_shift_variance_is_its_own_lattice_form() {
         ..Default::default()
     };
     let spectrum = estimate_from_sets(std::slice::from_ref(&pattern), &params).unwrap();
-    let exact = predict_lattice(&g, LatticeSource::Estimated(&spectrum.lattice), 64, 40).unwrap();
+    let exact = predict_lattice(&g, &SpectrumSource::Estimated(&spectrum), 64, 40).unwrap();
     let mc = McParams {
         patterns: 20,
         shifts: 500,
@@ -170,7 +171,7 @@ fn shared_patterns_give_the_same_numbers_as_single_runs() {
         ..Default::default()
     };
     let s = Jitter::new(2).unwrap();
-    let both = empirical_variances(&s, &[&f, &g], 16, &params, &|| {}).unwrap();
+    let both = empirical_variances(&s, &[&f, &g], 16, &params, &specvar::progress::Silent).unwrap();
     assert_eq!(both[0], empirical_variance(&s, &f, 16, &params).unwrap());
     assert_eq!(both[1], empirical_variance(&s, &g, 16, &params).unwrap());
 }

@@ -21,7 +21,7 @@ fn white_noise_polar_form_is_exact_with_the_dc_term() {
             for n in [1, 7, 100, 4096] {
                 let p = predict_polar(
                     f.as_ref(),
-                    SpectrumSource::Closed(ClosedForm::WhiteNoise),
+                    &SpectrumSource::Closed(ClosedForm::WhiteNoise),
                     n,
                     &PolarParams::default(),
                 )
@@ -38,7 +38,7 @@ fn white_noise_polar_form_is_exact_with_the_dc_term() {
     // Without the DC term white noise would come out as ∫f²/N: 24% above the truth for the disk.
     let p = predict_polar(
         &disk(),
-        SpectrumSource::Closed(ClosedForm::WhiteNoise),
+        &SpectrumSource::Closed(ClosedForm::WhiteNoise),
         64,
         &PolarParams::default(),
     )
@@ -80,14 +80,14 @@ fn jitter_polar_form_equals_lattice_form_to_1e_6() {
         for &n in ns {
             let polar = predict_polar(
                 f.as_ref(),
-                SpectrumSource::Closed(ClosedForm::Jitter),
+                &SpectrumSource::Closed(ClosedForm::Jitter),
                 n,
                 &PolarParams::default(),
             )
             .unwrap();
             let lattice = predict_lattice(
                 f.as_ref(),
-                LatticeSource::Closed(ClosedForm::Jitter),
+                &SpectrumSource::Closed(ClosedForm::Jitter),
                 n,
                 *kmax,
             )
@@ -124,14 +124,14 @@ fn jitter_with_a_spectrum_estimated_at_4096_is_within_one_percent() {
         for n in [16, 64, 256, 1024] {
             let estimated = predict_polar(
                 f.as_ref(),
-                SpectrumSource::Estimated(&est.radial),
+                &SpectrumSource::Estimated(&est),
                 n,
                 &PolarParams::default(),
             )
             .unwrap();
             let closed = predict_polar(
                 f.as_ref(),
-                SpectrumSource::Closed(ClosedForm::Jitter),
+                &SpectrumSource::Closed(ClosedForm::Jitter),
                 n,
                 &PolarParams::default(),
             )
@@ -140,14 +140,14 @@ fn jitter_with_a_spectrum_estimated_at_4096_is_within_one_percent() {
             let allowed = if f.decay_exponent().is_finite() {
                 0.01
             } else {
-                0.01f64.max(4.0 * estimated.spectrum_stderr / closed.variance)
+                0.01f64.max(4.0 * estimated.budget.spectrum_noise / closed.variance)
             };
             assert!(
                 rel < allowed,
                 "{} n={n}: {rel:.4} (allowed {allowed:.4})",
                 f.label()
             );
-            assert!(estimated.spectrum_stderr > 0.0);
+            assert!(estimated.budget.spectrum_noise > 0.0);
         }
     }
 }
@@ -242,7 +242,7 @@ fn jitter_matches_the_geometric_variance_without_fourier() {
         let fine = geometric_jitter_variance(m, 256);
         let fourier = predict_lattice(
             &disk(),
-            LatticeSource::Closed(ClosedForm::Jitter),
+            &SpectrumSource::Closed(ClosedForm::Jitter),
             m * m,
             400,
         )
@@ -308,9 +308,8 @@ fn lattice_form_accepts_an_estimated_spectrum_at_the_target_n() {
     };
     let est = estimate(&Jitter::new(2).unwrap(), 64, &params).unwrap();
     let g = Gaussian::new(0.1, vec![0.5, 0.5], 1.0).unwrap();
-    let from_estimate =
-        predict_lattice(&g, LatticeSource::Estimated(&est.lattice), 64, 40).unwrap();
-    let closed = predict_lattice(&g, LatticeSource::Closed(ClosedForm::Jitter), 64, 40).unwrap();
+    let from_estimate = predict_lattice(&g, &SpectrumSource::Estimated(&est), 64, 40).unwrap();
+    let closed = predict_lattice(&g, &SpectrumSource::Closed(ClosedForm::Jitter), 64, 40).unwrap();
     // Standard error of Σ w_k P_k: from the per-frequency standard errors, with P(k) = P(-k)
     // fully correlated (hence the factor 2 on each half).
     let lattice = est.lattice.lattice;
@@ -329,14 +328,14 @@ fn lattice_form_accepts_an_estimated_spectrum_at_the_target_n() {
         from_estimate.variance,
         closed.variance
     );
-    assert!(predict_lattice(&g, LatticeSource::Estimated(&est.lattice), 100, 40).is_err());
+    assert!(predict_lattice(&g, &SpectrumSource::Estimated(&est), 100, 40).is_err());
 }
 
 #[test]
 fn bad_prediction_requests_are_errors() {
     assert!(predict_polar(
         &disk(),
-        SpectrumSource::Closed(ClosedForm::Jitter),
+        &SpectrumSource::Closed(ClosedForm::Jitter),
         0,
         &PolarParams::default()
     )

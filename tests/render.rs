@@ -1,7 +1,7 @@
 //! Rendering: geometry, the per-pixel estimator against the reference within its statistical
 //! error, the measured MSE against its closed-form expectation, determinism, bad input.
 
-use specvar::predict::{predict_from_power, LatticeSource};
+use specvar::predict::{predict_from_power, SpectrumSource};
 use specvar::render::ao::ShadingPoint;
 use specvar::render::geometry::*;
 use specvar::render::*;
@@ -78,7 +78,7 @@ fn ambient_occlusion_has_its_closed_form_values() {
 #[test]
 fn tiny_render_is_unbiased_against_the_reference() {
     let frame = Frame::new(Scene::cornell_box(), 6, 6).unwrap();
-    let reference = render_reference(&frame, 1 << 16, 0.5, 7, &|| {}).unwrap();
+    let reference = render_reference(&frame, 1 << 16, 0.5, 7, &specvar::progress::Silent).unwrap();
     let sampler = Jitter::new(2).unwrap();
     let renders: Vec<Vec<f64>> = (0..64)
         .map(|seed| {
@@ -87,7 +87,7 @@ fn tiny_render_is_unbiased_against_the_reference() {
                 seed,
                 ..Default::default()
             };
-            render_ao(&frame, &sampler, &params, &|| {})
+            render_ao(&frame, &sampler, &params, &specvar::progress::Silent)
                 .unwrap()
                 .image
                 .values
@@ -123,15 +123,21 @@ fn tiny_render_is_unbiased_against_the_reference() {
 #[test]
 fn measured_mse_matches_the_closed_form_prediction() {
     let frame = Frame::new(Scene::cornell_box(), 12, 12).unwrap();
-    let reference = render_reference(&frame, 1 << 14, 0.5, 3, &|| {}).unwrap();
-    let power = pixel_power(&frame, 0.5, &PixelPowerParams::default(), &|| {}).unwrap();
+    let reference = render_reference(&frame, 1 << 14, 0.5, 3, &specvar::progress::Silent).unwrap();
+    let power = pixel_power(
+        &frame,
+        0.5,
+        &PixelPowerParams::default(),
+        &specvar::progress::Silent,
+    )
+    .unwrap();
     let samplers: [(Box<dyn Sampler>, ClosedForm); 2] = [
         (Box::new(Random::new(2).unwrap()), ClosedForm::WhiteNoise),
         (Box::new(Jitter::new(2).unwrap()), ClosedForm::Jitter),
     ];
     for (sampler, closed) in samplers {
         let n = 24; // 6 × 4 strata for jitter
-        let predicted = predict_from_power(&power, LatticeSource::Closed(closed), n)
+        let predicted = predict_from_power(&power, &SpectrumSource::Closed(closed), n)
             .unwrap()
             .variance;
         let mses: Vec<f64> = (0..40)
@@ -141,7 +147,13 @@ fn measured_mse_matches_the_closed_form_prediction() {
                     seed,
                     ..Default::default()
                 };
-                let r = render_ao(&frame, sampler.as_ref(), &params, &|| {}).unwrap();
+                let r = render_ao(
+                    &frame,
+                    sampler.as_ref(),
+                    &params,
+                    &specvar::progress::Silent,
+                )
+                .unwrap();
                 measure_mse(&r, &reference).unwrap().mse
             })
             .collect();
@@ -170,15 +182,29 @@ fn renders_do_not_depend_on_thread_count() {
         .num_threads(1)
         .build()
         .unwrap()
-        .install(|| render_ao(&frame, &sampler, &params, &|| {}).unwrap());
-    let many = render_ao(&frame, &sampler, &params, &|| {}).unwrap();
+        .install(|| render_ao(&frame, &sampler, &params, &specvar::progress::Silent).unwrap());
+    let many = render_ao(&frame, &sampler, &params, &specvar::progress::Silent).unwrap();
     assert_eq!(one, many);
     let power_one = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
         .build()
         .unwrap()
-        .install(|| pixel_power(&frame, 0.5, &PixelPowerParams::default(), &|| {}).unwrap());
-    let power_many = pixel_power(&frame, 0.5, &PixelPowerParams::default(), &|| {}).unwrap();
+        .install(|| {
+            pixel_power(
+                &frame,
+                0.5,
+                &PixelPowerParams::default(),
+                &specvar::progress::Silent,
+            )
+            .unwrap()
+        });
+    let power_many = pixel_power(
+        &frame,
+        0.5,
+        &PixelPowerParams::default(),
+        &specvar::progress::Silent,
+    )
+    .unwrap();
     assert_eq!(power_one, power_many);
 }
 
@@ -187,12 +213,15 @@ fn reference_cache_round_trips_and_is_keyed() {
     let dir = std::env::temp_dir().join("specvar-render-cache-test");
     let _ = std::fs::remove_dir_all(&dir);
     let frame = Frame::new(Scene::cornell_box(), 4, 3).unwrap();
-    let (first, cached) = cached_reference(&dir, &frame, 64, 0.5, 1, &|| {}).unwrap();
+    let (first, cached) =
+        cached_reference(&dir, &frame, 64, 0.5, 1, &specvar::progress::Silent).unwrap();
     assert!(!cached);
-    let (second, cached) = cached_reference(&dir, &frame, 64, 0.5, 1, &|| {}).unwrap();
+    let (second, cached) =
+        cached_reference(&dir, &frame, 64, 0.5, 1, &specvar::progress::Silent).unwrap();
     assert!(cached);
     assert_eq!(first, second);
-    let (_, cached) = cached_reference(&dir, &frame, 128, 0.5, 1, &|| {}).unwrap();
+    let (_, cached) =
+        cached_reference(&dir, &frame, 128, 0.5, 1, &specvar::progress::Silent).unwrap();
     assert!(!cached, "another ray count is another reference");
 }
 
@@ -201,7 +230,9 @@ fn bad_render_requests_are_errors() {
     assert!(Frame::new(Scene::cornell_box(), 0, 4).is_err());
     let frame = Frame::new(Scene::cornell_box(), 2, 2).unwrap();
     let jitter = Jitter::new(2).unwrap();
-    let bad = |params: RenderParams| render_ao(&frame, &jitter, &params, &|| {}).is_err();
+    let bad = |params: RenderParams| {
+        render_ao(&frame, &jitter, &params, &specvar::progress::Silent).is_err()
+    };
     assert!(bad(RenderParams {
         rays: 0,
         ..Default::default()
@@ -222,13 +253,13 @@ fn bad_render_requests_are_errors() {
         &frame,
         &Jitter::new(3).unwrap(),
         &RenderParams::default(),
-        &|| {}
+        &specvar::progress::Silent
     )
     .is_err());
-    assert!(render_reference(&frame, 1, 0.5, 0, &|| {}).is_err());
+    assert!(render_reference(&frame, 1, 0.5, 0, &specvar::progress::Silent).is_err());
     let params = PixelPowerParams {
         resolution: 0,
         ..Default::default()
     };
-    assert!(pixel_power(&frame, 0.5, &params, &|| {}).is_err());
+    assert!(pixel_power(&frame, 0.5, &params, &specvar::progress::Silent).is_err());
 }

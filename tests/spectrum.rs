@@ -158,13 +158,14 @@ fn jitter_rings_agree_with_the_closed_form() {
         let lattice = est.lattice.lattice;
         // Ring means of the closed form over the same lattice points.
         let mut sums = vec![(0.0, 0usize); est.radial.bins.len() + kmax + 2];
+        let closed_form = ClosedForm::Jitter.on_lattice(n, d, kmax);
         for i in 0..lattice.len() {
             if i == lattice.dc_index() || lattice.radius(i) >= kmax as f64 {
                 continue;
             }
             let k = lattice.frequency(i);
             let ring = lattice.radius(i).floor() as usize;
-            sums[ring].0 += ClosedForm::Jitter.lattice_power(&k[..d], n);
+            sums[ring].0 += closed_form.power(&k[..d]);
             sums[ring].1 += 1;
         }
         for b in &est.radial.bins {

@@ -1,6 +1,8 @@
 //! The ball (the disk in 2D, an interval in 1D) of constant height.
 
-use super::{check_parameters, shift_phase, squared_distance, unit_ball_volume, Integrand};
+use super::{
+    check_parameters, shift_phase, squared_distance, unit_ball_volume, Integrand, IntegrandKind,
+};
 use crate::error::{invalid, Result};
 use num_complex::Complex64;
 use std::f64::consts::PI;
@@ -93,6 +95,12 @@ impl Ball {
 }
 
 impl Integrand for Ball {
+    fn kind(&self) -> IntegrandKind {
+        IntegrandKind::Ball
+    }
+    fn is_isotropic(&self) -> bool {
+        true
+    }
     fn label(&self) -> String {
         let name = if self.centre.len() == 2 {
             "disk"

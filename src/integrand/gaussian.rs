@@ -1,6 +1,6 @@
 //! The isotropic Gaussian.
 
-use super::{check_parameters, shift_phase, squared_distance, Integrand};
+use super::{check_parameters, shift_phase, squared_distance, Integrand, IntegrandKind};
 use crate::error::Result;
 use num_complex::Complex64;
 use std::f64::consts::PI;
@@ -54,6 +54,12 @@ impl Gaussian {
 }
 
 impl Integrand for Gaussian {
+    fn kind(&self) -> IntegrandKind {
+        IntegrandKind::Gaussian
+    }
+    fn is_isotropic(&self) -> bool {
+        true
+    }
     fn label(&self) -> String {
         format!(
             "gaussian(sigma={}, c={:?}, a={}, d={})",

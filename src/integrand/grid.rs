@@ -1,6 +1,6 @@
 //! Integrands sampled on a grid: images, visibility rasters, any tabulated function on `[0,1)²`.
 
-use super::Integrand;
+use super::{Integrand, IntegrandKind};
 use crate::error::{invalid, Result};
 use num_complex::Complex64;
 use rustfft::FftPlanner;
@@ -213,6 +213,12 @@ fn fill_phases(t: f64, phases: &mut [Complex64]) {
 }
 
 impl Integrand for GridIntegrand {
+    fn kind(&self) -> IntegrandKind {
+        IntegrandKind::Grid
+    }
+    fn is_isotropic(&self) -> bool {
+        false
+    }
     fn label(&self) -> String {
         self.name.clone()
     }

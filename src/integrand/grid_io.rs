@@ -74,15 +74,27 @@ pub fn read_grid_text(text: &str) -> Result<GridIntegrand> {
     GridIntegrand::new(width, height, values)
 }
 
+/// The most cells a grid integrand may have (512 MiB of values).
+pub const MAX_GRID_CELLS: usize = 1 << 26;
+
 /// Decodes a PNG image into a grid, one cell per pixel.
 ///
 /// # Errors
 /// Bytes that are not a PNG image the decoder can read.
 pub fn read_grid_png(bytes: &[u8]) -> Result<GridIntegrand> {
-    let bad = |e: png::DecodingError| Error::Io(format!("not a readable PNG image: {e}"));
+    let bad = |e: png::DecodingError| Error::format("PNG image", e);
     let mut decoder = png::Decoder::new(bytes);
     decoder.set_transformations(png::Transformations::EXPAND);
     let mut reader = decoder.read_info().map_err(bad)?;
+    let cells = reader.info().width as u64 * reader.info().height as u64;
+    if cells > MAX_GRID_CELLS as u64 {
+        return Err(Error::TooLarge {
+            what: "a grid integrand".into(),
+            needed: format!("{cells} cells"),
+            budget: format!("{MAX_GRID_CELLS} cells"),
+            advice: "downscale the image".into(),
+        });
+    }
     let mut buffer = vec![0; reader.output_buffer_size()];
     let info = reader.next_frame(&mut buffer).map_err(bad)?;
     let (width, height) = (info.width as usize, info.height as usize);
@@ -117,12 +129,16 @@ pub fn read_grid_png(bytes: &[u8]) -> Result<GridIntegrand> {
 /// # Errors
 /// As [`read_grid_text`] and [`read_grid_png`], and [`Error::Io`] if the file cannot be read.
 pub fn read_grid_file(path: &Path) -> Result<GridIntegrand> {
-    let bytes = std::fs::read(path).map_err(|e| Error::Io(format!("{}: {e}", path.display())))?;
+    let bytes = crate::io::read_bounded(path)?;
     let grid = if bytes.starts_with(b"\x89PNG\r\n\x1a\n") {
         read_grid_png(&bytes)?
     } else {
-        let text = String::from_utf8(bytes)
-            .map_err(|_| Error::Io(format!("{}: neither PNG nor UTF-8 text", path.display())))?;
+        let text = String::from_utf8(bytes).map_err(|_| {
+            Error::format(
+                path.display().to_string(),
+                "neither a PNG image nor UTF-8 text",
+            )
+        })?;
         read_grid_text(&text)?
     };
     let name = path.file_name().map_or_else(

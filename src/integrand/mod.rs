@@ -17,7 +17,7 @@ pub use ball::Ball;
 pub use gaussian::Gaussian;
 pub use grid::GridIntegrand;
 pub use grid_io::{read_grid_file, read_grid_png, read_grid_text};
-pub use spec::{parse_integrand, IntegrandSpec};
+pub use spec::{parse_integrand, IntegrandKind, IntegrandSpec};
 
 use crate::error::{invalid, Result};
 use num_complex::Complex64;
@@ -25,8 +25,13 @@ use std::f64::consts::PI;
 
 /// A real integrand on `[0,1)^d` with a closed-form Fourier transform.
 pub trait Integrand: Send + Sync {
+    /// Which kind of integrand this is.
+    fn kind(&self) -> IntegrandKind;
     /// A short description with its parameters, e.g. `disk(r=0.25, a=1)`.
     fn label(&self) -> String;
+    /// Whether `|f̂(ω)|` depends on `|ω|` alone, so that [`radial_power`](Self::radial_power) is
+    /// its whole power spectrum and the polar form applies.
+    fn is_isotropic(&self) -> bool;
     /// The dimension `d`.
     fn dimension(&self) -> usize;
     /// `f(x)` for `x` in the unit cube.

@@ -1,100 +1,136 @@
-//! Integrand specifications on the command line: `disk`, `ball`, `gaussian`, with overrides,
-//! and `grid:FILE` (also `image:FILE`) for a function tabulated in a text or PNG file (2D; see
+//! Integrand specifications as text: `disk`, `ball`, `gaussian` with overrides, and `grid:FILE`
+//! (also `image:FILE`) for a function tabulated in a text or PNG file (2D; see
 //! [`super::read_grid_file`]).
 //!
 //! `disk:r=0.2,a=2.2568`, `gaussian:sigma=0.0705,a=8`, `gaussian:c=0.3;0.5`. Keys: `r` (ball
 //! radius), `sigma` (Gaussian width), `a` (height), `c` (centre: one value for every axis, or
 //! `d` values separated by `;`). Defaults: ball `r = 0.25`, Gaussian `sigma = 0.1`, centre 0.5
-//! in every coordinate, `a = 1`.
+//! in every coordinate, `a = 1`. A key may appear once.
 
 use super::{read_grid_file, Ball, Gaussian, Integrand};
-use crate::error::{invalid, Result};
+use crate::error::{invalid, Error, Result};
+use serde::Serialize;
+use std::fmt;
+use std::path::PathBuf;
+use std::str::FromStr;
+
+/// The kinds of integrand this crate provides.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+#[non_exhaustive]
+pub enum IntegrandKind {
+    /// A ball (a disk in 2D, an interval in 1D) of constant height.
+    Ball,
+    /// An isotropic Gaussian.
+    Gaussian,
+    /// A function tabulated on a grid of cells (an image, a text grid).
+    Grid,
+}
+
+impl IntegrandKind {
+    /// A short name, used in file names and tables: `ball`, `gaussian`, `grid`.
+    pub fn name(self) -> &'static str {
+        match self {
+            IntegrandKind::Ball => "ball",
+            IntegrandKind::Gaussian => "gaussian",
+            IntegrandKind::Grid => "grid",
+        }
+    }
+}
+
+impl fmt::Display for IntegrandKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
 
 /// A parsed integrand specification (its kind and parameters), buildable in any dimension.
 #[derive(Debug, Clone, PartialEq)]
-pub struct IntegrandSpec {
-    /// `ball` (also `disk`), `gaussian` or `grid` (also `image`).
-    pub kind: String,
-    /// The file of a `grid`.
-    pub file: Option<std::path::PathBuf>,
-    /// Radius (ball) or σ (Gaussian).
-    pub scale: f64,
-    /// Height `a`.
-    pub height: f64,
-    /// Centre, if given: one value (all axes) or one per axis.
-    pub centre: Option<Vec<f64>>,
-    /// The text it was parsed from.
-    pub text: String,
+pub enum IntegrandSpec {
+    /// A ball of `radius` and `height`, centred at `centre` (0.5 on every axis if `None`; one
+    /// value means every axis).
+    Ball {
+        /// Radius.
+        radius: f64,
+        /// Height `a`.
+        height: f64,
+        /// Centre.
+        centre: Option<Vec<f64>>,
+    },
+    /// A Gaussian of width `sigma` and height `height`.
+    Gaussian {
+        /// Width σ.
+        sigma: f64,
+        /// Height `a`.
+        height: f64,
+        /// Centre.
+        centre: Option<Vec<f64>>,
+    },
+    /// A function tabulated in a file (2D).
+    Grid {
+        /// The text or PNG file.
+        path: PathBuf,
+    },
 }
 
 const KEYS: &str = "accepted keys: r (ball radius), sigma (Gaussian width), a (height), \
-                    c (centre, one value or d values separated by ';')";
+                    c (centre, one value or d values separated by ';'), each once";
+
+const KINDS: &str = "disk, ball or gaussian, with optional overrides such as disk:r=0.2,a=2, \
+                     or grid:FILE for a text or PNG grid";
 
 /// Parses an integrand specification.
 ///
 /// # Errors
-/// An unknown kind, an unknown key, a key that does not fit the kind, or a value that is not a
-/// number; the message lists the accepted keys.
+/// An unknown kind, an unknown or repeated key, a key that does not fit the kind, or a value
+/// that is not a number; the message lists the accepted keys.
 ///
 /// # Examples
 /// ```
-/// use specvar::integrand::{parse_integrand, Integrand};
+/// use specvar::integrand::{parse_integrand, Integrand, IntegrandKind};
 /// let spec = parse_integrand("disk:r=0.2,a=2").unwrap();
+/// assert_eq!(spec.kind(), IntegrandKind::Ball);
 /// let disk = spec.build(2).unwrap();
 /// assert!((disk.integral() - 2.0 * std::f64::consts::PI * 0.04).abs() < 1e-12);
 /// assert!(parse_integrand("disk:radius=0.2").is_err());
+/// assert!(parse_integrand("disk:r=0.1,r=0.2").is_err()); // a key appears once
+/// assert!(parse_integrand("cube").is_err());
 /// ```
 pub fn parse_integrand(text: &str) -> Result<IntegrandSpec> {
     let (kind, rest) = text.split_once(':').unwrap_or((text, ""));
     let kind = match kind.trim() {
-        "disk" | "ball" => "ball",
-        "gaussian" => "gaussian",
-        "grid" | "image" => "grid",
-        other => {
-            return Err(invalid(
-                "integrand",
-                other,
-                "disk, ball or gaussian, with optional overrides such as disk:r=0.2,a=2, \
-                 or grid:FILE for a text or PNG grid",
-            ))
-        }
+        "disk" | "ball" => IntegrandKind::Ball,
+        "gaussian" => IntegrandKind::Gaussian,
+        "grid" | "image" => IntegrandKind::Grid,
+        other => return Err(invalid("integrand", other, KINDS)),
     };
-    if kind == "grid" {
+    if kind == IntegrandKind::Grid {
         if rest.trim().is_empty() {
             return Err(invalid("integrand", text, "grid:FILE with a file name"));
         }
-        return Ok(IntegrandSpec {
-            kind: kind.to_string(),
-            file: Some(rest.trim().into()),
-            scale: 1.0,
-            height: 1.0,
-            centre: None,
-            text: text.to_string(),
+        return Ok(IntegrandSpec::Grid {
+            path: rest.trim().into(),
         });
     }
-    let mut spec = IntegrandSpec {
-        kind: kind.to_string(),
-        file: None,
-        scale: if kind == "ball" { 0.25 } else { 0.1 },
-        height: 1.0,
-        centre: None,
-        text: text.to_string(),
-    };
+    let (mut scale, mut height, mut centre) = (None, None, None);
     for pair in rest.split(',').filter(|p| !p.trim().is_empty()) {
         let (key, value) = pair
             .split_once('=')
             .ok_or_else(|| invalid("integrand override", pair, KEYS))?;
+        let key = key.trim();
         let number = |v: &str| -> Result<f64> {
             v.trim()
                 .parse::<f64>()
                 .map_err(|_| invalid("integrand value", format!("{key}={v}"), "a number"))
         };
-        match (key.trim(), kind) {
-            ("r", "ball") | ("sigma", "gaussian") => spec.scale = number(value)?,
-            ("a", _) => spec.height = number(value)?,
-            ("c", _) => {
-                spec.centre = Some(value.split(';').map(number).collect::<Result<Vec<_>>>()?)
+        let slot_taken = match (key, kind) {
+            ("r", IntegrandKind::Ball) | ("sigma", IntegrandKind::Gaussian) => {
+                scale.replace(number(value)?).is_some()
             }
+            ("a", _) => height.replace(number(value)?).is_some(),
+            ("c", _) => centre
+                .replace(value.split(';').map(number).collect::<Result<Vec<_>>>()?)
+                .is_some(),
             (other, _) => {
                 return Err(invalid(
                     "integrand key",
@@ -102,39 +138,116 @@ pub fn parse_integrand(text: &str) -> Result<IntegrandSpec> {
                     KEYS,
                 ))
             }
+        };
+        if slot_taken {
+            return Err(invalid("integrand key", format!("{key} given twice"), KEYS));
         }
     }
-    Ok(spec)
+    let height = height.unwrap_or(1.0);
+    Ok(match kind {
+        IntegrandKind::Ball => IntegrandSpec::Ball {
+            radius: scale.unwrap_or(0.25),
+            height,
+            centre,
+        },
+        _ => IntegrandSpec::Gaussian {
+            sigma: scale.unwrap_or(0.1),
+            height,
+            centre,
+        },
+    })
 }
 
 impl IntegrandSpec {
+    /// The kind.
+    pub fn kind(&self) -> IntegrandKind {
+        match self {
+            IntegrandSpec::Ball { .. } => IntegrandKind::Ball,
+            IntegrandSpec::Gaussian { .. } => IntegrandKind::Gaussian,
+            IntegrandSpec::Grid { .. } => IntegrandKind::Grid,
+        }
+    }
+
     /// Builds the integrand in dimension `d`.
     ///
     /// # Errors
     /// A centre of the wrong length, or invalid parameters (see [`Ball::new`],
     /// [`Gaussian::new`]); for a grid, a dimension other than 2 or an unreadable file.
     pub fn build(&self, d: usize) -> Result<Box<dyn Integrand>> {
-        if let Some(file) = &self.file {
-            if d != 2 {
-                return Err(invalid("dimension", d, "2 for a grid integrand"));
-            }
-            return Ok(Box::new(read_grid_file(file)?));
-        }
-        let centre = match &self.centre {
-            None => vec![0.5; d],
-            Some(c) if c.len() == 1 => vec![c[0]; d],
-            Some(c) if c.len() == d => c.clone(),
-            Some(c) => {
-                return Err(invalid(
+        let centre = |c: &Option<Vec<f64>>| -> Result<Vec<f64>> {
+            match c {
+                None => Ok(vec![0.5; d]),
+                Some(c) if c.len() == 1 => Ok(vec![c[0]; d]),
+                Some(c) if c.len() == d => Ok(c.clone()),
+                Some(c) => Err(invalid(
                     "centre",
                     format!("{c:?}"),
                     format!("one value or {d} values separated by ';'"),
-                ))
+                )),
             }
         };
-        Ok(match self.kind.as_str() {
-            "ball" => Box::new(Ball::new(self.scale, centre, self.height)?),
-            _ => Box::new(Gaussian::new(self.scale, centre, self.height)?),
+        Ok(match self {
+            IntegrandSpec::Grid { path } => {
+                if d != 2 {
+                    return Err(invalid("dimension", d, "2 for a grid integrand"));
+                }
+                Box::new(read_grid_file(path)?)
+            }
+            IntegrandSpec::Ball {
+                radius,
+                height,
+                centre: c,
+            } => Box::new(Ball::new(*radius, centre(c)?, *height)?),
+            IntegrandSpec::Gaussian {
+                sigma,
+                height,
+                centre: c,
+            } => Box::new(Gaussian::new(*sigma, centre(c)?, *height)?),
         })
+    }
+}
+
+impl FromStr for IntegrandSpec {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        parse_integrand(s)
+    }
+}
+
+/// The canonical text of a specification, which [`parse_integrand`] reads back.
+impl fmt::Display for IntegrandSpec {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let centre = |c: &Option<Vec<f64>>| match c {
+            None => String::new(),
+            Some(c) => format!(
+                ",c={}",
+                c.iter()
+                    .map(|v| v.to_string())
+                    .collect::<Vec<_>>()
+                    .join(";")
+            ),
+        };
+        match self {
+            IntegrandSpec::Ball {
+                radius,
+                height,
+                centre: c,
+            } => write!(f, "ball:r={radius},a={height}{}", centre(c)),
+            IntegrandSpec::Gaussian {
+                sigma,
+                height,
+                centre: c,
+            } => write!(f, "gaussian:sigma={sigma},a={height}{}", centre(c)),
+            IntegrandSpec::Grid { path } => write!(f, "grid:{}", path.display()),
+        }
+    }
+}
+
+impl Serialize for IntegrandSpec {
+    fn serialize<S: serde::Serializer>(
+        &self,
+        serializer: S,
+    ) -> std::result::Result<S::Ok, S::Error> {
+        serializer.serialize_str(&self.to_string())
     }
 }

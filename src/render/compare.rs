@@ -8,25 +8,25 @@ use super::{
 use crate::error::{Error, Result};
 use crate::plot::{image_strip, StripPanel};
 use crate::predict::{LatticePower, Prediction};
+use crate::progress::Progress;
 use crate::render::AoImage;
 use crate::sampler::SamplerKind;
-use indicatif::ProgressBar;
 use std::fmt::Write as _;
 use std::path::Path;
 
 /// The talk's measured MSE at 96 secondary rays on its own Cornell-box render.
-pub const TALK_MSE: [(&str, f64); 4] = [
-    ("random", 4.74e-3),
-    ("jitter", 8.56e-4),
-    ("poisson", 6.95e-4),
-    ("ccvt", 4.24e-4),
+pub const TALK_MSE: [(SamplerKind, f64); 4] = [
+    (SamplerKind::Random, 4.74e-3),
+    (SamplerKind::Jitter, 8.56e-4),
+    (SamplerKind::PoissonDisk, 6.95e-4),
+    (SamplerKind::Ccvt, 4.24e-4),
 ];
 
 /// One sampler's render: measured and predicted MSE.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct ComparisonRow {
-    /// Sampler name.
-    pub sampler: String,
+    /// The sampler.
+    pub sampler: SamplerKind,
     /// Rays per pixel.
     pub rays: usize,
     /// The measured MSE.
@@ -44,36 +44,39 @@ impl ComparisonRow {
     /// `(predicted - measured) / σ`, with `σ` the measured MSE's and the prediction's spectrum
     /// noise standard errors combined.
     pub fn z_score(&self) -> f64 {
-        let sigma = self.measured.stderr.hypot(self.predicted.spectrum_stderr);
+        let sigma = self
+            .measured
+            .stderr
+            .hypot(self.predicted.budget.spectrum_noise);
         (self.predicted.variance - self.measured.mse) / sigma
     }
 }
 
-/// Renders each sampler in `names` with `params`, measures it against `reference`, and
+/// Renders each sampler of `samplers` with `params`, measures it against `reference`, and
 /// predicts it from `power` with a spectrum of `spectrum_realizations` patterns of seed
-/// `params.seed + 1` (independent of the rendered patterns). `progress` shows the rows.
+/// `params.seed + 1` (independent of the rendered patterns). `progress` follows the rows.
 ///
 /// # Errors
 /// An unknown sampler or one that cannot produce `params.rays` points in 2D, or a reference of
 /// another size.
 pub fn compare(
     frame: &Frame,
-    names: &[&str],
+    samplers: &[SamplerKind],
     params: &RenderParams,
     reference: &Reference,
     power: &LatticePower,
     spectrum_realizations: usize,
-    progress: &ProgressBar,
+    progress: &dyn Progress,
 ) -> Result<Vec<ComparisonRow>> {
-    names
+    samplers
         .iter()
-        .map(|&name| {
-            let sampler = SamplerKind::from_name(name)?.build(2)?;
-            progress.set_message(format!("rendering {name} at {} rays", params.rays));
-            progress.set_length(frame.height() as u64);
-            progress.set_position(0);
-            let rendering = render_ao(frame, sampler.as_ref(), params, &|| progress.inc(1))?;
-            progress.set_message(format!("spectrum of {name} at N = {}", params.rays));
+        .map(|&kind| {
+            let sampler = kind.build(2)?;
+            let stage = format!("rendering {kind} at {} rays", params.rays);
+            progress.begin(&stage, frame.height() as u64);
+            let rendering = render_ao(frame, sampler.as_ref(), params, progress)?;
+            progress.end();
+            progress.begin(&format!("spectrum of {kind} at N = {}", params.rays), 0);
             let predicted = predict_mse(
                 sampler.as_ref(),
                 power,
@@ -81,12 +84,13 @@ pub fn compare(
                 spectrum_realizations,
                 params.seed.wrapping_add(1),
             )?;
+            progress.end();
             Ok(ComparisonRow {
-                sampler: name.to_string(),
+                sampler: kind,
                 rays: params.rays,
                 measured: measure_mse(&rendering, reference)?,
                 predicted,
-                talk: TALK_MSE.iter().find(|t| t.0 == name).map(|t| t.1),
+                talk: TALK_MSE.iter().find(|t| t.0 == kind).map(|t| t.1),
                 image: rendering.image,
             })
         })
@@ -94,8 +98,8 @@ pub fn compare(
 }
 
 /// The ratio of two rows' measured MSE, if both are present.
-pub fn measured_ratio(rows: &[ComparisonRow], a: &str, b: &str) -> Option<f64> {
-    let find = |s: &str| rows.iter().find(|r| r.sampler == s);
+pub fn measured_ratio(rows: &[ComparisonRow], a: SamplerKind, b: SamplerKind) -> Option<f64> {
+    let find = |s: SamplerKind| rows.iter().find(|r| r.sampler == s);
     Some(find(a)?.measured.mse / find(b)?.measured.mse)
 }
 
@@ -114,7 +118,7 @@ pub fn comparison_table(rows: &[ComparisonRow]) -> String {
             r.measured.mse,
             r.measured.stderr,
             r.predicted.variance,
-            r.predicted.spectrum_stderr,
+            r.predicted.budget.spectrum_noise,
             r.predicted.variance / r.measured.mse,
             r.z_score(),
             r.talk.map_or("".into(), |t| format!("{t:.2e}")),
@@ -129,7 +133,7 @@ pub fn comparison_table(rows: &[ComparisonRow]) -> String {
 /// # Errors
 /// An unwritable directory or file.
 pub fn write_comparison(dir: &Path, rows: &[ComparisonRow], reference: &Reference) -> Result<()> {
-    std::fs::create_dir_all(dir).map_err(|e| Error::Io(format!("{}: {e}", dir.display())))?;
+    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
     reference.image.write_png(&dir.join("reference.png"))?;
     let mut panels = vec![StripPanel {
         title: "reference".into(),
@@ -142,7 +146,7 @@ pub fn write_comparison(dir: &Path, rows: &[ComparisonRow], reference: &Referenc
         r.image
             .write_png(&dir.join(format!("ao-{}.png", r.sampler)))?;
         panels.push(StripPanel {
-            title: r.sampler.clone(),
+            title: r.sampler.to_string(),
             caption: format!(
                 "MSE {:.2e} (pred. {:.2e})",
                 r.measured.mse, r.predicted.variance
@@ -158,14 +162,12 @@ pub fn write_comparison(dir: &Path, rows: &[ComparisonRow], reference: &Referenc
         &format!("Ambient occlusion, {rays} secondary rays per pixel"),
         &panels,
     )?;
-    let write = |name: &str, text: String| {
-        let path = dir.join(name);
-        std::fs::write(&path, text).map_err(|e| Error::Io(format!("{}: {e}", path.display())))
-    };
+    let write =
+        |name: &str, text: String| crate::output::write_atomic(&dir.join(name), text.as_bytes());
     write("comparison.md", comparison_table(rows))?;
     write(
         "comparison.json",
-        serde_json::to_string_pretty(rows).map_err(|e| Error::Io(e.to_string()))?,
+        serde_json::to_string_pretty(rows).map_err(|e| Error::format("comparison.json", e))?,
     )
 }
 
@@ -176,8 +178,8 @@ pub struct ComparisonConfig {
     pub width: usize,
     /// Image height in pixels.
     pub height: usize,
-    /// The samplers, by name.
-    pub samplers: Vec<String>,
+    /// The samplers.
+    pub samplers: Vec<SamplerKind>,
     /// Rays, distance, seed and pattern pool.
     pub render: RenderParams,
     /// Rays per pixel of the reference (cached in `cache_dir`).
@@ -186,7 +188,7 @@ pub struct ComparisonConfig {
     pub pixel_power: PixelPowerParams,
     /// Realizations of each sampler's spectrum at N.
     pub spectrum_realizations: usize,
-    /// Where the reference is cached.
+    /// Where the reference is cached ([`crate::cache::default_dir`] by default).
     pub cache_dir: std::path::PathBuf,
 }
 
@@ -200,18 +202,14 @@ impl Default for ComparisonConfig {
             reference_rays: 16384,
             pixel_power: PixelPowerParams::default(),
             spectrum_realizations: 512,
-            cache_dir: "render".into(),
+            cache_dir: crate::cache::default_dir(),
         }
     }
 }
 
-/// The names of every sampler that works in 2D.
-pub fn all_2d_samplers() -> Vec<String> {
-    SamplerKind::ALL
-        .iter()
-        .filter(|k| k.build(2).is_ok())
-        .map(|k| k.name().to_string())
-        .collect()
+/// Every sampler that works in 2D.
+pub fn all_2d_samplers() -> Vec<SamplerKind> {
+    SamplerKind::in_dimension(2)
 }
 
 /// A finished comparison run.
@@ -228,59 +226,55 @@ pub struct Comparison {
 }
 
 /// Runs a comparison: traces the frame, loads or renders the reference, rasterizes the pixels'
-/// visibilities once, then renders, measures and predicts every sampler (progress on stderr).
+/// visibilities once, then renders, measures and predicts every sampler, reporting each stage
+/// to `progress`.
 ///
 /// # Errors
 /// As [`compare`], [`super::cached_reference`] and [`super::pixel_power`].
-pub fn run_comparison(config: &ComparisonConfig) -> Result<Comparison> {
+pub fn run_comparison(config: &ComparisonConfig, progress: &dyn Progress) -> Result<Comparison> {
     // Every request is checked before the expensive reference.
     config.render.check()?;
-    for name in &config.samplers {
-        SamplerKind::from_name(name)?
-            .build(2)?
-            .check_count(config.render.rays)?;
+    for kind in &config.samplers {
+        kind.build(2)?.check_count(config.render.rays)?;
     }
     let frame = Frame::new(
         super::geometry::Scene::cornell_box(),
         config.width,
         config.height,
     )?;
-    let bar = crate::progress::bar(
-        config.height as u64,
-        format!("reference ({} rays per pixel)", config.reference_rays),
-    );
+    let stage = format!("reference ({} rays per pixel)", config.reference_rays);
+    progress.begin(&stage, config.height as u64);
     let (reference, reference_cached) = super::cached_reference(
         &config.cache_dir,
         &frame,
         config.reference_rays,
         config.render.max_distance,
         config.render.seed,
-        &|| bar.inc(1),
+        progress,
     )?;
+    progress.end();
     let stride = config.pixel_power.stride;
-    bar.set_message(format!(
+    let stage = format!(
         "visibility grids ({}² per pixel)",
         config.pixel_power.resolution
-    ));
-    bar.set_length(config.height.div_ceil(stride) as u64);
-    bar.set_position(0);
+    );
+    progress.begin(&stage, config.height.div_ceil(stride) as u64);
     let power = super::pixel_power(
         &frame,
         config.render.max_distance,
         &config.pixel_power,
-        &|| bar.inc(1),
+        progress,
     )?;
-    let names: Vec<&str> = config.samplers.iter().map(String::as_str).collect();
+    progress.end();
     let rows = compare(
         &frame,
-        &names,
+        &config.samplers,
         &config.render,
         &reference,
         &power,
         config.spectrum_realizations,
-        &bar,
+        progress,
     )?;
-    bar.finish_and_clear();
     Ok(Comparison {
         rows,
         reference,

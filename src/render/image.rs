@@ -35,8 +35,7 @@ impl AoImage {
     /// # Errors
     /// As `to_png`, or an unwritable file.
     pub fn write_png(&self, path: &Path) -> Result<()> {
-        std::fs::write(path, self.to_png()?)
-            .map_err(|e| Error::Io(format!("{}: {e}", path.display())))
+        crate::output::write_atomic(path, &self.to_png()?)
     }
 }
 
@@ -107,19 +106,19 @@ impl Reference {
         p * (1.0 - p) / (self.key.rays as f64 - 1.0).max(1.0)
     }
 
-    /// Loads the cached reference for `key` from `dir`, if present and computed for `key`.
+    /// Loads the cached reference for `key` from `dir`, if present, readable and computed for
+    /// `key`; a damaged or foreign file counts as absent (it is recomputed and overwritten).
     ///
     /// # Errors
-    /// A cache file that exists but cannot be read or parsed.
+    /// None today; the `Result` leaves room for caches that must report failures.
     pub fn load(dir: &Path, key: &ReferenceKey) -> Result<Option<Self>> {
         let path = key.path_in(dir);
-        if !path.exists() {
+        let Ok(text) = std::fs::read_to_string(&path) else {
             return Ok(None);
-        }
-        let text = std::fs::read_to_string(&path)
-            .map_err(|e| Error::Io(format!("{}: {e}", path.display())))?;
-        let reference: Reference = serde_json::from_str(&text)
-            .map_err(|e| Error::Io(format!("{}: not a reference image: {e}", path.display())))?;
+        };
+        let Ok(reference) = serde_json::from_str::<Reference>(&text) else {
+            return Ok(None);
+        };
         let sized = reference.image.values.len() == key.width * key.height;
         Ok((reference.key == *key && sized).then_some(reference))
     }
@@ -129,10 +128,10 @@ impl Reference {
     /// # Errors
     /// An unwritable directory or file.
     pub fn save(&self, dir: &Path) -> Result<PathBuf> {
-        std::fs::create_dir_all(dir).map_err(|e| Error::Io(format!("{}: {e}", dir.display())))?;
+        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
         let path = self.key.path_in(dir);
-        let text = serde_json::to_string(self).map_err(|e| Error::Io(e.to_string()))?;
-        std::fs::write(&path, text).map_err(|e| Error::Io(format!("{}: {e}", path.display())))?;
+        let text = serde_json::to_string(self).map_err(|e| Error::format("reference image", e))?;
+        crate::output::write_atomic(&path, text.as_bytes())?;
         Ok(path)
     }
 

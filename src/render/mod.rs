@@ -28,6 +28,7 @@ pub use mse::{measure_mse, pixel_power, predict_mse, MseEstimate, PixelPowerPara
 
 use crate::error::{invalid, Result};
 use crate::pointset::{wrap, PointSet};
+use crate::progress::Progress;
 use crate::rng::{realization_rng, Stream};
 use crate::sampler::{uniform, uniform_index, Sampler};
 use ao::ShadingPoint;
@@ -171,7 +172,7 @@ fn pattern_of(seed: u64, p: usize, pool: usize, pixels: usize) -> usize {
 }
 
 /// Renders ambient occlusion with `sampler` (2D; used fixed and homogenized here, per pixel),
-/// calling `tick` once per finished row.
+/// advancing `progress` once per finished row.
 ///
 /// # Errors
 /// A sampler that is not 2D or cannot produce `params.rays` points, or invalid parameters.
@@ -182,7 +183,7 @@ fn pattern_of(seed: u64, p: usize, pool: usize, pixels: usize) -> usize {
 /// use specvar::sampler::Jitter;
 /// let frame = Frame::new(Scene::cornell_box(), 8, 8).unwrap();
 /// let params = RenderParams { rays: 16, ..Default::default() };
-/// let r = render_ao(&frame, &Jitter::new(2).unwrap(), &params, &|| {}).unwrap();
+/// let r = render_ao(&frame, &Jitter::new(2).unwrap(), &params, &specvar::progress::Silent).unwrap();
 /// assert_eq!(r.image.values.len(), 64);
 /// assert!(r.image.values.iter().all(|v| (0.0..=1.0).contains(v)));
 /// ```
@@ -190,7 +191,7 @@ pub fn render_ao(
     frame: &Frame,
     sampler: &dyn Sampler,
     params: &RenderParams,
-    tick: &(dyn Fn() + Sync),
+    progress: &dyn Progress,
 ) -> Result<Rendering> {
     params.check()?;
     if sampler.dimension() != 2 {
@@ -210,7 +211,7 @@ pub fn render_ao(
     let pattern: Vec<u32> = (0..pixels)
         .map(|p| pattern_of(params.seed, p, pool, pixels) as u32)
         .collect();
-    let values = per_row(frame, tick, |p| {
+    let values = per_row(frame, progress, |p| {
         frame.point(p).map_or(1.0, |point| {
             shifted_estimate(
                 frame.scene(),
@@ -253,10 +254,10 @@ fn shifted_estimate(
     visible / pattern.len() as f64
 }
 
-/// `value(p)` for every pixel, in parallel by rows, ticking once per row.
+/// `value(p)` for every pixel, in parallel by rows, advancing `progress` once per row.
 fn per_row(
     frame: &Frame,
-    tick: &(dyn Fn() + Sync),
+    progress: &dyn Progress,
     value: impl Fn(usize) -> f64 + Sync,
 ) -> Vec<f64> {
     let width = frame.width();
@@ -268,13 +269,13 @@ fn per_row(
             for (x, slot) in out.iter_mut().enumerate() {
                 *slot = value(row * width + x);
             }
-            tick();
+            progress.advance(1);
         });
     values
 }
 
 /// Renders the reference: `rays` independent uniform rays per pixel (the ray stream of
-/// `(seed, pixel)`), calling `tick` once per row.
+/// `(seed, pixel)`), advancing `progress` once per row.
 ///
 /// # Errors
 /// Fewer than 2 rays or invalid parameters.
@@ -283,13 +284,13 @@ pub fn render_reference(
     rays: usize,
     max_distance: f64,
     seed: u64,
-    tick: &(dyn Fn() + Sync),
+    progress: &dyn Progress,
 ) -> Result<Reference> {
     if rays < 2 {
         return Err(invalid("reference rays", rays, "at least 2"));
     }
     check_max_distance(max_distance)?;
-    let values = per_row(frame, tick, |p| {
+    let values = per_row(frame, progress, |p| {
         frame.point(p).map_or(1.0, |point| {
             let mut rng = realization_rng(seed, p as u64, Stream::Reference);
             let visible: f64 = (0..rays)
@@ -311,8 +312,8 @@ pub fn render_reference(
     })
 }
 
-/// The reference for `key`'s parameters from the cache in `dir`, or rendered (calling `tick`
-/// per row) and saved there. Returns it and whether it came from the cache.
+/// The reference for `key`'s parameters from the cache in `dir`, or rendered (advancing
+/// `progress` per row) and saved there. Returns it and whether it came from the cache.
 ///
 /// # Errors
 /// As [`render_reference`], or an unreadable cache or unwritable directory.
@@ -322,13 +323,13 @@ pub fn cached_reference(
     rays: usize,
     max_distance: f64,
     seed: u64,
-    tick: &(dyn Fn() + Sync),
+    progress: &dyn Progress,
 ) -> Result<(Reference, bool)> {
     let key = ReferenceKey::new(frame, rays, max_distance, seed);
     if let Some(cached) = Reference::load(dir, &key)? {
         return Ok((cached, true));
     }
-    let reference = render_reference(frame, rays, max_distance, seed, tick)?;
+    let reference = render_reference(frame, rays, max_distance, seed, progress)?;
     reference.save(dir)?;
     Ok((reference, false))
 }

@@ -3,7 +3,8 @@
 
 use super::{Frame, Reference, Rendering};
 use crate::error::{invalid, Result};
-use crate::predict::{predict_from_power, LatticePower, LatticeSource, Prediction};
+use crate::predict::{predict_from_power, LatticePower, Prediction, SpectrumSource};
+use crate::progress::Progress;
 use crate::sampler::Sampler;
 use crate::spectrum::{estimate, Engine, Lattice, SpectrumParams};
 use rayon::prelude::*;
@@ -102,7 +103,7 @@ impl Default for PixelPowerParams {
 /// The mean over pixels of `|V̂_p(k)|²` on the lattice `|k_i| ≤ kmax`, with the mean energy
 /// beyond it: the image's integrand for the lattice-form prediction of its MSE
 /// ([`crate::predict::predict_from_power`]). Pixels whose primary ray leaves the scene have no
-/// variance and enter with zero power. Calls `tick` once per pixel row visited.
+/// variance and enter with zero power. Advances `progress` once per pixel row visited.
 ///
 /// # Errors
 /// A zero resolution, stride or `kmax`, or a non-positive maximum distance.
@@ -110,7 +111,7 @@ pub fn pixel_power(
     frame: &Frame,
     max_distance: f64,
     params: &PixelPowerParams,
-    tick: &(dyn Fn() + Sync),
+    progress: &dyn Progress,
 ) -> Result<LatticePower> {
     for (name, v) in [
         ("grid resolution", params.resolution),
@@ -143,7 +144,7 @@ pub fn pixel_power(
                 power.iter_mut().zip(&part.power).for_each(|(a, p)| *a += p);
                 beyond += part.beyond;
             }
-            tick();
+            progress.advance(1);
             Ok((power, beyond))
         })
         .collect::<Result<_>>()?;
@@ -191,6 +192,6 @@ pub fn predict_mse(
         engine: Engine::Auto,
         bin_width: 1.0,
     };
-    let spectrum = estimate(sampler, n, &params)?.lattice;
-    predict_from_power(power, LatticeSource::Estimated(&spectrum), n)
+    let spectrum = estimate(sampler, n, &params)?;
+    predict_from_power(power, &SpectrumSource::Estimated(&spectrum), n)
 }

@@ -11,7 +11,7 @@
 //! is stable), or `max_iterations`. Neighbouring pairs are the sites closer than
 //! `2 N^{-1/d}` (the Voronoi neighbours lie within about `1.5 N^{-1/d}`).
 
-use super::{check_supported, uniform, PoissonDisk, Sampler};
+use super::{check_supported, uniform, PoissonDisk, Sampler, SamplerKind};
 use crate::error::{invalid, Result};
 use crate::pointset::{toroidal_delta, toroidal_distance_sq, wrap, PointSet};
 use crate::rng::{realization_rng, Stream};
@@ -120,6 +120,9 @@ impl Sampler for Ccvt {
     }
     fn dimension(&self) -> usize {
         self.dimension
+    }
+    fn kind(&self) -> Option<SamplerKind> {
+        Some(SamplerKind::Ccvt)
     }
     fn sample(&self, n: usize, seed: u64, realization: u64) -> Result<PointSet> {
         self.generate(n, seed, realization).map(|(p, _)| p)

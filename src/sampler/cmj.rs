@@ -1,6 +1,6 @@
 //! Correlated multi-jittered sampling (Kensler 2013).
 
-use super::{check_supported, in_cell, random_permutation, uniform, Sampler};
+use super::{check_supported, in_cell, random_permutation, uniform, Sampler, SamplerKind};
 use crate::error::Result;
 use crate::pointset::PointSet;
 use crate::rng::{realization_rng, Stream};
@@ -42,9 +42,8 @@ impl Sampler for CorrelatedMultiJitter {
     fn dimension(&self) -> usize {
         self.dimension
     }
-    /// N-rooks stratification puts structure at `k/N` along the axes, not at `k/N^{1/d}`.
-    fn is_scale_invariant(&self) -> bool {
-        false
+    fn kind(&self) -> Option<SamplerKind> {
+        Some(SamplerKind::Cmj)
     }
     fn sample(&self, n: usize, seed: u64, realization: u64) -> Result<PointSet> {
         self.check_count(n)?;

@@ -1,6 +1,6 @@
 //! Halton sequence with random digit permutations.
 
-use super::{check_supported, random_permutation, Sampler, ONE_MINUS_EPS};
+use super::{check_supported, random_permutation, Sampler, SamplerKind, ONE_MINUS_EPS};
 use crate::error::Result;
 use crate::pointset::{PointSet, MAX_DIMENSION};
 use crate::rng::{realization_rng, Stream};
@@ -53,6 +53,9 @@ impl Sampler for Halton {
     fn dimension(&self) -> usize {
         self.dimension
     }
+    fn kind(&self) -> Option<SamplerKind> {
+        Some(SamplerKind::Halton)
+    }
     fn sample(&self, n: usize, seed: u64, realization: u64) -> Result<PointSet> {
         self.check_count(n)?;
         let d = self.dimension;
@@ -72,8 +75,5 @@ impl Sampler for Halton {
             }
         }
         Ok(PointSet::from_trusted(d, coords))
-    }
-    fn is_scale_invariant(&self) -> bool {
-        false
     }
 }

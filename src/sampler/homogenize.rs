@@ -1,17 +1,29 @@
 //! Homogenization: a random toroidal shift (Cranley–Patterson rotation).
 
-use super::{uniform, Sampler};
+use super::{uniform, Sampler, SamplerKind};
 use crate::error::Result;
-use crate::pointset::PointSet;
+use crate::pointset::{PointSet, MAX_DIMENSION};
 use crate::rng::{realization_rng, Stream};
 
 /// Adds one uniform random vector to every point, modulo 1, drawn from the shift stream of
-/// `(seed, realization)`. Any pattern so shifted gives an unbiased estimator.
+/// `(seed, realization)` ([`homogenizing_shift`]). Any pattern so shifted gives an unbiased
+/// estimator.
 pub fn homogenize(points: &mut PointSet, seed: u64, realization: u64) {
-    let mut rng = realization_rng(seed, realization, Stream::Shift);
-    let shift: Vec<f64> = (0..points.dimension()).map(|_| uniform(&mut rng)).collect();
+    let d = points.dimension();
+    let shift = homogenizing_shift(d, seed, realization);
     // The shift has the right length and finite entries, so translate cannot fail.
-    let _ = points.translate(&shift);
+    let _ = points.translate(&shift[..d]);
+}
+
+/// The random shift that [`homogenize`] applies for `(seed, realization)` in dimension `d`
+/// (components beyond `d` are 0).
+pub fn homogenizing_shift(d: usize, seed: u64, realization: u64) -> [f64; MAX_DIMENSION] {
+    let mut rng = realization_rng(seed, realization, Stream::Shift);
+    let mut shift = [0.0; MAX_DIMENSION];
+    for s in shift.iter_mut().take(d) {
+        *s = uniform(&mut rng);
+    }
+    shift
 }
 
 /// Wraps any sampler so that every realization is homogenized. The inner, fixed pattern stays
@@ -56,11 +68,8 @@ impl<S: Sampler> Sampler for Homogenized<S> {
         homogenize(&mut p, seed, realization);
         Ok(p)
     }
-    fn is_scale_invariant(&self) -> bool {
-        self.inner.is_scale_invariant()
-    }
-    fn is_scale_invariant_at(&self, n: usize) -> bool {
-        self.inner.is_scale_invariant_at(n)
+    fn kind(&self) -> Option<SamplerKind> {
+        self.inner.kind()
     }
 }
 
@@ -77,10 +86,7 @@ impl Sampler for Box<dyn Sampler> {
     fn sample(&self, n: usize, seed: u64, realization: u64) -> Result<PointSet> {
         (**self).sample(n, seed, realization)
     }
-    fn is_scale_invariant(&self) -> bool {
-        (**self).is_scale_invariant()
-    }
-    fn is_scale_invariant_at(&self, n: usize) -> bool {
-        (**self).is_scale_invariant_at(n)
+    fn kind(&self) -> Option<SamplerKind> {
+        (**self).kind()
     }
 }

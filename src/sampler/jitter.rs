@@ -1,7 +1,7 @@
 //! Jittered (stratified) sampling.
 
 use super::regular::{check_strata, for_each_cell};
-use super::{check_supported, in_cell, perfect_root, uniform, Sampler};
+use super::{check_supported, in_cell, uniform, Sampler, SamplerKind};
 use crate::error::Result;
 use crate::pointset::{PointSet, MAX_DIMENSION};
 use crate::rng::{realization_rng, Stream};
@@ -32,6 +32,9 @@ impl Sampler for Jitter {
     fn dimension(&self) -> usize {
         self.dimension
     }
+    fn kind(&self) -> Option<SamplerKind> {
+        Some(SamplerKind::Jitter)
+    }
     fn check_count(&self, n: usize) -> Result<()> {
         check_strata(self.name(), self.dimension, n).map(|_| ())
     }
@@ -44,9 +47,5 @@ impl Sampler for Jitter {
             coords[i * d + axis] = in_cell(cell, uniform(&mut rng), cells[axis]);
         });
         Ok(PointSet::from_trusted(d, coords))
-    }
-    /// Square strata scale with N; a rectangle's spectrum is not a rescaled square one.
-    fn is_scale_invariant_at(&self, n: usize) -> bool {
-        perfect_root(n, self.dimension).is_some()
     }
 }

@@ -1,6 +1,6 @@
 //! Latin hypercube (N-rooks) sampling.
 
-use super::{check_supported, in_cell, random_permutation, uniform, Sampler};
+use super::{check_supported, in_cell, random_permutation, uniform, Sampler, SamplerKind};
 use crate::error::Result;
 use crate::pointset::{PointSet, MAX_DIMENSION};
 use crate::rng::{realization_rng, Stream};
@@ -30,9 +30,8 @@ impl Sampler for LatinHypercube {
     fn dimension(&self) -> usize {
         self.dimension
     }
-    /// N-rooks stratification puts structure at `k/N` along the axes, not at `k/N^{1/d}`.
-    fn is_scale_invariant(&self) -> bool {
-        false
+    fn kind(&self) -> Option<SamplerKind> {
+        Some(SamplerKind::LatinHypercube)
     }
     fn sample(&self, n: usize, seed: u64, realization: u64) -> Result<PointSet> {
         self.check_count(n)?;

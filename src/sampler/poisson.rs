@@ -7,7 +7,7 @@
 //! density (1 in 1D, `π/(2√3)` for the hexagonal packing in 2D, `π/(3√2)` for FCC in 3D).
 //! In 2D this is `r_max = √(2 / (√3 N))` (Lagae and Dutré 2008).
 
-use super::{check_supported, uniform, uniform_index, Sampler};
+use super::{check_supported, uniform, uniform_index, Sampler, SamplerKind};
 use crate::error::{invalid, Error, Result};
 use crate::pointset::{toroidal_distance_sq, wrap, PointSet};
 use crate::rng::{realization_rng, splitmix64, Stream};
@@ -122,6 +122,12 @@ impl Sampler for PoissonDisk {
     }
     fn dimension(&self) -> usize {
         self.dimension
+    }
+    fn kind(&self) -> Option<SamplerKind> {
+        Some(match self.method {
+            PoissonMethod::DartThrowing => SamplerKind::PoissonDisk,
+            PoissonMethod::Bridson => SamplerKind::Bridson,
+        })
     }
     /// A run that fills the torus before placing N points (jamming fluctuates most at small
     /// N) restarts from the next attempt's stream, up to [`MAX_ATTEMPTS`] times: the pattern is

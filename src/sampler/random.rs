@@ -1,6 +1,6 @@
 //! White noise.
 
-use super::{check_supported, uniform, Sampler};
+use super::{check_supported, uniform, Sampler, SamplerKind};
 use crate::error::Result;
 use crate::pointset::{PointSet, MAX_DIMENSION};
 use crate::rng::{realization_rng, Stream};
@@ -28,6 +28,9 @@ impl Sampler for Random {
     }
     fn dimension(&self) -> usize {
         self.dimension
+    }
+    fn kind(&self) -> Option<SamplerKind> {
+        Some(SamplerKind::Random)
     }
     fn sample(&self, n: usize, seed: u64, realization: u64) -> Result<PointSet> {
         self.check_count(n)?;

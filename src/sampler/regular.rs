@@ -1,6 +1,6 @@
 //! The cell-centred regular grid.
 
-use super::{check_supported, cmj::near_square_factors, perfect_root, Sampler};
+use super::{check_supported, cmj::near_square_factors, perfect_root, Sampler, SamplerKind};
 use crate::error::{Error, Result};
 use crate::pointset::{PointSet, MAX_DIMENSION};
 
@@ -92,6 +92,9 @@ impl Sampler for Regular {
     fn dimension(&self) -> usize {
         self.dimension
     }
+    fn kind(&self) -> Option<SamplerKind> {
+        Some(SamplerKind::Regular)
+    }
     fn check_count(&self, n: usize) -> Result<()> {
         check_strata(self.name(), self.dimension, n).map(|_| ())
     }
@@ -103,8 +106,5 @@ impl Sampler for Regular {
             coords[i * d + axis] = (cell as f64 + 0.5) / cells[axis] as f64;
         });
         Ok(PointSet::from_trusted(d, coords))
-    }
-    fn is_scale_invariant(&self) -> bool {
-        false
     }
 }

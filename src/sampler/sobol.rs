@@ -1,6 +1,6 @@
 //! Sobol sequence with Owen (nested uniform) scrambling.
 
-use super::{check_supported, Sampler};
+use super::{check_supported, Sampler, SamplerKind};
 use crate::error::Result;
 use crate::pointset::{PointSet, MAX_DIMENSION};
 use crate::rng::{splitmix64, Stream};
@@ -105,6 +105,9 @@ impl Sampler for Sobol {
     fn dimension(&self) -> usize {
         self.dimension
     }
+    fn kind(&self) -> Option<SamplerKind> {
+        Some(SamplerKind::Sobol)
+    }
     fn check_count(&self, n: usize) -> Result<()> {
         super::check_positive(self.name(), self.dimension, n)?;
         if n > u32::MAX as usize {
@@ -129,9 +132,6 @@ impl Sampler for Sobol {
             }
         }
         Ok(PointSet::from_trusted(d, coords))
-    }
-    fn is_scale_invariant(&self) -> bool {
-        false
     }
 }
 

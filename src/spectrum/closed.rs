@@ -15,7 +15,8 @@ pub fn sinc(x: f64) -> f64 {
 }
 
 /// A sampler whose expected power spectrum is known exactly.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
 pub enum ClosedForm {
     /// `E[P_S(k)] = 1` for every `k ≠ 0`.
     WhiteNoise,
@@ -52,20 +53,54 @@ impl ClosedForm {
         }
     }
 
-    /// The expected spectrum at integer frequency `k ≠ 0` of an N-point pattern in dimension
-    /// `k.len()`; at `k = 0` it is `N`. Jitter uses the sampler's [`strata`] (`m_i` cells
-    /// along axis `i`, `ν_i = k_i / m_i`), or `m = N^{1/d}` for counts without strata.
-    pub fn lattice_power(self, k: &[i64], n: usize) -> f64 {
-        if k.iter().all(|&c| c == 0) {
-            return n as f64;
-        }
-        let d = k.len();
-        let cells: Vec<f64> = match strata(n, d) {
-            Some(cells) => cells.iter().map(|&m| m as f64).collect(),
-            None => vec![(n as f64).powf(1.0 / d as f64); d],
+    /// This form for an `n`-point pattern on the lattice `|k_i| ≤ kmax` in dimension `d`, with
+    /// its per-axis factors tabulated once (see [`ClosedLattice`]).
+    ///
+    /// # Examples
+    /// ```
+    /// use specvar::spectrum::ClosedForm;
+    /// // Jitter with 12 × 8 strata: white at k = (12, 0), zero power along no axis but DC.
+    /// let jitter = ClosedForm::Jitter.on_lattice(96, 2, 24);
+    /// assert!((jitter.power(&[12, 0]) - 1.0).abs() < 1e-15);
+    /// assert!((jitter.power(&[0, 8]) - 1.0).abs() < 1e-15);
+    /// assert!(jitter.power(&[1, 1]) < 0.1);
+    /// assert_eq!(jitter.power(&[0, 0]), 96.0);
+    /// ```
+    pub fn on_lattice(self, n: usize, d: usize, kmax: usize) -> ClosedLattice {
+        let axes = match self {
+            ClosedForm::WhiteNoise => Vec::new(),
+            ClosedForm::Jitter => {
+                let cells: Vec<f64> = match strata(n, d) {
+                    Some(cells) => cells.iter().map(|&m| m as f64).collect(),
+                    None => vec![(n as f64).powf(1.0 / d as f64); d],
+                };
+                cells
+                    .iter()
+                    .map(|m| {
+                        (0..=2 * kmax)
+                            .map(|t| {
+                                let s = sinc(PI * (t as f64 - kmax as f64) / m);
+                                s * s
+                            })
+                            .collect()
+                    })
+                    .collect()
+            }
         };
-        let nu: Vec<f64> = k.iter().zip(&cells).map(|(&c, m)| c as f64 / m).collect();
-        self.power(&nu)
+        ClosedLattice {
+            form: self,
+            n,
+            kmax,
+            axes,
+        }
+    }
+
+    /// A short name: `white noise` or `jitter`.
+    pub fn name(self) -> &'static str {
+        match self {
+            ClosedForm::WhiteNoise => "white noise",
+            ClosedForm::Jitter => "jitter",
+        }
     }
 
     /// The limit of the radial spectrum at `ν → 0⁺`.
@@ -82,6 +117,46 @@ impl ClosedForm {
         match self {
             ClosedForm::WhiteNoise => 1.0,
             ClosedForm::Jitter => jitter_radial(d, nu),
+        }
+    }
+}
+
+/// A closed-form spectrum tabulated for one N on the lattice `|k_i| ≤ K`: evaluating it costs a
+/// product of table entries, no trigonometric call and no allocation.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ClosedLattice {
+    form: ClosedForm,
+    n: usize,
+    kmax: usize,
+    /// Jitter: `sinc²(π k / m_a)` for `k = -K..=K`, per axis.
+    axes: Vec<Vec<f64>>,
+}
+
+impl ClosedLattice {
+    /// The form.
+    pub fn form(&self) -> ClosedForm {
+        self.form
+    }
+
+    /// `E[P_S(k)]` at an integer frequency with `|k_i| ≤ K` (`N` at `k = 0`).
+    ///
+    /// # Panics
+    /// If a component of `k` exceeds the lattice's `K`, like slice indexing.
+    #[inline]
+    pub fn power(&self, k: &[i64]) -> f64 {
+        if k.iter().all(|&c| c == 0) {
+            return self.n as f64;
+        }
+        match self.form {
+            ClosedForm::WhiteNoise => 1.0,
+            ClosedForm::Jitter => {
+                let offset = self.kmax as i64;
+                1.0 - k
+                    .iter()
+                    .zip(&self.axes)
+                    .map(|(&c, table)| table[(c + offset) as usize])
+                    .product::<f64>()
+            }
         }
     }
 }

@@ -55,14 +55,27 @@ impl Lattice {
     }
 }
 
-/// Per-axis phase tables `e^{-2πi k x}` for `k = -K..=K`, built by complex multiplication:
-/// two `sin`/`cos` per point and axis, none per frequency.
-fn phase_table(points: &[&[f64]], axis: usize, kmax: usize, out: &mut Vec<Complex64>) {
+/// Per-axis phase tables of the direct engine, reused across calls (see [`direct_sums_into`]).
+#[derive(Debug, Clone, Default)]
+pub struct PhaseTables {
+    axes: [Vec<Complex64>; 3],
+}
+
+/// Per-axis phase tables `e^{-2πi k x}` for `k = -K..=K` of the points `first..first + count`,
+/// built by complex multiplication: two `sin`/`cos` per point and axis, none per frequency.
+fn phase_table(
+    points: &PointSet,
+    first: usize,
+    count: usize,
+    axis: usize,
+    kmax: usize,
+    out: &mut Vec<Complex64>,
+) {
     let side = 2 * kmax + 1;
     out.clear();
-    out.resize(points.len() * side, Complex64::new(0.0, 0.0));
-    out.par_chunks_mut(side).zip(points).for_each(|(row, p)| {
-        let x = p[axis];
+    out.resize(count * side, Complex64::new(0.0, 0.0));
+    out.par_chunks_mut(side).enumerate().for_each(|(j, row)| {
+        let x = points.point(first + j)[axis];
         let step = Complex64::from_polar(1.0, -TAU * x);
         // Start at k = -K: e^{+2πi K x}. Re-anchor every 64 steps to bound rounding drift.
         let mut e = Complex64::from_polar(1.0, TAU * kmax as f64 * x);
@@ -79,18 +92,38 @@ fn phase_table(points: &[&[f64]], axis: usize, kmax: usize, out: &mut Vec<Comple
 /// The exact sampling sums `Σ_j e^{-2πi k·x_j}` on the lattice by the phase recurrence,
 /// parallel over the first frequency axis. Uses `S(-k) = conj S(k)` to compute half.
 pub fn direct_sums(points: &PointSet, kmax: usize) -> Vec<Complex64> {
+    let len = Lattice {
+        dimension: points.dimension(),
+        kmax,
+    }
+    .len();
+    let mut sums = vec![Complex64::new(0.0, 0.0); len];
+    direct_sums_into(points, kmax, &mut PhaseTables::default(), &mut sums);
+    sums
+}
+
+/// As [`direct_sums`], into `sums` (length `(2K+1)^d`), with `tables` reused across calls.
+///
+/// # Panics
+/// If `sums` has another length.
+pub fn direct_sums_into(
+    points: &PointSet,
+    kmax: usize,
+    tables: &mut PhaseTables,
+    sums: &mut [Complex64],
+) {
     let d = points.dimension();
     let lattice = Lattice { dimension: d, kmax };
+    assert_eq!(sums.len(), lattice.len(), "direct_sums_into: output length");
     let side = lattice.side();
     let row = side.pow(d as u32 - 1);
-    let mut sums = vec![Complex64::new(0.0, 0.0); lattice.len()];
-    let all: Vec<&[f64]> = points.points().collect();
-    let mut tables: [Vec<Complex64>; 3] = Default::default();
-    for chunk in all.chunks(CHUNK) {
+    sums.fill(Complex64::new(0.0, 0.0));
+    for first in (0..points.len()).step_by(CHUNK) {
+        let count = CHUNK.min(points.len() - first);
         for a in 0..d {
-            phase_table(chunk, a, kmax, &mut tables[a]);
+            phase_table(points, first, count, a, kmax, &mut tables.axes[a]);
         }
-        let tables = &tables;
+        let tables = &tables.axes;
         if d == 1 {
             // One axis: parallel over blocks of frequencies, points innermost per block.
             sums[kmax..]
@@ -98,7 +131,7 @@ pub fn direct_sums(points: &PointSet, kmax: usize) -> Vec<Complex64> {
                 .enumerate()
                 .for_each(|(b, out)| {
                     let start = kmax + b * 256;
-                    for j in 0..chunk.len() {
+                    for j in 0..count {
                         let row = &tables[0][j * side + start..j * side + start + out.len()];
                         for (o, e) in out.iter_mut().zip(row) {
                             *o += e;
@@ -113,7 +146,7 @@ pub fn direct_sums(points: &PointSet, kmax: usize) -> Vec<Complex64> {
             .enumerate()
             .for_each(|(r, out)| {
                 let t0 = r + kmax;
-                for j in 0..chunk.len() {
+                for j in 0..count {
                     let e0 = tables[0][j * side + t0];
                     match d {
                         2 => {
@@ -141,7 +174,6 @@ pub fn direct_sums(points: &PointSet, kmax: usize) -> Vec<Complex64> {
     for i in 0..kmax * row {
         sums[i] = sums[len - 1 - i].conj();
     }
-    sums
 }
 
 /// Converts sampling sums to the power spectrum `|S|²/N`.

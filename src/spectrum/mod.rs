@@ -16,13 +16,14 @@ pub mod lattice;
 pub mod nufft;
 mod radial;
 
-pub use closed::{sinc, ClosedForm};
+pub use closed::{sinc, ClosedForm, ClosedLattice};
 pub use lattice::Lattice;
 pub use radial::{RadialBin, RadialSpectrum};
 
 use crate::error::{invalid, Error, Result};
 use crate::pointset::PointSet;
 use crate::sampler::Sampler;
+use num_complex::Complex64;
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -162,17 +163,28 @@ pub struct SpectrumEstimate {
 /// ```
 pub fn periodogram(points: &PointSet, kmax: usize, engine: Engine) -> Result<Vec<f64>> {
     let planned = Planned::new(points.dimension(), points.len(), kmax, engine)?;
-    planned.periodogram(points)
+    let mut work = planned.workspace();
+    planned.periodogram(points, &mut work)?;
+    Ok(work.power)
 }
 
 /// An engine with its plan, reusable across realizations.
-enum Planned {
-    Direct(usize),
-    Fast(nufft::NufftPlan),
+pub(crate) enum Planned {
+    Direct(Lattice),
+    Fast(Box<nufft::NufftPlan>),
+}
+
+/// One thread's buffers for [`Planned::periodogram`]: sums, power and the engine's scratch.
+pub(crate) struct Workspace {
+    sums: Vec<Complex64>,
+    /// The last periodogram computed.
+    pub power: Vec<f64>,
+    tables: lattice::PhaseTables,
+    nufft: Option<nufft::NufftScratch>,
 }
 
 impl Planned {
-    fn new(d: usize, n: usize, kmax: usize, engine: Engine) -> Result<Self> {
+    pub(crate) fn new(d: usize, n: usize, kmax: usize, engine: Engine) -> Result<Self> {
         if !(1..=3).contains(&d) {
             return Err(invalid("dimension", d, "1 to 3 for spectra"));
         }
@@ -180,21 +192,55 @@ impl Planned {
             return Err(invalid("kmax", kmax, "1 to 4096"));
         }
         Ok(match engine.resolve(n, d, kmax) {
-            Engine::Fast { tolerance } => Planned::Fast(nufft::NufftPlan::new(d, kmax, tolerance)?),
-            _ => Planned::Direct(kmax),
+            Engine::Fast { tolerance } => {
+                Planned::Fast(Box::new(nufft::NufftPlan::new(d, kmax, tolerance)?))
+            }
+            _ => Planned::Direct(Lattice { dimension: d, kmax }),
         })
     }
 
-    fn periodogram(&self, points: &PointSet) -> Result<Vec<f64>> {
-        let sums = match self {
-            Planned::Direct(kmax) => lattice::direct_sums(points, *kmax),
-            Planned::Fast(plan) => plan.sums(points)?,
-        };
-        let mut p = lattice::power_from_sums(&sums, points.len());
+    fn lattice(&self) -> Lattice {
+        match self {
+            Planned::Direct(lattice) => *lattice,
+            Planned::Fast(plan) => Lattice {
+                dimension: plan.dimension(),
+                kmax: plan.kmax(),
+            },
+        }
+    }
+
+    pub(crate) fn workspace(&self) -> Workspace {
+        let len = self.lattice().len();
+        Workspace {
+            sums: vec![Complex64::new(0.0, 0.0); len],
+            power: vec![0.0; len],
+            tables: lattice::PhaseTables::default(),
+            nufft: match self {
+                Planned::Fast(plan) => Some(plan.make_scratch()),
+                Planned::Direct(_) => None,
+            },
+        }
+    }
+
+    /// The periodogram of `points` into `work.power`.
+    pub(crate) fn periodogram(&self, points: &PointSet, work: &mut Workspace) -> Result<()> {
+        match (self, &mut work.nufft) {
+            (Planned::Fast(plan), Some(scratch)) => {
+                plan.sums_with_scratch(points, scratch, &mut work.sums)?
+            }
+            (Planned::Direct(lattice), _) => {
+                lattice::direct_sums_into(points, lattice.kmax, &mut work.tables, &mut work.sums)
+            }
+            (Planned::Fast(_), None) => unreachable!("a fast plan's workspace has NUFFT scratch"),
+        }
+        let scale = 1.0 / points.len() as f64;
+        for (p, s) in work.power.iter_mut().zip(&work.sums) {
+            *p = s.norm_sqr() * scale;
+        }
         // DC is exactly N; pin it so rounding in either engine cannot disturb it.
-        let dc = (p.len() - 1) / 2;
-        p[dc] = points.len() as f64;
-        Ok(p)
+        let dc = (work.power.len() - 1) / 2;
+        work.power[dc] = points.len() as f64;
+        Ok(())
     }
 
     fn engine(&self) -> Engine {
@@ -280,6 +326,8 @@ struct Moments {
     sum: Vec<f64>,
     sum_sq: Vec<f64>,
     ring: Vec<(f64, f64)>,
+    /// Scratch: one realization's ring sums.
+    ring_sum: Vec<f64>,
 }
 
 impl Moments {
@@ -288,19 +336,20 @@ impl Moments {
             sum: vec![0.0; len],
             sum_sq: vec![0.0; len],
             ring: vec![(0.0, 0.0); rings],
+            ring_sum: vec![0.0; rings],
         }
     }
 
     fn add(&mut self, p: &[f64], assign: &[Option<u32>], ring_count: &[f64]) {
-        let mut ring_sum = vec![0.0; self.ring.len()];
+        self.ring_sum.fill(0.0);
         for (i, &v) in p.iter().enumerate() {
             self.sum[i] += v;
             self.sum_sq[i] += v * v;
             if let Some(b) = assign[i] {
-                ring_sum[b as usize] += v;
+                self.ring_sum[b as usize] += v;
             }
         }
-        for (b, s) in ring_sum.iter().enumerate() {
+        for (b, s) in self.ring_sum.iter().enumerate() {
             if ring_count[b] > 0.0 {
                 let mean = s / ring_count[b];
                 self.ring[b].0 += mean;
@@ -340,20 +389,29 @@ fn accumulate(
         ring_count[*b as usize] += 1.0;
     }
     let m = params.realizations;
-    let chunks: Vec<Result<Moments>> = (0..m.div_ceil(REDUCE_CHUNK))
-        .into_par_iter()
-        .map(|c| {
-            let mut moments = Moments::new(lattice.len(), rings);
-            for r in c * REDUCE_CHUNK..((c + 1) * REDUCE_CHUNK).min(m) {
-                let p = planned.periodogram(&realization(r)?)?;
-                moments.add(&p, &assign, &ring_count);
-            }
-            Ok(moments)
-        })
-        .collect();
+    let chunk_count = m.div_ceil(REDUCE_CHUNK);
+    // Chunks are merged in their own order, so the sums do not depend on the thread count; a
+    // batch of chunks at a time bounds the memory to one set of moments per thread.
+    let batch = 2 * rayon::current_num_threads().max(1);
     let mut total = Moments::new(lattice.len(), rings);
-    for c in chunks {
-        total.merge(&c?);
+    for first in (0..chunk_count).step_by(batch) {
+        let chunks: Vec<Result<Moments>> = (first..(first + batch).min(chunk_count))
+            .into_par_iter()
+            .map_init(
+                || planned.workspace(),
+                |work, c| {
+                    let mut moments = Moments::new(lattice.len(), rings);
+                    for r in c * REDUCE_CHUNK..((c + 1) * REDUCE_CHUNK).min(m) {
+                        planned.periodogram(&realization(r)?, work)?;
+                        moments.add(&work.power, &assign, &ring_count);
+                    }
+                    Ok(moments)
+                },
+            )
+            .collect();
+        for c in chunks {
+            total.merge(&c?);
+        }
     }
     let mf = m as f64;
     let mean: Vec<f64> = total.sum.iter().map(|s| s / mf).collect();

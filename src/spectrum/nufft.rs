@@ -92,6 +92,16 @@ impl NufftPlan {
         })
     }
 
+    /// The dimension.
+    pub fn dimension(&self) -> usize {
+        self.dimension
+    }
+
+    /// The largest frequency per axis `K`.
+    pub fn kmax(&self) -> usize {
+        self.kmax
+    }
+
     /// Kernel width in grid cells.
     pub fn width(&self) -> usize {
         self.width
@@ -157,12 +167,70 @@ impl NufftPlan {
         }
     }
 
+    /// Scratch space for [`sums_with_scratch`](Self::sums_with_scratch): the oversampled grid
+    /// and the FFTs' buffers, about `16 n_f^d` bytes.
+    pub fn make_scratch(&self) -> NufftScratch {
+        let (d, g, k) = (self.dimension, self.grid, self.kmax);
+        let half = k + 1;
+        let rows = g.pow(d as u32 - 1);
+        let zero = Complex64::new(0.0, 0.0);
+        NufftScratch {
+            real: vec![0.0; g.pow(d as u32)],
+            data: vec![zero; rows * half],
+            spare: vec![zero; rows * half],
+            spectrum: self.rfft.make_output_vec(),
+            rfft: self.rfft.make_scratch_vec(),
+            fft: vec![zero; self.fft.get_inplace_scratch_len()],
+            line: vec![zero; g],
+        }
+    }
+
+    /// The number of lattice frequencies `(2K+1)^d`: the length of the output of
+    /// [`sums_with_scratch`](Self::sums_with_scratch).
+    pub fn output_len(&self) -> usize {
+        (2 * self.kmax + 1).pow(self.dimension as u32)
+    }
+
     /// The sampling sums `Σ_j e^{-2πi k·x_j}` on the lattice, in the lattice order of
-    /// [`super::lattice::Lattice`].
+    /// [`super::lattice::Lattice`]. Allocates its scratch; see
+    /// [`sums_with_scratch`](Self::sums_with_scratch) to reuse it.
     ///
     /// # Errors
     /// A point set of another dimension.
+    ///
+    /// # Examples
+    /// ```
+    /// use specvar::sampler::{Random, Sampler};
+    /// use specvar::spectrum::nufft::NufftPlan;
+    /// use num_complex::Complex64;
+    /// let plan = NufftPlan::new(2, 32, 1e-10)?;
+    /// let mut scratch = plan.make_scratch();
+    /// let mut sums = vec![Complex64::new(0.0, 0.0); plan.output_len()];
+    /// for realization in 0..4 {
+    ///     let points = Random::new(2)?.sample(1000, 7, realization)?;
+    ///     plan.sums_with_scratch(&points, &mut scratch, &mut sums)?; // no allocation
+    ///     let dc = sums[(sums.len() - 1) / 2];
+    ///     assert!((dc.re - 1000.0).abs() < 1e-6 && dc.im.abs() < 1e-6);
+    /// }
+    /// # Ok::<(), specvar::Error>(())
+    /// ```
     pub fn sums(&self, points: &PointSet) -> Result<Vec<Complex64>> {
+        let mut out = vec![Complex64::new(0.0, 0.0); self.output_len()];
+        self.sums_with_scratch(points, &mut self.make_scratch(), &mut out)?;
+        Ok(out)
+    }
+
+    /// As [`sums`](Self::sums), into `out` (length [`output_len`](Self::output_len)), using
+    /// `scratch` from [`make_scratch`](Self::make_scratch) of this plan: nothing is allocated.
+    ///
+    /// # Errors
+    /// A point set of another dimension, or `out` or `scratch` of another size.
+    pub fn sums_with_scratch(
+        &self,
+        points: &PointSet,
+        scratch: &mut NufftScratch,
+        out: &mut [Complex64],
+    ) -> Result<()> {
         if points.dimension() != self.dimension {
             return Err(invalid(
                 "point dimension",
@@ -172,32 +240,41 @@ impl NufftPlan {
         }
         let (d, g, k) = (self.dimension, self.grid, self.kmax);
         let side = 2 * k + 1;
-        let mut real = vec![0.0; g.pow(d as u32)];
-        self.spread(points, &mut real);
+        let len = side.pow(d as u32);
+        if out.len() != len || scratch.real.len() != g.pow(d as u32) {
+            return Err(invalid(
+                "NUFFT buffers",
+                format!("{} outputs, a grid of {}", out.len(), scratch.real.len()),
+                format!(
+                    "{len} outputs and a grid of {} (make_scratch)",
+                    g.pow(d as u32)
+                ),
+            ));
+        }
+        self.spread(points, &mut scratch.real);
         // Last axis: real-to-complex, keeping k_last = 0..=K (the rest follows by symmetry).
-        let rows = real.len() / g;
         let half = k + 1;
-        let mut data = vec![Complex64::new(0.0, 0.0); rows * half];
-        let mut spectrum = self.rfft.make_output_vec();
-        let mut rscratch = self.rfft.make_scratch_vec();
-        for (row, out) in real.chunks_exact_mut(g).zip(data.chunks_exact_mut(half)) {
+        let rows = scratch.real.len() / g;
+        for (row, dst) in scratch
+            .real
+            .chunks_exact_mut(g)
+            .zip(scratch.data.chunks_exact_mut(half))
+        {
             // The input row is used as scratch by the transform; it is not needed again.
             let _ = self
                 .rfft
-                .process_with_scratch(row, &mut spectrum, &mut rscratch);
-            out.copy_from_slice(&spectrum[..half]);
+                .process_with_scratch(row, &mut scratch.spectrum, &mut scratch.rfft);
+            dst.copy_from_slice(&scratch.spectrum[..half]);
         }
-        drop(real);
         let mut shape = [1usize; 3];
         shape[..d].fill(g);
         shape[d - 1] = half;
-        let mut scratch = vec![Complex64::new(0.0, 0.0); self.fft.get_inplace_scratch_len()];
+        let mut used = rows * half;
         for axis in (0..d - 1).rev() {
-            data = self.fft_axis_and_crop(&data, &mut shape, axis, &mut scratch);
+            used = self.fft_axis_and_crop(scratch, used, &mut shape, axis);
         }
         // Unfold to the full lattice with S(-k) = conj S(k), deconvolving on the way.
-        let len = side.pow(d as u32);
-        let mut sums = vec![Complex64::new(0.0, 0.0); len];
+        let data = &scratch.data[..used];
         let outer = len / side;
         for o in 0..outer {
             let mut factor = 1.0;
@@ -208,45 +285,59 @@ impl NufftPlan {
             }
             for t in 0..half {
                 let v = data[o * half + t] * (factor * self.correction[k + t]);
-                sums[o * side + k + t] = v;
+                out[o * side + k + t] = v;
                 // -k: flat index len - 1 - index(k).
-                sums[len - 1 - (o * side + k + t)] = v.conj();
+                out[len - 1 - (o * side + k + t)] = v.conj();
             }
         }
-        Ok(sums)
+        Ok(())
     }
 
-    /// FFT along `axis` of a row-major array of `shape`, keeping frequencies `-K..=K` in order.
+    /// FFT along `axis` of the row-major array `scratch.data[..used]` of `shape`, keeping
+    /// frequencies `-K..=K` in order; the result replaces it. Returns its length.
     fn fft_axis_and_crop(
         &self,
-        data: &[Complex64],
+        scratch: &mut NufftScratch,
+        used: usize,
         shape: &mut [usize; 3],
         axis: usize,
-        scratch: &mut [Complex64],
-    ) -> Vec<Complex64> {
+    ) -> usize {
         let (g, k) = (self.grid, self.kmax);
         let side = 2 * k + 1;
         let outer: usize = shape[..axis].iter().product();
         let inner: usize = shape[axis + 1..].iter().product();
-        let mut out_shape = *shape;
-        out_shape[axis] = side;
-        let mut out = vec![Complex64::new(0.0, 0.0); outer * side * inner];
-        let mut line = vec![Complex64::new(0.0, 0.0); g];
+        let data = &scratch.data[..used];
+        let out = &mut scratch.spare[..outer * side * inner];
         for o in 0..outer {
             for i in 0..inner {
-                for (t, v) in line.iter_mut().enumerate() {
+                for (t, v) in scratch.line.iter_mut().enumerate() {
                     *v = data[(o * g + t) * inner + i];
                 }
-                self.fft.process_with_scratch(&mut line, scratch);
+                self.fft
+                    .process_with_scratch(&mut scratch.line, &mut scratch.fft);
                 for t in 0..side {
                     let bin = (t + g - k) % g; // frequency t - K
-                    out[(o * side + t) * inner + i] = line[bin];
+                    out[(o * side + t) * inner + i] = scratch.line[bin];
                 }
             }
         }
-        *shape = out_shape;
-        out
+        shape[axis] = side;
+        std::mem::swap(&mut scratch.data, &mut scratch.spare);
+        outer * side * inner
     }
+}
+
+/// Caller-owned buffers of a [`NufftPlan`] (from [`NufftPlan::make_scratch`]), reused across
+/// realizations so that a transform allocates nothing.
+#[derive(Debug, Clone)]
+pub struct NufftScratch {
+    real: Vec<f64>,
+    data: Vec<Complex64>,
+    spare: Vec<Complex64>,
+    spectrum: Vec<Complex64>,
+    rfft: Vec<Complex64>,
+    fft: Vec<Complex64>,
+    line: Vec<Complex64>,
 }
 
 /// `h / ψ̂(k)` for `k = -K..=K`, where `ψ(x) = φ(x n_f / (w/2))` and

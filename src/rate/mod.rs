@@ -3,10 +3,22 @@
 //! With `P̆_S(ν) ≈ c ν^α` near 0 and `P̆_f(ρ) ~ ρ^{-β}`, the variance falls like
 //! `N^{-1 - min(α, β - d)/d}`, with a `log N` factor when `α = β - d`. A rate here is the
 //! exponent `r` in `Var ∝ N^r`.
+//!
+//! [`fit_alpha`] measures `α` from an estimated spectrum; [`run_study`] is the whole rate
+//! study (samplers × integrands × N: theory, predicted and Monte Carlo slopes) that both
+//! `specvar rates` and the report run.
+
+mod alpha;
+mod study;
+
+pub use alpha::{fit_alpha, AlphaFit};
+pub use study::{
+    rate_ns, run_study, AlphaSource, ReferenceSpectrum, SamplerSpectrum, Study, StudyConfig,
+    StudyRow, StudySeries,
+};
 
 use crate::error::{invalid, Result};
 use crate::montecarlo::Z_99;
-use crate::spectrum::RadialSpectrum;
 use serde::Serialize;
 
 /// The asymptotic rate and whether a `log N` factor multiplies it.
@@ -114,33 +126,6 @@ pub fn loglog_slope(ns: &[f64], values: &[f64], rel_stderr: Option<&[f64]>) -> R
     let y: Vec<f64> = values.iter().map(|v| v.ln()).collect();
     let var: Option<Vec<f64>> = rel_stderr.map(|r| r.iter().map(|s| s * s).collect());
     weighted_line(&x, &y, var.as_deref())
-}
-
-/// The low-frequency exponent `α` of a radial spectrum: the weighted log-log slope of the ring
-/// powers over `nu_min ≤ ν ≤ nu_max`, each ring weighted by its relative standard error.
-///
-/// # Errors
-/// Fewer than two usable rings in the range.
-pub fn fit_alpha(radial: &RadialSpectrum, nu_min: f64, nu_max: f64) -> Result<SlopeFit> {
-    let rings: Vec<_> = radial
-        .bins
-        .iter()
-        .filter(|b| b.nu >= nu_min && b.nu <= nu_max && b.power > 0.0)
-        .collect();
-    let x: Vec<f64> = rings.iter().map(|b| b.nu.ln()).collect();
-    let y: Vec<f64> = rings.iter().map(|b| b.power.ln()).collect();
-    let var: Vec<f64> = rings
-        .iter()
-        .map(|b| {
-            let rel = b.stderr / b.power;
-            if rel.is_finite() && rel > 0.0 {
-                rel * rel
-            } else {
-                1.0
-            }
-        })
-        .collect();
-    weighted_line(&x, &y, Some(&var))
 }
 
 /// Where two curves sampled at the same `ns` cross: the N (log-log interpolated) at which

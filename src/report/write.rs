@@ -1,54 +1,77 @@
-//! Writing the report: plots, `report.md` and `report.json`.
+//! Writing the report: plots, `report.md` and `report.json`, into a fresh directory that
+//! replaces the old one only when complete.
 
-use super::build::{write_text, Report, SAMPLERS};
+use super::compute::talk_mse;
+use super::model::{AmbientSection, Report};
 use crate::error::{Error, Result};
-use crate::integrand::Integrand;
+use crate::integrand::IntegrandKind;
+use crate::montecarlo::Z_99;
 use crate::plot::{line_plot, Axes, Series, Style};
-use crate::spectrum::SpectrumEstimate;
+use crate::rate::Study;
+use crate::render::{measured_ratio, write_comparison};
+use crate::sampler::SamplerKind;
 use std::fmt::Write as _;
 use std::path::Path;
 
 /// The talk's table (Pilleboue et al. 2015): worst case (disk) and best case (Gaussian).
-const TALK_TABLE: [(&str, &str, &str); 4] = [
-    ("random", "-1", "-1"),
-    ("jitter", "-1.5", "-2"),
-    ("poisson", "-1", "-1"),
-    ("ccvt", "-1.5", "-3"),
-];
-
-/// Writes every file of the report into `dir`.
-pub(crate) fn write_all(
-    dir: &Path,
-    report: &Report,
-    estimates: &[SpectrumEstimate],
-    fs: &[&dyn Integrand],
-) -> Result<()> {
-    variance_plots(dir, report, fs)?;
-    spectrum_plots(dir, report, estimates)?;
-    illustration_plots(dir, report)?;
-    let json = serde_json::to_string_pretty(report).map_err(|e| Error::Io(e.to_string()))?;
-    write_text(dir, "report.json", &json)?;
-    write_text(dir, "report.md", &markdown(report))
-}
-
-fn file_stem(label: &str) -> &'static str {
-    if label.starts_with("disk") {
-        "disk"
-    } else {
-        "gaussian"
+fn talk_rate(sampler: SamplerKind, integrand: IntegrandKind) -> &'static str {
+    let (disk, gaussian) = match sampler {
+        SamplerKind::Random | SamplerKind::PoissonDisk => ("-1", "-1"),
+        SamplerKind::Jitter => ("-1.5", "-2"),
+        SamplerKind::Ccvt => ("-1.5", "-3"),
+        _ => ("", ""),
+    };
+    match integrand {
+        IntegrandKind::Ball => disk,
+        IntegrandKind::Gaussian => gaussian,
+        _ => "",
     }
 }
 
-fn variance_plots(dir: &Path, report: &Report, fs: &[&dyn Integrand]) -> Result<()> {
-    for (j, f) in fs.iter().enumerate() {
+/// The file stem of the study's integrand at `index`: its kind, numbered when two share one.
+fn stem(study: &Study, index: usize) -> String {
+    let kinds: Vec<IntegrandKind> = study.config.integrands.iter().map(|s| s.kind()).collect();
+    let kind = kinds[index];
+    if kinds.iter().filter(|&&k| k == kind).count() > 1 {
+        format!("{kind}{index}")
+    } else {
+        kind.to_string()
+    }
+}
+
+/// Writes every file of the report into `dir`, replacing what was there only once all of it
+/// is written: `report.md`, `report.json`, the plots, and the renders under `ao/`.
+///
+/// # Errors
+/// An unwritable directory or file.
+pub fn write(report: &Report, dir: &Path) -> Result<()> {
+    crate::output::replace_dir(dir, |tmp| {
+        variance_plots(tmp, report)?;
+        spectrum_plots(tmp, report)?;
+        illustration_plots(tmp, report)?;
+        let ao = &report.ambient;
+        write_comparison(&tmp.join("ao"), &ao.rows, &ao.reference)?;
+        let json =
+            serde_json::to_string_pretty(report).map_err(|e| Error::format("report.json", e))?;
+        crate::output::write_atomic(&tmp.join("report.json"), json.as_bytes())?;
+        crate::output::write_atomic(&tmp.join("report.md"), markdown(report).as_bytes())
+    })
+}
+
+fn variance_plots(dir: &Path, report: &Report) -> Result<()> {
+    let study = &report.study;
+    let count = study.config.integrands.len();
+    for j in 0..count {
         let mut series = Vec::new();
-        for (color, s) in report.samplers.iter().enumerate() {
-            let ns = report.ns.iter().map(|&n| n as f64);
+        let mut title = String::new();
+        for (color, s) in study.series.iter().skip(j).step_by(count).enumerate() {
+            title = s.label.clone();
+            let ns = s.ns.iter().map(|&n| n as f64);
             series.push(Series {
                 label: format!("{} predicted", s.sampler),
                 points: ns
                     .clone()
-                    .zip(s.predicted[j].iter().map(|p| p.variance))
+                    .zip(s.predicted.iter().map(|p| p.variance))
                     .collect(),
                 bars: None,
                 style: Style::Line,
@@ -56,26 +79,21 @@ fn variance_plots(dir: &Path, report: &Report, fs: &[&dyn Integrand]) -> Result<
             });
             series.push(Series {
                 label: format!("{} Monte Carlo (99%)", s.sampler),
-                points: ns.zip(s.measured[j].iter().map(|r| r.variance)).collect(),
-                bars: Some(
-                    s.measured[j]
-                        .iter()
-                        .map(|r| (r.ci_low, r.ci_high))
-                        .collect(),
-                ),
+                points: ns.zip(s.measured.iter().map(|r| r.variance)).collect(),
+                bars: Some(s.measured.iter().map(|r| (r.ci_low, r.ci_high)).collect()),
                 style: Style::Points,
                 color,
             });
         }
         let axes = Axes {
-            title: format!("variance of the homogenized estimator, {}", f.label()),
+            title: format!("variance of the homogenized estimator, {title}"),
             x_label: "N".into(),
             y_label: "Var".into(),
             log_x: true,
             log_y: true,
         };
         line_plot(
-            &dir.join(format!("variance_{}.svg", file_stem(&f.label()))),
+            &dir.join(format!("variance_{}.svg", stem(study, j))),
             &axes,
             &series,
         )?;
@@ -83,14 +101,20 @@ fn variance_plots(dir: &Path, report: &Report, fs: &[&dyn Integrand]) -> Result<
     Ok(())
 }
 
-fn spectrum_plots(dir: &Path, report: &Report, estimates: &[SpectrumEstimate]) -> Result<()> {
-    let series: Vec<Series> = report
-        .samplers
+fn spectrum_plots(dir: &Path, report: &Report) -> Result<()> {
+    let spectra = &report.study.spectra;
+    let series: Vec<Series> = spectra
         .iter()
         .enumerate()
         .map(|(color, s)| Series {
-            label: s.sampler.clone(),
-            points: s.spectrum.bins.iter().map(|b| (b.nu, b.power)).collect(),
+            label: s.sampler.to_string(),
+            points: s
+                .estimate
+                .radial
+                .bins
+                .iter()
+                .map(|b| (b.nu, b.power))
+                .collect(),
             bars: None,
             style: Style::Line,
             color,
@@ -99,7 +123,7 @@ fn spectrum_plots(dir: &Path, report: &Report, estimates: &[SpectrumEstimate]) -
     let axes = Axes {
         title: format!(
             "radial power spectra at N = {}",
-            estimates.first().map_or(0, |e| e.lattice.n)
+            report.study.config.reference.n
         ),
         x_label: "ν = ρ / √N".into(),
         y_label: "power".into(),
@@ -114,11 +138,11 @@ fn spectrum_plots(dir: &Path, report: &Report, estimates: &[SpectrumEstimate]) -
         ..axes
     };
     line_plot(&dir.join("radial_spectra_loglog.svg"), &log_axes, &series)?;
-    for (kind, est) in SAMPLERS.iter().zip(estimates) {
-        super::plot_spectrum(
-            &dir.join(format!("spectrum2d_{}.svg", kind.name())),
-            kind.name(),
-            est,
+    for s in spectra {
+        crate::plot::spectrum_plot(
+            &dir.join(format!("spectrum2d_{}.svg", s.sampler)),
+            s.sampler.name(),
+            &s.estimate,
             false,
         )?;
     }
@@ -225,7 +249,14 @@ fn fmt_opt(x: Option<f64>) -> String {
 
 fn markdown(report: &Report) -> String {
     let mut md = String::new();
-    let passed = report.checks.iter().filter(|c| c.pass).count();
+    let passed = report.passed();
+    let study = &report.study;
+    let labels: Vec<String> = study
+        .series
+        .iter()
+        .take(study.config.integrands.len())
+        .map(|s| s.label.clone())
+        .collect();
     let _ = writeln!(
         md,
         "# specvar: variance of Monte Carlo integration from power spectra\n"
@@ -234,9 +265,9 @@ fn markdown(report: &Report) -> String {
         md,
         "{} run. Dimension 2. Every variance is that of the **homogenized** estimator (a random \
          toroidal shift per trial). Integrands: {}. N = {:?}. Cross-checks passed: **{passed} of {}**.\n",
-        if report.quick { "Quick" } else { "Full" },
-        report.integrands.join(" and "),
-        report.ns,
+        if report.config.quick { "Quick" } else { "Full" },
+        labels.join(" and "),
+        study.config.ns,
         report.checks.len()
     );
     let _ = writeln!(md, "## The talk's table, reproduced\n");
@@ -253,25 +284,16 @@ fn markdown(report: &Report) -> String {
         "| sampler | integrand | talk | theory | predicted | Monte Carlo (99% CI) | α |"
     );
     let _ = writeln!(md, "|---|---|---|---|---|---|---|");
-    for row in &report.rates {
-        let talk = TALK_TABLE
-            .iter()
-            .find(|t| t.0 == row.sampler)
-            .map_or("", |t| {
-                if row.integrand.starts_with("disk") {
-                    t.1
-                } else {
-                    t.2
-                }
-            });
+    for (row, series) in study.rows.iter().zip(&study.series) {
+        let talk = talk_rate(row.sampler, series.integrand.kind());
         let _ = writeln!(
             md,
             "| {} | {} | {talk} | {:.2}{} | {:.3} | {:.3} [{:.3}, {:.3}] | {:.2} |",
             row.sampler,
-            file_stem(&row.integrand),
+            series.integrand.kind(),
             row.theory_rate,
             if row.log_factor { " (·log N)" } else { "" },
-            row.predicted_rate,
+            row.predicted_rate.slope,
             row.empirical_rate.slope,
             row.empirical_rate.ci.0,
             row.empirical_rate.ci.1,
@@ -287,25 +309,37 @@ fn markdown(report: &Report) -> String {
          steeper than -1.\n"
     );
     let _ = writeln!(md, "## Variance against N\n");
-    for stem in ["disk", "gaussian"] {
-        let _ = writeln!(md, "![variance, {stem}](variance_{stem}.svg)\n");
+    for (j, label) in labels.iter().enumerate() {
+        let _ = writeln!(
+            md,
+            "![variance, {label}](variance_{}.svg)\n",
+            stem(study, j)
+        );
     }
-    for (j, label) in report.integrands.iter().enumerate() {
+    for (j, label) in labels.iter().enumerate() {
         let _ = writeln!(md, "### {label}\n");
         let _ = writeln!(md, "| sampler | N | predicted (spectrum at N_ref, polar) | closed form | lattice form at this N | Monte Carlo | 99% interval | trials |");
         let _ = writeln!(md, "|---|---|---|---|---|---|---|---|");
-        for s in &report.samplers {
-            for (k, r) in s.measured[j].iter().enumerate() {
-                let closed = s.closed[j]
+        for (s, extra) in study
+            .series
+            .iter()
+            .zip(&report.extras)
+            .skip(j)
+            .step_by(labels.len())
+        {
+            for (k, r) in s.measured.iter().enumerate() {
+                let closed = extra
+                    .closed
                     .get(k)
                     .map_or("".into(), |p| format!("{:.4e}", p.variance));
-                let target = s.at_target[j]
+                let target = extra
+                    .at_target
                     .get(k)
                     .map_or("".into(), |p| format!("{:.4e}", p.variance));
                 let _ = writeln!(
                     md,
                     "| {} | {} | {:.4e} ± {:.1e} | {closed} | {target} | {:.4e} | [{:.4e}, {:.4e}] | {} × {} |",
-                    s.sampler, r.n, s.predicted[j][k].variance, s.predicted[j][k].spectrum_stderr,
+                    s.sampler, r.n, s.predicted[k].variance, s.predicted[k].budget.spectrum_noise,
                     r.variance, r.ci_low, r.ci_high, r.patterns, r.shifts
                 );
             }
@@ -314,17 +348,17 @@ fn markdown(report: &Report) -> String {
     }
     let _ = writeln!(md, "## Spectra\n");
     let _ = writeln!(md, "![radial spectra](radial_spectra.svg)\n\n![radial spectra, log-log](radial_spectra_loglog.svg)\n");
-    for kind in SAMPLERS {
-        let _ = writeln!(md, "![{0} 2D spectrum](spectrum2d_{0}.svg)", kind.name());
+    for s in &study.spectra {
+        let _ = writeln!(md, "![{0} 2D spectrum](spectrum2d_{0}.svg)", s.sampler);
     }
     let _ = writeln!(
         md,
-        "\n| sampler | realizations | P̆(0⁺) estimate | fitted α (ν ≤ 0.3) | peak power | at ν |"
+        "\n| sampler | realizations | P̆(0⁺) estimate | fitted α (ν ≤ 0.3, ring-exact model) | peak power | at ν |"
     );
     let _ = writeln!(md, "|---|---|---|---|---|---|");
-    for s in &report.samplers {
-        let peak = s
-            .spectrum
+    for s in &study.spectra {
+        let radial = &s.estimate.radial;
+        let peak = radial
             .bins
             .iter()
             .max_by(|a, b| a.power.total_cmp(&b.power));
@@ -332,7 +366,7 @@ fn markdown(report: &Report) -> String {
         let _ = writeln!(
             md,
             "| {} | {} | {:.4} | {:.2} ± {:.2} | {pp:.3} | {pn:.3} |",
-            s.sampler, s.spectrum.realizations, s.spectrum.dc_limit, s.alpha.slope, s.alpha.stderr
+            s.sampler, radial.realizations, radial.dc_limit, s.alpha.alpha, s.alpha.stderr
         );
     }
     let _ = writeln!(md, "\n## Crossovers\n");
@@ -371,7 +405,7 @@ fn markdown(report: &Report) -> String {
         let _ = writeln!(md, "| {n} | {s:.6e} | {d:.6e} |");
     }
     md.push('\n');
-    md.push_str(&super::ambient::markdown(&report.ambient_occlusion));
+    md.push_str(&ambient_markdown(&report.ambient));
     let _ = writeln!(md, "\n## Cross-checks\n");
     let _ = writeln!(
         md,
@@ -408,17 +442,93 @@ fn markdown(report: &Report) -> String {
         );
     }
     let _ = writeln!(md, "\n## Run\n");
-    for (stage, secs) in &report.timings {
-        let _ = writeln!(md, "- {stage}: {secs:.1} s");
+    for t in &report.timings {
+        let _ = writeln!(md, "- {}: {:.1} s", t.stage, t.seconds);
     }
     let _ = writeln!(
         md,
         "\nAll numbers are also in `report.json`. Reproduce with `cargo run --release`{}.",
-        if report.quick {
+        if report.config.quick {
             " -- report --quick"
         } else {
             ""
         }
+    );
+    md
+}
+
+/// The section's Markdown.
+fn ambient_markdown(ao: &AmbientSection) -> String {
+    let mut md = String::new();
+    let _ = writeln!(md, "## Rendering: ambient occlusion at 96 rays\n");
+    let _ = writeln!(
+        md,
+        "A Cornell-box-like room (two blocks, two spheres) rendered at {} × {} pixels with \
+         ambient occlusion: cosine-weighted directions from a 2D pattern of 96 points per pixel \
+         (`sin θ = √u₀`, `φ = 2π u₁`), occluders counted up to distance 0.5 (the room's side is \
+         1). Every pixel uses one of {} patterns of the sampler under its own random toroidal \
+         shift, so each pixel's estimate is unbiased and its MSE is its variance. Jitter and the \
+         regular grid stratify 96 as 12 × 8.\n",
+        ao.width, ao.height, ao.patterns
+    );
+    let _ = writeln!(
+        md,
+        "**Measured** MSE is against a reference of {} independent uniform rays per pixel, \
+         minus the reference's own estimated variance `p̂(1-p̂)/(R-1)` per pixel (so it \
+         estimates the MSE against the exact image). Its standard error is the spread of the \
+         per-pixel terms with the pixels sharing a pattern summed first.\n",
+        ao.reference_rays
+    );
+    let _ = writeln!(
+        md,
+        "**Predicted** MSE, before rendering: each pixel's visibility in primary sample space is \
+         rasterized on a grid and Fourier transformed (FFT); the image's MSE is \
+         `(1/N) Σ_k A(k) P_S(k)` with `A` the {} and `P_S` the sampler's spectrum at N = 96, \
+         estimated from {} independent patterns on `|k_i| ≤ {}` (white beyond). `z` combines the \
+         measurement's standard error with the prediction's spectrum noise.\n",
+        ao.power_label, ao.spectrum_realizations, ao.kmax
+    );
+    let _ = writeln!(md, "![renders](ao/strip.svg)\n");
+    md.push_str(&crate::render::comparison_table(&ao.rows));
+    if let Some(ratio) = measured_ratio(&ao.rows, SamplerKind::Random, SamplerKind::Jitter) {
+        let _ = writeln!(
+            md,
+            "\nrandom / jitter: **{ratio:.2}** here, {:.2} in the talk. Poisson disk / CCVT: \
+             {}, {:.2} in the talk. The absolute MSEs differ from the talk's, whose scene, \
+             distance and resolution are not given; the orderings are the point.",
+            talk_mse(SamplerKind::Random) / talk_mse(SamplerKind::Jitter),
+            measured_ratio(&ao.rows, SamplerKind::PoissonDisk, SamplerKind::Ccvt)
+                .map_or("-".into(), |r| format!("{r:.2}")),
+            talk_mse(SamplerKind::PoissonDisk) / talk_mse(SamplerKind::Ccvt),
+        );
+    }
+    let misses: Vec<String> = ao
+        .rows
+        .iter()
+        .filter(|r| r.z_score().abs() > Z_99)
+        .map(|r| {
+            format!(
+                "{} ({:+.1}%)",
+                r.sampler,
+                100.0 * (r.predicted.variance / r.measured.mse - 1.0)
+            )
+        })
+        .collect();
+    let _ = writeln!(
+        md,
+        "\nPredictions outside the 99% interval: {}. The lattice stops at `|k_i| = {}` and \
+         counts the power beyond as white (`P_S = 1`). A pixel's visibility jumps along the \
+         torus seam `u₀ = 0` (zenith meets horizon), so its power along the `k₀` axis falls only \
+         like `k⁻²`, and a sampler whose spectrum stays far from 1 on that axis beyond the \
+         lattice is mispredicted by the tail: the homogenized regular grid, whose spectrum is 96 \
+         at every `(12a, 8b)` and 0 elsewhere, is underpredicted, and the error shrinks like \
+         `1/K` as `--kmax` (with `--grid` at least as fine) grows.\n",
+        if misses.is_empty() {
+            "none".to_string()
+        } else {
+            misses.join(", ")
+        },
+        ao.kmax
     );
     md
 }

@@ -1,7 +1,21 @@
-//! The `specvar` command line: parses arguments, calls the library, prints.
+//! The `specvar` command line: each subcommand parses its arguments, makes one library call and
+//! prints the result. Every decision of substance (routes, reference N, lattice extents,
+//! pools) is the library's.
+
+mod bars;
+mod bias;
+mod mc;
+mod predict;
+mod problem;
+mod rates;
+mod render_ao;
+mod report;
+mod sample;
+mod samplers;
+mod spectrum;
 
 use clap::{Parser, Subcommand};
-use specvar::cli;
+use std::path::Path;
 use std::process::ExitCode;
 
 #[derive(Parser)]
@@ -20,23 +34,23 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// List the samplers with their dimensions and N constraints.
-    Samplers(cli::SamplersArgs),
+    Samplers(samplers::Args),
     /// Write point sets (UTK text by default, or JSON).
-    Sample(cli::SampleArgs),
+    Sample(sample::Args),
     /// Power spectrum of a sampler or of point sets from a file: lattice or radial.
-    Spectrum(cli::SpectrumArgs),
+    Spectrum(spectrum::Args),
     /// Predict the variance of the homogenized estimator from spectra.
-    Predict(cli::PredictArgs),
+    Predict(predict::Args),
     /// Bias of a fixed (not homogenized) pattern, from its spectrum and directly.
-    Bias(cli::BiasArgs),
+    Bias(bias::Args),
     /// Reproduce the talk's table with predictions, Monte Carlo, plots and report.md.
-    Report(cli::ReportArgs),
+    Report(report::Args),
     /// Monte Carlo variance of the estimator, with a 99% interval.
-    Mc(cli::McArgs),
+    Mc(mc::Args),
     /// Convergence rates: theory, predicted from spectra, measured by Monte Carlo.
-    Rates(cli::RatesArgs),
+    Rates(rates::Args),
     /// Render ambient occlusion with a sampler (or all): image, MSE, MSE predicted from spectra.
-    RenderAo(cli::RenderAoArgs),
+    RenderAo(render_ao::Args),
 }
 
 fn main() -> ExitCode {
@@ -55,16 +69,16 @@ fn main() -> ExitCode {
         }
     };
     let result = match parsed.command {
-        Some(Command::Samplers(a)) => cli::samplers(&a),
-        Some(Command::Sample(a)) => cli::sample(&a),
-        Some(Command::Spectrum(a)) => cli::spectrum(&a),
-        Some(Command::Predict(a)) => cli::predict(&a),
-        Some(Command::Bias(a)) => cli::bias(&a),
-        Some(Command::Report(a)) => cli::report(&a),
-        Some(Command::Mc(a)) => cli::mc(&a),
-        Some(Command::Rates(a)) => cli::rates(&a),
-        Some(Command::RenderAo(a)) => cli::render_ao(&a),
-        None => cli::default_job(),
+        Some(Command::Samplers(a)) => samplers::run(&a),
+        Some(Command::Sample(a)) => sample::run(&a),
+        Some(Command::Spectrum(a)) => spectrum::run(&a),
+        Some(Command::Predict(a)) => predict::run(&a),
+        Some(Command::Bias(a)) => bias::run(&a),
+        Some(Command::Report(a)) => report::run(&a),
+        Some(Command::Mc(a)) => mc::run(&a),
+        Some(Command::Rates(a)) => rates::run(&a),
+        Some(Command::RenderAo(a)) => render_ao::run(&a),
+        None => report::run(&report::Args::default()),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -73,4 +87,20 @@ fn main() -> ExitCode {
             ExitCode::from(2)
         }
     }
+}
+
+/// Writes `text` atomically to a file, or to standard output when `path` is `None`.
+fn write_output(path: Option<&Path>, text: &str) -> specvar::Result<()> {
+    use std::io::Write;
+    match path {
+        Some(p) => specvar::output::write_atomic(p, text.as_bytes()),
+        None => std::io::stdout()
+            .write_all(text.as_bytes())
+            .map_err(|e| specvar::Error::io(Path::new("standard output"), e)),
+    }
+}
+
+/// Serializes `value` as one line of JSON.
+fn to_json(value: &impl serde::Serialize) -> specvar::Result<String> {
+    serde_json::to_string(value).map_err(|e| specvar::Error::format("JSON output", e))
 }

@@ -1,197 +1,93 @@
-//! Plots: log-scale curves (plotters, SVG) and spectrum images (PNG, optionally wrapped in
-//! SVG). Nothing here needs system fonts: SVG text is left to the viewer.
+//! Plots: spectrum images and image strips (PNG, wrapped in SVG), and with the `plot` feature,
+//! line plots on linear or log axes (plotters, SVG). Nothing here needs system fonts: SVG text
+//! is left to the viewer.
+
+#[cfg(feature = "plot")]
+mod lines;
+
+#[cfg(feature = "plot")]
+pub use lines::{line_plot, Axes, Series, Style};
 
 use crate::error::{Error, Result};
-use plotters::coord::ranged1d::ValueFormatter;
-use plotters::prelude::*;
+#[cfg(feature = "plot")]
+use crate::spectrum::SpectrumEstimate;
 use std::path::Path;
 
-/// How a series is drawn.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Style {
-    /// A polyline.
-    Line,
-    /// Markers, with optional vertical error bars.
-    Points,
-}
-
-/// One data series of a plot.
-#[derive(Debug, Clone)]
-pub struct Series {
-    /// Legend label.
-    pub label: String,
-    /// `(x, y)` pairs.
-    pub points: Vec<(f64, f64)>,
-    /// Optional `(low, high)` per point: drawn as error bars.
-    pub bars: Option<Vec<(f64, f64)>>,
-    /// Line or markers.
-    pub style: Style,
-    /// Palette index; series of one sampler share it.
-    pub color: usize,
-}
-
-/// Axis scales and labels of a line plot.
-#[derive(Debug, Clone)]
-pub struct Axes {
-    /// Title above the plot.
-    pub title: String,
-    /// Horizontal axis label.
-    pub x_label: String,
-    /// Vertical axis label.
-    pub y_label: String,
-    /// Logarithmic horizontal axis.
-    pub log_x: bool,
-    /// Logarithmic vertical axis.
-    pub log_y: bool,
-}
-
-const PALETTE: [RGBColor; 8] = [
-    RGBColor(31, 119, 180),
-    RGBColor(214, 39, 40),
-    RGBColor(44, 160, 44),
-    RGBColor(148, 103, 189),
-    RGBColor(255, 127, 14),
-    RGBColor(140, 86, 75),
-    RGBColor(227, 119, 194),
-    RGBColor(23, 190, 207),
-];
-
 fn plot_error(e: impl std::fmt::Display) -> Error {
-    Error::Io(format!("plot: {e}"))
+    Error::format("plot", e)
 }
 
-/// The range covered by the finite (and, on a log axis, positive) values, padded.
-fn range(values: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
-    let (lo, hi) = values
-        .filter(|v| v.is_finite() && (!log || *v > 0.0))
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
-            (a.min(v), b.max(v))
-        });
-    if !lo.is_finite() {
-        return (if log { 0.1 } else { 0.0 }, 1.0);
-    }
-    if log {
-        (lo / 1.5, hi * 1.5)
-    } else {
-        let pad = ((hi - lo) * 0.05).max(1e-12);
-        (lo - pad, hi + pad)
-    }
-}
-
-/// Writes a line/marker plot as SVG.
+#[cfg(feature = "plot")]
+/// Plots a spectrum estimate: the radial curve (with ±2 standard errors) or, for the lattice,
+/// the 2D image with DC in the centre (1D: the curve over k; 3D: the slice `k_2 = 0`).
 ///
 /// # Errors
-/// The file cannot be written.
-pub fn line_plot(path: &Path, axes: &Axes, series: &[Series]) -> Result<()> {
-    let xs = series.iter().flat_map(|s| s.points.iter().map(|p| p.0));
-    let ys = series.iter().flat_map(|s| {
-        let bars = s.bars.iter().flatten().flat_map(|b| [b.0, b.1]);
-        s.points.iter().map(|p| p.1).chain(bars)
-    });
-    let (x0, x1) = range(xs, axes.log_x);
-    let (y0, y1) = range(ys, axes.log_y);
-    let root = SVGBackend::new(path, (720, 500)).into_drawing_area();
-    root.fill(&WHITE).map_err(plot_error)?;
-    let mut builder = ChartBuilder::on(&root);
-    builder
-        .caption(&axes.title, ("sans-serif", 18))
-        .margin(12)
-        .x_label_area_size(42)
-        .y_label_area_size(72);
-    // plotters types a log axis differently from a linear one: four cases, one drawing routine.
-    match (axes.log_x, axes.log_y) {
-        (true, true) => {
-            let chart = builder
-                .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
-                .map_err(plot_error)?;
-            draw(chart, axes, series)
-        }
-        (true, false) => {
-            let chart = builder
-                .build_cartesian_2d((x0..x1).log_scale(), y0..y1)
-                .map_err(plot_error)?;
-            draw(chart, axes, series)
-        }
-        (false, true) => {
-            let chart = builder
-                .build_cartesian_2d(x0..x1, (y0..y1).log_scale())
-                .map_err(plot_error)?;
-            draw(chart, axes, series)
-        }
-        (false, false) => {
-            let chart = builder
-                .build_cartesian_2d(x0..x1, y0..y1)
-                .map_err(plot_error)?;
-            draw(chart, axes, series)
-        }
-    }?;
-    root.present().map_err(plot_error)
-}
-
-fn draw<'a, X, Y>(
-    mut chart: ChartContext<'a, SVGBackend<'a>, Cartesian2d<X, Y>>,
-    axes: &Axes,
-    series: &[Series],
-) -> Result<()>
-where
-    X: Ranged<ValueType = f64> + ValueFormatter<f64>,
-    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
-{
-    chart
-        .configure_mesh()
-        .x_desc(axes.x_label.as_str())
-        .y_desc(axes.y_label.as_str())
-        .x_label_formatter(&|v| tick(*v))
-        .y_label_formatter(&|v| tick(*v))
-        .draw()
-        .map_err(plot_error)?;
-    for s in series {
-        let color = PALETTE[s.color % PALETTE.len()];
-        let keep =
-            |p: &(f64, f64)| p.0.is_finite() && p.1.is_finite() && (!axes.log_y || p.1 > 0.0);
-        let pts: Vec<(f64, f64)> = s.points.iter().copied().filter(keep).collect();
-        let anno = match s.style {
-            Style::Line => chart
-                .draw_series(LineSeries::new(pts, color.stroke_width(2)))
-                .map_err(plot_error)?,
-            Style::Points => chart
-                .draw_series(pts.iter().map(|&p| Circle::new(p, 4, color.filled())))
-                .map_err(plot_error)?,
+/// An unwritable file.
+pub fn spectrum_plot(path: &Path, label: &str, est: &SpectrumEstimate, radial: bool) -> Result<()> {
+    let lattice = est.lattice.lattice;
+    let title = format!(
+        "{label}: N = {}, {} realizations",
+        est.lattice.n, est.lattice.realizations
+    );
+    if radial || lattice.dimension == 1 {
+        let (points, bars) = if radial {
+            let bins = &est.radial.bins;
+            (
+                bins.iter().map(|b| (b.nu, b.power)).collect(),
+                Some(
+                    bins.iter()
+                        .map(|b| (b.power - 2.0 * b.stderr, b.power + 2.0 * b.stderr))
+                        .collect(),
+                ),
+            )
+        } else {
+            let k = lattice.kmax;
+            let nu = |i: usize| (i as f64 - k as f64) / est.lattice.n as f64;
+            let pts = (k + 1..lattice.len())
+                .map(|i| (nu(i), est.lattice.mean[i]))
+                .collect();
+            (pts, None)
         };
-        anno.label(s.label.as_str()).legend(move |(x, y)| {
-            PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2))
-        });
-        if let Some(bars) = &s.bars {
-            let segments = s.points.iter().zip(bars).filter(|(p, b)| {
-                p.0.is_finite() && b.0.is_finite() && b.1.is_finite() && (!axes.log_y || b.0 > 0.0)
-            });
-            chart
-                .draw_series(segments.map(|(p, b)| {
-                    PathElement::new(vec![(p.0, b.0), (p.0, b.1)], color.stroke_width(1))
-                }))
-                .map_err(plot_error)?;
-        }
+        let series = Series {
+            label: label.to_string(),
+            points,
+            bars,
+            style: Style::Line,
+            color: 0,
+        };
+        let axes = Axes {
+            title: format!("radial power spectrum, {title}"),
+            x_label: "ν = ρ / N^(1/d)".into(),
+            y_label: "power".into(),
+            log_x: false,
+            log_y: false,
+        };
+        return line_plot(path, &axes, &[series]);
     }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .draw()
-        .map_err(plot_error)?;
-    Ok(())
+    let side = lattice.side();
+    let plane = side * side;
+    // 3D: the central plane k_0 = 0 holds k_1, k_2; 2D: the whole lattice.
+    let start = if lattice.dimension == 3 {
+        lattice.kmax * plane
+    } else {
+        0
+    };
+    let mut values = est.lattice.mean[start..start + plane].to_vec();
+    // DC (value N) would swamp the scale; show it at the level of its neighbours' maximum.
+    let centre = plane / 2;
+    values[centre] = 0.0;
+    spectrum_image(
+        path,
+        &format!("power spectrum, {title}"),
+        &values,
+        side,
+        lattice.kmax,
+    )
 }
 
-/// A short tick label: plain for moderate values, scientific otherwise.
-fn tick(v: f64) -> String {
-    let a = v.abs();
-    if v == 0.0 {
-        "0".into()
-    } else if !(1e-2..1e4).contains(&a) {
-        format!("{v:.0e}")
-    } else {
-        let text = format!("{v:.3}");
-        text.trim_end_matches('0').trim_end_matches('.').to_string()
-    }
+/// Writes `bytes` to `path`.
+fn write_file(path: &Path, bytes: &[u8]) -> Result<()> {
+    crate::output::write_atomic(path, bytes)
 }
 
 /// Encodes a `width × height` grid of values (row-major, top row first) as a grayscale PNG on
@@ -304,7 +200,7 @@ pub fn image_strip(path: &Path, title: &str, panels: &[StripPanel]) -> Result<()
         escape(title),
         total = 36.0 + tallest + 44.0,
     );
-    std::fs::write(path, svg).map_err(|e| Error::Io(format!("{}: {e}", path.display())))
+    write_file(path, svg.as_bytes())
 }
 
 /// Standard base64 (RFC 4648) with padding, for embedding images in SVG.
@@ -342,9 +238,7 @@ pub fn spectrum_image(
     kmax: usize,
 ) -> Result<()> {
     let png = heatmap_png(values, side, side, 4.0)?;
-    let write = |bytes: &[u8]| {
-        std::fs::write(path, bytes).map_err(|e| Error::Io(format!("{}: {e}", path.display())))
-    };
+    let write = |bytes: &[u8]| write_file(path, bytes);
     if path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("png"))

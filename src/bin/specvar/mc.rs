@@ -1,0 +1,99 @@
+//! `specvar mc`: the Monte Carlo variance of the estimator, with a 99% interval.
+
+use super::problem::{ProblemArgs, Source};
+use specvar::montecarlo::{empirical_variances, empirical_variances_of_sets, McParams, McResult};
+use specvar::Result;
+
+/// Arguments of `specvar mc`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Sampler or point-set file, integrand, N and dimension.
+    #[command(flatten)]
+    pub problem: ProblemArgs,
+    /// Estimator evaluations (for costly samplers: a pool of patterns × shifts).
+    #[arg(long, short = 't', default_value_t = 10000)]
+    pub trials: usize,
+    /// Random shifts per pattern (default: the sampler's pool; with --input, trials / sets).
+    #[arg(long)]
+    pub shifts: Option<usize>,
+    /// Seed.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Use the patterns as drawn, without the random toroidal shift.
+    #[arg(long)]
+    pub fixed: bool,
+    /// JSON output.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Runs Monte Carlo and prints the variance with its interval.
+pub fn run(args: &Args) -> Result<()> {
+    let (source, f, n) = args.problem.build()?;
+    let bars = super::bars::Bars::default();
+    let stage = format!("monte carlo: {}", source.label());
+    let result = match &source {
+        Source::Sampler(kind, sampler) => {
+            let mut params = McParams::pooled(*kind, args.trials, args.seed, !args.fixed);
+            if let Some(shifts) = args.shifts {
+                params.shifts = shifts;
+                params.patterns = args.trials / shifts.max(1);
+            }
+            specvar::progress::Progress::begin(&bars, &stage, params.patterns as u64);
+            empirical_variances(sampler.as_ref(), &[f.as_ref()], n, &params, &bars)
+        }
+        Source::Sets(_, sets) => {
+            let params = McParams {
+                patterns: sets.len(),
+                shifts: args.shifts.unwrap_or((args.trials / sets.len()).max(1)),
+                seed: args.seed,
+                homogenize: !args.fixed,
+            };
+            specvar::progress::Progress::begin(&bars, &stage, sets.len() as u64);
+            empirical_variances_of_sets(sets, &[f.as_ref()], &params, &bars)
+        }
+    };
+    specvar::progress::Progress::end(&bars);
+    let r = result?.remove(0);
+    if args.json {
+        println!(
+            "{}",
+            super::to_json(&Doc {
+                sampler: source.label(),
+                integrand: f.label(),
+                result: &r
+            })?
+        );
+        return Ok(());
+    }
+    let how = if r.homogenized {
+        "homogenized"
+    } else {
+        "fixed"
+    };
+    let units = if r.shifts > 1 {
+        format!("{} patterns × {} shifts", r.patterns, r.shifts)
+    } else {
+        format!("{} trials", r.trials)
+    };
+    println!(
+        "{} ({how}), N = {}, {units} on {}",
+        source.label(),
+        r.n,
+        f.label()
+    );
+    println!(
+        "variance {:.6e}, 99% interval [{:.6e}, {:.6e}] ({:?})",
+        r.variance, r.ci_low, r.ci_high, r.interval
+    );
+    println!("bias     {:.3e} ± {:.1e}", r.bias, r.bias_stderr);
+    Ok(())
+}
+
+#[derive(serde::Serialize)]
+struct Doc<'a> {
+    sampler: String,
+    integrand: String,
+    #[serde(flatten)]
+    result: &'a McResult,
+}

@@ -1,0 +1,134 @@
+//! `specvar predict`: the variance of the homogenized estimator, from spectra, in one library
+//! call.
+
+use super::problem::{ProblemArgs, Source};
+use specvar::predict::{predict_with, Form, PredictParams, Prediction, Problem, SpectrumChoice};
+use specvar::Result;
+
+/// Arguments of `specvar predict`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Sampler or point-set file, integrand, N and dimension.
+    #[command(flatten)]
+    pub problem: ProblemArgs,
+    /// Spectrum source: closed (random and jitter) or estimated.
+    #[arg(long, value_enum)]
+    pub spectrum: Option<SpectrumArg>,
+    /// N at which the spectrum is estimated (scale-invariant samplers serve every N from it).
+    #[arg(long)]
+    pub reference_n: Option<usize>,
+    /// Realizations for the estimate.
+    #[arg(long, short = 'm')]
+    pub realizations: Option<usize>,
+    /// Seed.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// JSON output.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// [`SpectrumChoice`] on the command line.
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+pub enum SpectrumArg {
+    /// The sampler's closed form.
+    Closed,
+    /// Estimated from realizations.
+    Estimated,
+}
+
+/// Predicts and prints.
+pub fn run(args: &Args) -> Result<()> {
+    let defaults = PredictParams::default();
+    let params = PredictParams {
+        spectrum: match args.spectrum {
+            Some(SpectrumArg::Closed) => SpectrumChoice::Closed,
+            Some(SpectrumArg::Estimated) => SpectrumChoice::Estimated,
+            None => defaults.spectrum,
+        },
+        reference_n: args.reference_n,
+        realizations: args.realizations.unwrap_or(defaults.realizations),
+        seed: args.seed,
+        ..defaults
+    };
+    let (source, f, n) = args.problem.build()?;
+    let problem = match &source {
+        Source::Sampler(_, sampler) => Problem::new(sampler.as_ref(), f.as_ref(), n)?,
+        Source::Sets(_, sets) => Problem::from_point_sets(sets, f.as_ref())?,
+    };
+    let p = predict_with(&problem, &params, &super::bars::Bars::default())?;
+    if args.json {
+        println!(
+            "{}",
+            super::to_json(&Doc::new(&source.label(), &f.label(), &p))?
+        );
+    } else {
+        print_text(&source.label(), &f.label(), &p);
+    }
+    Ok(())
+}
+
+#[derive(serde::Serialize)]
+struct Doc<'a> {
+    sampler: &'a str,
+    integrand: &'a str,
+    n: usize,
+    dimension: usize,
+    form: Form,
+    variance: f64,
+    variance_lattice: Option<f64>,
+    dc_term: f64,
+    spectrum_source: String,
+    quadrature_error: f64,
+    spectrum_stderr: f64,
+    route: String,
+    reason: &'a str,
+    budget: specvar::predict::ErrorBudget,
+    alternatives: &'a [specvar::predict::Alternative],
+}
+
+impl<'a> Doc<'a> {
+    fn new(sampler: &'a str, integrand: &'a str, p: &'a Prediction) -> Self {
+        let lattice = std::iter::once((p.route.form, p.variance))
+            .chain(p.alternatives.iter().map(|a| (a.route.form, a.variance)))
+            .find(|(form, _)| *form == Form::Lattice)
+            .map(|(_, v)| v);
+        Self {
+            sampler,
+            integrand,
+            n: p.n,
+            dimension: p.dimension,
+            form: p.route.form,
+            variance: p.variance,
+            variance_lattice: lattice,
+            dc_term: p.dc_term,
+            spectrum_source: p.route.spectrum.to_string(),
+            quadrature_error: p.budget.quadrature,
+            spectrum_stderr: p.budget.spectrum_noise,
+            route: p.route.to_string(),
+            reason: &p.reason,
+            budget: p.budget,
+            alternatives: &p.alternatives,
+        }
+    }
+}
+
+fn print_text(sampler: &str, integrand: &str, p: &Prediction) {
+    println!(
+        "sampler      {sampler} (homogenized), N = {}, d = {}",
+        p.n, p.dimension
+    );
+    println!("integrand    {integrand}");
+    println!("route        {} ({})", p.route, p.reason);
+    let b = &p.budget;
+    println!(
+        "variance     {:.6e} (spectrum noise ±{:.1e}, quadrature {:.1e}, truncation {:.1e}, model {:.1e})",
+        p.variance, b.spectrum_noise, b.quadrature, b.truncation, b.model
+    );
+    if p.route.form == Form::Polar {
+        println!("DC term      {:.6e} (already subtracted)", p.dc_term);
+    }
+    for a in &p.alternatives {
+        println!("also         {:.6e} by the {}", a.variance, a.route);
+    }
+}

@@ -1,0 +1,74 @@
+//! The arguments that name an integration problem, shared by `predict` and `mc`.
+
+use specvar::integrand::{Integrand, IntegrandSpec};
+use specvar::io::read_file;
+use specvar::pointset::PointSet;
+use specvar::sampler::{Sampler, SamplerKind};
+use specvar::Result;
+use std::path::PathBuf;
+
+/// Sampler (or point-set file), integrand, N and dimension.
+#[derive(Debug, clap::Args)]
+pub struct ProblemArgs {
+    /// Sampler name (see `specvar samplers`).
+    #[arg(
+        long,
+        short = 's',
+        required_unless_present = "input",
+        conflicts_with = "input"
+    )]
+    pub sampler: Option<SamplerKind>,
+    /// Point sets of your own (UTK text or JSON): every realization in the file, of one N,
+    /// is a pattern of the sampler that produced them.
+    #[arg(long)]
+    pub input: Option<PathBuf>,
+    /// Integrand: disk, ball or gaussian with overrides (disk:r=0.2,a=2), or grid:FILE.
+    #[arg(long, short = 'f', default_value = "disk")]
+    pub integrand: IntegrandSpec,
+    /// Points per pattern (with --input: taken from the file).
+    #[arg(short = 'n', required_unless_present = "input")]
+    pub n: Option<usize>,
+    /// Dimension (with --input: taken from the file).
+    #[arg(short = 'd', default_value_t = 2)]
+    pub dimension: usize,
+}
+
+/// What the arguments name: the patterns' source, the integrand, N.
+pub enum Source {
+    /// A sampler.
+    Sampler(SamplerKind, Box<dyn Sampler>),
+    /// Point sets read from a file.
+    Sets(PathBuf, Vec<PointSet>),
+}
+
+impl ProblemArgs {
+    /// Builds the sampler or reads the file, and builds the integrand in its dimension.
+    pub fn build(&self) -> Result<(Source, Box<dyn Integrand>, usize)> {
+        match (&self.input, self.sampler) {
+            (Some(path), _) => {
+                let sets = read_file(path)?;
+                let (d, n) = (sets[0].dimension(), sets[0].len());
+                let f = self.integrand.build(d)?;
+                Ok((Source::Sets(path.clone(), sets), f, n))
+            }
+            (None, Some(kind)) => {
+                let n = self.n.unwrap_or_default();
+                let sampler = kind.build(self.dimension)?;
+                sampler.check_count(n)?;
+                let f = self.integrand.build(self.dimension)?;
+                Ok((Source::Sampler(kind, sampler), f, n))
+            }
+            (None, None) => unreachable!("clap requires --sampler or --input"),
+        }
+    }
+}
+
+impl Source {
+    /// The sampler's name or the file's path.
+    pub fn label(&self) -> String {
+        match self {
+            Source::Sampler(kind, _) => kind.to_string(),
+            Source::Sets(path, _) => path.display().to_string(),
+        }
+    }
+}

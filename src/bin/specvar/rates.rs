@@ -1,0 +1,91 @@
+//! `specvar rates`: the rate study (theory, predicted and Monte Carlo slopes), the same library
+//! call the report makes.
+
+use specvar::integrand::IntegrandSpec;
+use specvar::rate::{rate_ns, run_study, StudyConfig};
+use specvar::sampler::SamplerKind;
+use specvar::Result;
+
+/// Arguments of `specvar rates`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Dimension (1 to 3).
+    #[arg(short = 'd', default_value_t = 2)]
+    pub dimension: usize,
+    /// Comma-separated samplers (scale-invariant ones: random, jitter, poisson, bridson, ccvt).
+    #[arg(long, value_delimiter = ',')]
+    pub samplers: Option<Vec<SamplerKind>>,
+    /// Comma-separated integrand specs (isotropic: disk, ball, gaussian with overrides).
+    #[arg(long, value_delimiter = ',')]
+    pub integrands: Option<Vec<IntegrandSpec>>,
+    /// Smallest and largest N of the fit (about five N = m^d values in between, log-spaced).
+    #[arg(long, num_args = 2)]
+    pub range: Option<Vec<usize>>,
+    /// Monte Carlo evaluations per N (pools for costly samplers).
+    #[arg(long)]
+    pub trials: Option<usize>,
+    /// Seed.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// JSON output.
+    #[arg(long)]
+    pub json: bool,
+}
+
+impl Args {
+    /// The study these arguments ask for: the library's defaults for what is not given.
+    pub fn config(&self) -> StudyConfig {
+        let defaults = StudyConfig::in_dimension(self.dimension);
+        StudyConfig {
+            samplers: self.samplers.clone().unwrap_or(defaults.samplers),
+            integrands: self.integrands.clone().unwrap_or(defaults.integrands),
+            ns: match self.range.as_deref() {
+                Some(&[lo, hi]) => rate_ns(lo, hi, self.dimension),
+                _ => defaults.ns,
+            },
+            trials: self.trials.unwrap_or(defaults.trials),
+            seed: self.seed,
+            ..defaults
+        }
+    }
+}
+
+/// Runs the study and prints its rows.
+pub fn run(args: &Args) -> Result<()> {
+    let study = run_study(&args.config(), &super::bars::Bars::default())?;
+    if args.json {
+        #[derive(serde::Serialize)]
+        struct Doc<'a> {
+            n_values: &'a [usize],
+            rows: &'a [specvar::rate::StudyRow],
+        }
+        let doc = Doc {
+            n_values: &study.config.ns,
+            rows: &study.rows,
+        };
+        println!("{}", super::to_json(&doc)?);
+        return Ok(());
+    }
+    println!(
+        "rates r in Var ∝ N^r over N = {:?}, d = {}",
+        study.config.ns, args.dimension
+    );
+    println!(
+        "{:<8} {:<40} {:>7} {:>9} {:>10} {:>19} {:>6}",
+        "sampler", "integrand", "theory", "predicted", "empirical", "99% interval", "alpha"
+    );
+    for r in &study.rows {
+        println!(
+            "{:<8} {:<40} {:>7.3} {:>9.3} {:>10.3}   [{:>6.3}, {:>6.3}] {:>6.2}",
+            r.sampler,
+            r.integrand,
+            r.theory_rate,
+            r.predicted_rate.slope,
+            r.empirical_rate.slope,
+            r.empirical_rate.ci.0,
+            r.empirical_rate.ci.1,
+            r.alpha,
+        );
+    }
+    Ok(())
+}

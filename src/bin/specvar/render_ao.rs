@@ -1,0 +1,148 @@
+//! `specvar render-ao`: ambient occlusion rendered with every sampler (or one), the measured MSE
+//! and the MSE predicted from spectra.
+
+use specvar::render::{
+    all_2d_samplers, comparison_table, measured_ratio, run_comparison, write_comparison,
+    ComparisonConfig,
+};
+use specvar::sampler::SamplerKind;
+use specvar::Result;
+use std::path::PathBuf;
+
+/// Arguments of `specvar render-ao` (what is not given takes the library's defaults).
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Sampler name, or `all` for the comparison run over every 2D sampler.
+    #[arg(long, short = 's', default_value = "all", value_parser = parse_samplers)]
+    pub sampler: Samplers,
+    /// Secondary rays (points) per pixel [default: 96].
+    #[arg(long)]
+    pub rays: Option<usize>,
+    /// Image width in pixels [default: 128].
+    #[arg(long)]
+    pub width: Option<usize>,
+    /// Image height in pixels [default: 128].
+    #[arg(long)]
+    pub height: Option<usize>,
+    /// Independent uniform rays per pixel of the reference (cached) [default: 16384].
+    #[arg(long)]
+    pub reference_rays: Option<usize>,
+    /// Output directory: images and table.
+    #[arg(long, default_value = "render")]
+    pub out: PathBuf,
+    /// Cache directory for the reference [default: specvar's cache directory].
+    #[arg(long)]
+    pub cache_dir: Option<PathBuf>,
+    /// Maximum occlusion distance (the room's side is 1) [default: 0.5].
+    #[arg(long)]
+    pub max_distance: Option<f64>,
+    /// Distinct patterns per image, each shared by pixels under their own shifts [default: 1024].
+    #[arg(long)]
+    pub patterns: Option<usize>,
+    /// Cells per side of each pixel's visibility grid for the prediction [default: 64].
+    #[arg(long)]
+    pub grid: Option<usize>,
+    /// Largest frequency per axis of the prediction's lattice [default: 64].
+    #[arg(long)]
+    pub kmax: Option<usize>,
+    /// Use every STRIDE-th pixel per axis for the prediction [default: 1].
+    #[arg(long)]
+    pub stride: Option<usize>,
+    /// Realizations of the sampler's spectrum at N for the prediction [default: 512].
+    #[arg(long)]
+    pub spectrum_realizations: Option<usize>,
+    /// Seed.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// JSON output.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// The samplers to render.
+#[derive(Debug, Clone)]
+pub struct Samplers(Vec<SamplerKind>);
+
+fn parse_samplers(text: &str) -> Result<Samplers> {
+    Ok(Samplers(match text.trim() {
+        "all" => all_2d_samplers(),
+        name => vec![SamplerKind::from_name(name)?],
+    }))
+}
+
+impl Args {
+    fn config(&self) -> ComparisonConfig {
+        let d = ComparisonConfig::default();
+        let mut c = ComparisonConfig {
+            width: self.width.unwrap_or(d.width),
+            height: self.height.unwrap_or(d.height),
+            samplers: self.sampler.0.clone(),
+            reference_rays: self.reference_rays.unwrap_or(d.reference_rays),
+            spectrum_realizations: self
+                .spectrum_realizations
+                .unwrap_or(d.spectrum_realizations),
+            cache_dir: self.cache_dir.clone().unwrap_or(d.cache_dir),
+            ..d
+        };
+        c.render.rays = self.rays.unwrap_or(c.render.rays);
+        c.render.max_distance = self.max_distance.unwrap_or(c.render.max_distance);
+        c.render.patterns = self.patterns.unwrap_or(c.render.patterns);
+        c.render.seed = self.seed;
+        c.pixel_power.resolution = self.grid.unwrap_or(c.pixel_power.resolution);
+        c.pixel_power.kmax = self.kmax.unwrap_or(c.pixel_power.kmax);
+        c.pixel_power.stride = self.stride.unwrap_or(c.pixel_power.stride);
+        c
+    }
+}
+
+#[derive(serde::Serialize)]
+struct Row {
+    sampler: SamplerKind,
+    rays: usize,
+    mse: f64,
+    mse_stderr: f64,
+    predicted_mse: f64,
+    predicted_stderr: f64,
+}
+
+/// Renders, measures, predicts, writes the images and prints the table.
+pub fn run(args: &Args) -> Result<()> {
+    let config = args.config();
+    let run = run_comparison(&config, &super::bars::Bars::default())?;
+    write_comparison(&args.out, &run.rows, &run.reference)?;
+    if args.json {
+        let rows: Vec<Row> = run
+            .rows
+            .iter()
+            .map(|r| Row {
+                sampler: r.sampler,
+                rays: r.rays,
+                mse: r.measured.mse,
+                mse_stderr: r.measured.stderr,
+                predicted_mse: r.predicted.variance,
+                predicted_stderr: r.predicted.budget.spectrum_noise,
+            })
+            .collect();
+        match rows.as_slice() {
+            [one] => println!("{}", super::to_json(one)?),
+            _ => println!("{}", super::to_json(&rows)?),
+        }
+        return Ok(());
+    }
+    let cached = if run.reference_cached {
+        " (cached)"
+    } else {
+        ""
+    };
+    println!(
+        "{} × {} pixels, {} rays per pixel; reference: {} rays per pixel{cached}",
+        config.width, config.height, config.render.rays, config.reference_rays
+    );
+    println!("prediction: {}", run.power_label);
+    print!("{}", comparison_table(&run.rows));
+    if let Some(r) = measured_ratio(&run.rows, SamplerKind::Random, SamplerKind::Jitter) {
+        println!("random / jitter MSE: {r:.2} (talk: 5.54)");
+    }
+    println!("images and table in {}", args.out.display());
+    Ok(())
+}

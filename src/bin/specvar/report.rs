@@ -1,0 +1,66 @@
+//! `specvar report`, and the main job (`specvar` with no subcommand): the reproduction report.
+
+use specvar::report::{compute, write, ReportConfig, DEFAULT_SEED};
+use specvar::Result;
+use std::path::PathBuf;
+
+/// Arguments of `specvar report`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Output directory (replaced only once the new report is complete).
+    #[arg(long, default_value = "report")]
+    pub out: PathBuf,
+    /// The short run.
+    #[arg(long)]
+    pub quick: bool,
+    /// Seed.
+    #[arg(long, default_value_t = DEFAULT_SEED)]
+    pub seed: u64,
+}
+
+impl Default for Args {
+    fn default() -> Self {
+        Self {
+            out: PathBuf::from("report"),
+            quick: false,
+            seed: DEFAULT_SEED,
+        }
+    }
+}
+
+/// Computes and writes the report, then prints its rate table and any failed check.
+pub fn run(args: &Args) -> Result<()> {
+    let config = if args.quick {
+        ReportConfig::quick(args.seed)
+    } else {
+        ReportConfig::full(args.seed)
+    };
+    let start = std::time::Instant::now();
+    let report = compute(&config, &super::bars::Bars::default())?;
+    write(&report, &args.out)?;
+    println!(
+        "report written to {}/report.md in {:.0} s: {} of {} cross-checks passed",
+        args.out.display(),
+        start.elapsed().as_secs_f64(),
+        report.passed(),
+        report.checks.len()
+    );
+    println!(
+        "{:<8} {:<9} {:>7} {:>10} {:>12}",
+        "sampler", "integrand", "theory", "predicted", "Monte Carlo"
+    );
+    for (row, series) in report.study.rows.iter().zip(&report.study.series) {
+        println!(
+            "{:<8} {:<9} {:>7.2} {:>10.3} {:>12.3}",
+            row.sampler,
+            series.integrand.kind(),
+            row.theory_rate,
+            row.predicted_rate.slope,
+            row.empirical_rate.slope
+        );
+    }
+    for c in report.checks.iter().filter(|c| !c.pass) {
+        println!("FAIL {}: {}", c.what, c.detail);
+    }
+    Ok(())
+}

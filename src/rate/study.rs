@@ -1,0 +1,424 @@
+//! The rate study: samplers × integrands × N, with the theoretical, predicted and measured
+//! convergence rates. `specvar rates` and the report both run [`run_study`].
+
+use super::{fit_alpha, loglog_slope, theory_rate, AlphaFit, SlopeFit};
+use crate::error::{invalid, Error, Result};
+use crate::integrand::{Integrand, IntegrandSpec};
+use crate::montecarlo::{empirical_variances, McParams, McResult, Z_99};
+use crate::predict::{predict_polar, PolarParams, Prediction, SpectrumSource};
+use crate::progress::{stage, Progress};
+use crate::sampler::SamplerKind;
+use crate::spectrum::{estimate, Engine, SpectrumEstimate, SpectrumParams};
+use serde::Serialize;
+
+/// The spectrum each sampler's predictions are rescaled from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct ReferenceSpectrum {
+    /// The reference N.
+    pub n: usize,
+    /// The lattice extent `K`.
+    pub kmax: usize,
+    /// Realizations for cheap samplers.
+    pub realizations: usize,
+    /// Realizations for costly samplers (CCVT, Poisson disk).
+    pub costly_realizations: usize,
+}
+
+/// What a rate study computes.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct StudyConfig {
+    /// Dimension (1 to 3).
+    pub dimension: usize,
+    /// Samplers: scale-invariant ones, since their predictions are rescaled.
+    pub samplers: Vec<SamplerKind>,
+    /// Isotropic integrands (the polar form).
+    pub integrands: Vec<IntegrandSpec>,
+    /// The N values (at least two distinct).
+    pub ns: Vec<usize>,
+    /// Monte Carlo estimator evaluations per N (pools for costly samplers:
+    /// [`SamplerKind::pool`]).
+    pub trials: usize,
+    /// Seed of the spectra; the Monte Carlo patterns use an independent stream of it.
+    pub seed: u64,
+    /// The reference spectrum.
+    pub reference: ReferenceSpectrum,
+}
+
+impl Default for StudyConfig {
+    fn default() -> Self {
+        Self::in_dimension(2)
+    }
+}
+
+impl StudyConfig {
+    /// The default study in dimension `d`: random, jitter, Poisson disk and CCVT on the ball of
+    /// radius 1/4 and the Gaussian σ = 0.1, N = 16 … 1024, spectra at the default reference N
+    /// of [`crate::predict::default_reference_n`] with `ν` up to 5.
+    pub fn in_dimension(d: usize) -> Self {
+        let n_ref = crate::predict::default_reference_n(d);
+        Self {
+            dimension: d,
+            samplers: vec![
+                SamplerKind::Random,
+                SamplerKind::Jitter,
+                SamplerKind::PoissonDisk,
+                SamplerKind::Ccvt,
+            ],
+            integrands: vec![
+                IntegrandSpec::Ball {
+                    radius: 0.25,
+                    height: 1.0,
+                    centre: None,
+                },
+                IntegrandSpec::Gaussian {
+                    sigma: 0.1,
+                    height: 1.0,
+                    centre: None,
+                },
+            ],
+            ns: rate_ns(16, 1024, d),
+            trials: 4000,
+            seed: 0,
+            reference: ReferenceSpectrum {
+                n: n_ref,
+                kmax: crate::predict::default_kmax(n_ref, d),
+                realizations: 64,
+                costly_realizations: 8,
+            },
+        }
+    }
+}
+
+/// The Monte Carlo patterns' seed, independent of the spectra's.
+const MC_STREAM: u64 = 0x4D43;
+
+impl StudyConfig {
+    /// Checks the configuration before any work.
+    ///
+    /// # Errors
+    /// Fewer than two distinct N, a sampler that is not scale invariant at some N or does not
+    /// exist in the dimension, an anisotropic integrand, or too few trials.
+    pub fn check(&self) -> Result<()> {
+        let d = self.dimension;
+        let mut distinct = self.ns.clone();
+        distinct.sort_unstable();
+        distinct.dedup();
+        if distinct.len() < 2 || distinct[0] == 0 {
+            return Err(invalid(
+                "N values",
+                format!("{:?}", self.ns),
+                "at least two distinct positive N to fit a slope",
+            ));
+        }
+        if self.samplers.is_empty() || self.integrands.is_empty() {
+            return Err(invalid(
+                "study",
+                "no samplers or integrands",
+                "at least one of each",
+            ));
+        }
+        for &kind in &self.samplers {
+            let sampler = kind.build(d)?;
+            for &n in self.ns.iter().chain([&self.reference.n]) {
+                sampler.check_count(n)?;
+                if !kind.is_scale_invariant_at(n, d) {
+                    return Err(Error::OutsideValidity {
+                        route: format!(
+                            "a spectrum of {kind} rescaled from N = {}",
+                            self.reference.n
+                        ),
+                        reason: format!(
+                            "{kind} is not scale invariant at N = {n}; the rate study rescales \
+                             one spectrum, so use random, jitter, poisson, bridson or ccvt"
+                        ),
+                    });
+                }
+            }
+        }
+        for spec in &self.integrands {
+            if !spec.build(d)?.is_isotropic() {
+                return Err(invalid(
+                    "integrand",
+                    spec,
+                    "an isotropic integrand (ball or gaussian)",
+                ));
+            }
+        }
+        if self.trials < 2 {
+            return Err(invalid("trials", self.trials, "at least 2"));
+        }
+        Ok(())
+    }
+}
+
+/// N values `m^d` between `lo` and `hi`, about five, log-spaced.
+pub fn rate_ns(lo: usize, hi: usize, d: usize) -> Vec<usize> {
+    let (a, b) = ((lo as f64).ln(), (hi as f64).ln());
+    let mut ns: Vec<usize> = (0..5)
+        .map(|i| {
+            let target = (a + (b - a) * i as f64 / 4.0).exp();
+            let m = target.powf(1.0 / d as f64).round().max(1.0) as usize;
+            m.pow(d as u32)
+        })
+        .collect();
+    ns.dedup();
+    ns
+}
+
+/// One sampler's reference spectrum and its low-frequency exponent.
+#[derive(Debug, Clone, Serialize)]
+pub struct SamplerSpectrum {
+    /// The sampler.
+    pub sampler: SamplerKind,
+    /// The estimate at the reference N (its lattice is left out of serialized output).
+    #[serde(serialize_with = "radial_only")]
+    pub estimate: SpectrumEstimate,
+    /// The fitted `α`.
+    pub alpha: AlphaFit,
+}
+
+fn radial_only<S: serde::Serializer>(
+    e: &SpectrumEstimate,
+    s: S,
+) -> std::result::Result<S::Ok, S::Error> {
+    e.radial.serialize(s)
+}
+
+/// One sampler on one integrand over the N values.
+#[derive(Debug, Clone, Serialize)]
+pub struct StudySeries {
+    /// The sampler.
+    pub sampler: SamplerKind,
+    /// The integrand's specification.
+    pub integrand: IntegrandSpec,
+    /// The integrand's label.
+    pub label: String,
+    /// The N values.
+    pub ns: Vec<usize>,
+    /// Predicted variance at each N.
+    pub predicted: Vec<Prediction>,
+    /// Monte Carlo at each N.
+    pub measured: Vec<McResult>,
+}
+
+/// Where the `α` of a row comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum AlphaSource {
+    /// Known exactly for the sampler.
+    Known,
+    /// Fitted on the reference spectrum.
+    Fitted,
+}
+
+/// A row of the rate table.
+#[derive(Debug, Clone, Serialize)]
+pub struct StudyRow {
+    /// Sampler.
+    pub sampler: SamplerKind,
+    /// Integrand label.
+    pub integrand: String,
+    /// Dimension.
+    pub dimension: usize,
+    /// `α` used by the theory.
+    pub alpha: f64,
+    /// Where it comes from.
+    pub alpha_source: AlphaSource,
+    /// Theoretical asymptotic rate.
+    pub theory_rate: f64,
+    /// Whether a `log N` factor applies.
+    pub log_factor: bool,
+    /// Log-log slope of the predicted variances over the N range.
+    pub predicted_rate: SlopeFit,
+    /// Log-log slope of the Monte Carlo variances, weighted by their intervals.
+    pub empirical_rate: SlopeFit,
+}
+
+/// A finished study.
+#[derive(Debug, Clone, Serialize)]
+pub struct Study {
+    /// What was asked.
+    pub config: StudyConfig,
+    /// One per sampler, in the order of the configuration.
+    pub spectra: Vec<SamplerSpectrum>,
+    /// Sampler-major, then integrand, in the order of the configuration.
+    pub series: Vec<StudySeries>,
+    /// One per series, in the same order.
+    pub rows: Vec<StudyRow>,
+}
+
+impl Study {
+    /// The series of `sampler` on the integrand at `index` of the configuration.
+    pub fn series_of(&self, sampler: SamplerKind, index: usize) -> Option<&StudySeries> {
+        let s = self.config.samplers.iter().position(|&k| k == sampler)?;
+        self.series.get(s * self.config.integrands.len() + index)
+    }
+}
+
+/// Runs the study: per sampler, its spectrum at the reference N and its `α`; per N, one Monte
+/// Carlo run shared by all integrands; the polar-form prediction from the reference spectrum at
+/// every N; and the slopes.
+///
+/// # Errors
+/// As [`StudyConfig::check`], or any failure of the computations.
+///
+/// # Examples
+/// ```
+/// use specvar::integrand::IntegrandSpec;
+/// use specvar::progress::Silent;
+/// use specvar::rate::{run_study, ReferenceSpectrum, StudyConfig};
+/// use specvar::sampler::SamplerKind;
+/// let config = StudyConfig {
+///     samplers: vec![SamplerKind::Random, SamplerKind::Jitter],
+///     integrands: vec![IntegrandSpec::Gaussian { sigma: 0.1, height: 1.0, centre: None }],
+///     ns: vec![16, 64, 256],
+///     trials: 2000,
+///     reference: ReferenceSpectrum { n: 1024, kmax: 96, realizations: 16, costly_realizations: 4 },
+///     ..Default::default()
+/// };
+/// let study = run_study(&config, &Silent)?;
+/// let jitter = &study.rows[1];
+/// assert!((jitter.theory_rate + 2.0).abs() < 1e-12); // N^-2 on a Gaussian
+/// assert!(jitter.empirical_rate.slope < -1.5);
+/// # Ok::<(), specvar::Error>(())
+/// ```
+pub fn run_study(config: &StudyConfig, progress: &dyn Progress) -> Result<Study> {
+    config.check()?;
+    let d = config.dimension;
+    let fs: Vec<Box<dyn Integrand>> = config
+        .integrands
+        .iter()
+        .map(|s| s.build(d))
+        .collect::<Result<_>>()?;
+    let f_refs: Vec<&dyn Integrand> = fs.iter().map(|f| f.as_ref()).collect();
+    let mut study = Study {
+        config: config.clone(),
+        spectra: Vec::new(),
+        series: Vec::new(),
+        rows: Vec::new(),
+    };
+    for &kind in &config.samplers {
+        let spectrum = reference_spectrum(kind, config, progress)?;
+        let measured = monte_carlo(kind, &f_refs, config, progress)?;
+        for (j, f) in f_refs.iter().enumerate() {
+            let predicted = config
+                .ns
+                .iter()
+                .map(|&n| {
+                    predict_polar(
+                        *f,
+                        &SpectrumSource::Estimated(&spectrum.estimate),
+                        n,
+                        &PolarParams::default(),
+                    )
+                })
+                .collect::<Result<Vec<_>>>()?;
+            let series = StudySeries {
+                sampler: kind,
+                integrand: config.integrands[j].clone(),
+                label: f.label(),
+                ns: config.ns.clone(),
+                predicted,
+                measured: measured.iter().map(|m| m[j].clone()).collect(),
+            };
+            study.rows.push(row(&series, &spectrum, *f, d)?);
+            study.series.push(series);
+        }
+        study.spectra.push(spectrum);
+    }
+    Ok(study)
+}
+
+fn reference_spectrum(
+    kind: SamplerKind,
+    config: &StudyConfig,
+    progress: &dyn Progress,
+) -> Result<SamplerSpectrum> {
+    let r = config.reference;
+    let realizations = if kind.is_costly() {
+        r.costly_realizations
+    } else {
+        r.realizations
+    };
+    let params = SpectrumParams {
+        kmax: r.kmax,
+        realizations,
+        seed: config.seed,
+        engine: Engine::Auto,
+        bin_width: 1.0,
+    };
+    let sampler = kind.build(config.dimension)?;
+    let label = format!(
+        "spectrum of {kind} at N = {} ({realizations} realizations)",
+        r.n
+    );
+    let estimate = stage(progress, &label, 0, || {
+        estimate(sampler.as_ref(), r.n, &params)
+    })?;
+    let alpha = fit_alpha(&estimate.radial, 0.0, 0.3)?;
+    Ok(SamplerSpectrum {
+        sampler: kind,
+        estimate,
+        alpha,
+    })
+}
+
+/// Monte Carlo at every N, all integrands on the same patterns: `[n][integrand]`.
+fn monte_carlo(
+    kind: SamplerKind,
+    fs: &[&dyn Integrand],
+    config: &StudyConfig,
+    progress: &dyn Progress,
+) -> Result<Vec<Vec<McResult>>> {
+    let sampler = kind.build(config.dimension)?;
+    let pool = kind.pool(config.trials);
+    let total = (pool.patterns * config.ns.len()) as u64;
+    stage(progress, &format!("monte carlo: {kind}"), total, || {
+        config
+            .ns
+            .iter()
+            .map(|&n| {
+                let params = McParams {
+                    patterns: pool.patterns,
+                    shifts: pool.shifts,
+                    seed: config.seed ^ MC_STREAM,
+                    homogenize: true,
+                };
+                empirical_variances(sampler.as_ref(), fs, n, &params, progress)
+            })
+            .collect()
+    })
+}
+
+/// Relative standard error of a Monte Carlo variance, from its 99% interval.
+pub(crate) fn rel_stderr(r: &McResult) -> f64 {
+    (r.ci_high / r.ci_low).ln() / (2.0 * Z_99)
+}
+
+fn row(
+    series: &StudySeries,
+    spectrum: &SamplerSpectrum,
+    f: &dyn Integrand,
+    d: usize,
+) -> Result<StudyRow> {
+    let ns: Vec<f64> = series.ns.iter().map(|&n| n as f64).collect();
+    let (alpha, alpha_source) = match series.sampler.known_alpha() {
+        Some(a) => (a, AlphaSource::Known),
+        None => (spectrum.alpha.alpha, AlphaSource::Fitted),
+    };
+    let (theory, log_factor) = theory_rate(alpha, f.decay_exponent(), d);
+    let predicted: Vec<f64> = series.predicted.iter().map(|p| p.variance).collect();
+    let mc: Vec<f64> = series.measured.iter().map(|r| r.variance).collect();
+    let rel: Vec<f64> = series.measured.iter().map(rel_stderr).collect();
+    Ok(StudyRow {
+        sampler: series.sampler,
+        integrand: series.label.clone(),
+        dimension: d,
+        alpha,
+        alpha_source,
+        theory_rate: theory,
+        log_factor,
+        predicted_rate: loglog_slope(&ns, &predicted, None)?,
+        empirical_rate: loglog_slope(&ns, &mc, Some(&rel))?,
+    })
+}

@@ -1,0 +1,318 @@
+//! Every sampler this crate provides, and every fact about each one, in one place.
+
+use super::{
+    Ccvt, CorrelatedMultiJitter, Halton, Jitter, LatinHypercube, PoissonDisk, PoissonMethod,
+    Random, Regular, Sampler, Sobol,
+};
+use crate::error::{Error, Result};
+use crate::spectrum::ClosedForm;
+use serde::Serialize;
+use std::fmt;
+use std::ops::RangeInclusive;
+
+/// Every sampler this crate provides.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
+#[serde(into = "&'static str")]
+pub enum SamplerKind {
+    /// White noise.
+    Random,
+    /// Cell-centred regular grid.
+    Regular,
+    /// Jittered (stratified) sampling.
+    Jitter,
+    /// Poisson disk by dart throwing.
+    PoissonDisk,
+    /// Poisson disk by Bridson's algorithm.
+    Bridson,
+    /// Capacity-constrained Voronoi tessellation.
+    Ccvt,
+    /// Latin hypercube / N-rooks.
+    LatinHypercube,
+    /// Randomly scrambled Halton.
+    Halton,
+    /// Owen-scrambled Sobol.
+    Sobol,
+    /// Correlated multi-jittered (2D).
+    Cmj,
+}
+
+/// How a sampler's expected spectrum depends on N: whether one spectrum, estimated at a
+/// reference N and read at `ν = ρ / N^{1/d}`, serves another N.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Scaling {
+    /// A function of `ν` alone at every N.
+    Invariant,
+    /// A function of `ν` alone at `N = m^d` (square strata); other strata are other shapes.
+    PerfectPowers,
+    /// Never: structure at `k/N` on the axes, lattices, or spikes whose height grows with N.
+    Never,
+}
+
+/// Patterns of a Monte Carlo run: `patterns` independent patterns, each under `shifts` random
+/// toroidal shifts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct Pool {
+    /// Independent patterns (the units of the confidence interval).
+    pub patterns: usize,
+    /// Shifts per pattern.
+    pub shifts: usize,
+}
+
+/// The fewest independent patterns a pool uses, so that its interval rests on enough units.
+pub const MIN_POOL_PATTERNS: usize = 32;
+
+/// The cost of one integrand evaluation in a Monte Carlo trial, per point, in nanoseconds (a
+/// disk or Gaussian with the shift, measured by `benches/montecarlo.rs`): a pattern is worth
+/// reusing under as many shifts as its generation costs evaluations.
+const EVALUATION_NS: f64 = 140.0;
+
+/// Generation costs per point above this (in nanoseconds) make a sampler costly: its spectrum
+/// estimates use fewer realizations, since drawing them would dwarf the transforms.
+const COSTLY_NS: f64 = 10_000.0;
+
+impl SamplerKind {
+    /// All kinds, in display order.
+    pub const ALL: [SamplerKind; 10] = [
+        SamplerKind::Random,
+        SamplerKind::Regular,
+        SamplerKind::Jitter,
+        SamplerKind::PoissonDisk,
+        SamplerKind::Bridson,
+        SamplerKind::Ccvt,
+        SamplerKind::LatinHypercube,
+        SamplerKind::Halton,
+        SamplerKind::Sobol,
+        SamplerKind::Cmj,
+    ];
+
+    /// The command-line name.
+    pub fn name(self) -> &'static str {
+        match self {
+            SamplerKind::Random => "random",
+            SamplerKind::Regular => "regular",
+            SamplerKind::Jitter => "jitter",
+            SamplerKind::PoissonDisk => "poisson",
+            SamplerKind::Bridson => "bridson",
+            SamplerKind::Ccvt => "ccvt",
+            SamplerKind::LatinHypercube => "lhs",
+            SamplerKind::Halton => "halton",
+            SamplerKind::Sobol => "sobol",
+            SamplerKind::Cmj => "cmj",
+        }
+    }
+
+    /// One line saying what the sampler is.
+    pub fn description(self) -> &'static str {
+        match self {
+            SamplerKind::Random => "white noise: independent uniform points",
+            SamplerKind::Regular => "regular grid at cell centres (j + 1/2)/m; deterministic",
+            SamplerKind::Jitter => "jittered: one uniform point in each of m^d strata",
+            SamplerKind::PoissonDisk => {
+                "Poisson disk: toroidal dart throwing, relative radius 0.75 (0.65 in 1D)"
+            }
+            SamplerKind::Bridson => "Poisson disk: Bridson's algorithm on the torus, thinned to N",
+            SamplerKind::Ccvt => "capacity-constrained Voronoi tessellation (Balzer et al. 2009)",
+            SamplerKind::LatinHypercube => "Latin hypercube (N-rooks): one point per row per axis",
+            SamplerKind::Halton => "Halton with random digit permutations",
+            SamplerKind::Sobol => "Sobol (Joe-Kuo directions) with Owen scrambling",
+            SamplerKind::Cmj => "correlated multi-jittered (Kensler 2013): jittered and N-rooks",
+        }
+    }
+
+    /// The dimensions this sampler supports.
+    pub fn dimensions(self) -> RangeInclusive<usize> {
+        match self {
+            SamplerKind::PoissonDisk | SamplerKind::Bridson | SamplerKind::Ccvt => 1..=3,
+            SamplerKind::Cmj => 2..=2,
+            _ => 1..=crate::pointset::MAX_DIMENSION,
+        }
+    }
+
+    /// The rule N must follow, in words.
+    pub fn count_rule(self) -> &'static str {
+        match self {
+            SamplerKind::Regular | SamplerKind::Jitter => "N = m^d; 2D: or a×b, b<a≤2b",
+            _ => "any N >= 1",
+        }
+    }
+
+    /// The sampler's exact expected spectrum at `n` points in dimension `d`, if one is known.
+    /// Jitter's follows its strata (`96 = 12 × 8`); the closed radial form needs square ones.
+    pub fn closed_form(self, n: usize, d: usize) -> Option<ClosedForm> {
+        match self {
+            SamplerKind::Random => Some(ClosedForm::WhiteNoise),
+            SamplerKind::Jitter => super::strata(n, d).map(|_| ClosedForm::Jitter),
+            _ => None,
+        }
+    }
+
+    /// The low-frequency exponent `α` of `P̆_S(ν) ≈ c ν^α`, where it is known exactly
+    /// (`None`: measure it, as for CCVT, or not meaningful, as for the anisotropic ones).
+    pub fn known_alpha(self) -> Option<f64> {
+        match self {
+            SamplerKind::Random | SamplerKind::PoissonDisk | SamplerKind::Bridson => Some(0.0),
+            SamplerKind::Jitter => Some(2.0),
+            _ => None,
+        }
+    }
+
+    /// How the expected spectrum depends on N.
+    pub fn scaling(self) -> Scaling {
+        match self {
+            SamplerKind::Random
+            | SamplerKind::PoissonDisk
+            | SamplerKind::Bridson
+            | SamplerKind::Ccvt => Scaling::Invariant,
+            SamplerKind::Jitter => Scaling::PerfectPowers,
+            SamplerKind::Regular
+            | SamplerKind::LatinHypercube
+            | SamplerKind::Halton
+            | SamplerKind::Sobol
+            | SamplerKind::Cmj => Scaling::Never,
+        }
+    }
+
+    /// Whether the expected spectrum at `n` points in dimension `d` is the common one in `ν`.
+    pub fn is_scale_invariant_at(self, n: usize, d: usize) -> bool {
+        match self.scaling() {
+            Scaling::Invariant => true,
+            Scaling::PerfectPowers => super::perfect_root(n, d).is_some(),
+            Scaling::Never => false,
+        }
+    }
+
+    /// Whether the expected spectrum depends on `|k|` alone (up to the torus): samplers with
+    /// axis structure (strata, N-rooks, digital nets, lattices) are anisotropic.
+    pub fn is_isotropic(self) -> bool {
+        matches!(
+            self,
+            SamplerKind::Random
+                | SamplerKind::PoissonDisk
+                | SamplerKind::Bridson
+                | SamplerKind::Ccvt
+        )
+    }
+
+    /// The time to generate one point of a 2D pattern, in nanoseconds (measured at N = 1024 to
+    /// 4096 by `benches/samplers.rs`; it grows slowly with N for the optimizers).
+    pub fn cost_per_point_ns(self) -> f64 {
+        match self {
+            SamplerKind::Random | SamplerKind::Regular => 4.0,
+            SamplerKind::Jitter => 8.0,
+            SamplerKind::LatinHypercube | SamplerKind::Cmj => 30.0,
+            SamplerKind::Sobol => 60.0,
+            SamplerKind::Halton => 150.0,
+            SamplerKind::PoissonDisk => 4_500.0,
+            SamplerKind::Bridson => 8_400.0,
+            SamplerKind::Ccvt => 420_000.0,
+        }
+    }
+
+    /// Whether drawing a pattern costs far more than transforming it (CCVT): spectrum estimates
+    /// then use fewer realizations.
+    pub fn is_costly(self) -> bool {
+        self.cost_per_point_ns() > COSTLY_NS
+    }
+
+    /// How Monte Carlo spends `trials` estimator evaluations: each pattern is used under as
+    /// many shifts as its generation costs evaluations, with at least
+    /// [`MIN_POOL_PATTERNS`] patterns (or every trial a pattern, if there are fewer trials):
+    /// one fresh pattern per trial for cheap samplers, a pool for dart throwing and CCVT.
+    ///
+    /// # Examples
+    /// ```
+    /// use specvar::sampler::SamplerKind;
+    /// assert_eq!(SamplerKind::Jitter.pool(4000).shifts, 1);
+    /// let ccvt = SamplerKind::Ccvt.pool(4000);
+    /// assert_eq!((ccvt.patterns, ccvt.shifts), (32, 125));
+    /// ```
+    pub fn pool(self, trials: usize) -> Pool {
+        let worth = (self.cost_per_point_ns() / EVALUATION_NS).round().max(1.0) as usize;
+        let cap = (trials / MIN_POOL_PATTERNS).max(1);
+        let shifts = worth.min(cap);
+        Pool {
+            patterns: (trials / shifts).max(1),
+            shifts,
+        }
+    }
+
+    /// Looks a sampler up by its command-line name.
+    ///
+    /// # Errors
+    /// An unknown name, with the list of known ones.
+    pub fn from_name(name: &str) -> Result<Self> {
+        Self::ALL
+            .into_iter()
+            .find(|k| k.name() == name)
+            .ok_or_else(|| Error::InvalidParameter {
+                name: "sampler",
+                value: name.to_string(),
+                allowed: format!("one of {}", Self::names().join(", ")),
+            })
+    }
+
+    /// All command-line names.
+    pub fn names() -> Vec<&'static str> {
+        Self::ALL.iter().map(|k| k.name()).collect()
+    }
+
+    /// Builds this sampler in dimension `d` with default parameters.
+    ///
+    /// # Errors
+    /// An unsupported dimension.
+    ///
+    /// # Examples
+    /// ```
+    /// use specvar::sampler::{Sampler, SamplerKind};
+    /// let jitter = SamplerKind::Jitter.build(2).unwrap();
+    /// let points = jitter.sample(16, 1, 0).unwrap();
+    /// assert_eq!(points.len(), 16);
+    /// assert_eq!(jitter.sample(96, 1, 0).unwrap().len(), 96); // 12 × 8 strata
+    /// assert!(jitter.sample(17, 1, 0).is_err()); // prime: use 16 or 18
+    /// assert_eq!(jitter.kind(), Some(SamplerKind::Jitter));
+    /// ```
+    pub fn build(self, d: usize) -> Result<Box<dyn Sampler>> {
+        Ok(match self {
+            SamplerKind::Random => Box::new(Random::new(d)?),
+            SamplerKind::Regular => Box::new(Regular::new(d)?),
+            SamplerKind::Jitter => Box::new(Jitter::new(d)?),
+            SamplerKind::PoissonDisk => Box::new(PoissonDisk::new(d)?),
+            SamplerKind::Bridson => {
+                Box::new(PoissonDisk::new(d)?.with_method(PoissonMethod::Bridson))
+            }
+            SamplerKind::Ccvt => Box::new(Ccvt::new(d)?),
+            SamplerKind::LatinHypercube => Box::new(LatinHypercube::new(d)?),
+            SamplerKind::Halton => Box::new(Halton::new(d)?),
+            SamplerKind::Sobol => Box::new(Sobol::new(d)?),
+            SamplerKind::Cmj => Box::new(CorrelatedMultiJitter::new(d)?),
+        })
+    }
+
+    /// The kinds that exist in dimension `d`.
+    pub fn in_dimension(d: usize) -> Vec<SamplerKind> {
+        Self::ALL
+            .into_iter()
+            .filter(|k| k.dimensions().contains(&d))
+            .collect()
+    }
+}
+
+impl fmt::Display for SamplerKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for SamplerKind {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        Self::from_name(s.trim())
+    }
+}
+
+impl From<SamplerKind> for &'static str {
+    fn from(k: SamplerKind) -> Self {
+        k.name()
+    }
+}
