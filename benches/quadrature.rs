@@ -3,7 +3,7 @@
 //!
 //! The integral is `2π ∫_0^L ρ P̆_f(ρ) dρ` for the disk of radius 1/4 (height 1), L = 200: 100
 //! oscillations of J1². Its exact value is `∫f² - π R² (J0(t)² + J1(t)²)` at `t = 2πRL` by the
-//! Bessel identity of SPEC.md, so the reference costs nothing.
+//! Bessel identity `d/dt [J0² + J1²] = -2 J1²/t` (docs/theory.md), so the reference costs nothing.
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use specvar::integrand::{Ball, Integrand};

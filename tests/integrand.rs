@@ -7,6 +7,8 @@ use specvar::sampler::Jitter;
 use specvar::spectrum::ClosedForm;
 use std::f64::consts::PI;
 
+mod common;
+
 fn integrands(d: usize) -> Vec<Box<dyn Integrand>> {
     vec![
         Box::new(Ball::new(0.25, vec![0.5; d], 1.0).unwrap()),
@@ -46,7 +48,7 @@ fn parseval_gaussian_to_1e_10() {
 
 #[test]
 fn parseval_disk_to_1e_10_with_the_exact_bessel_tail() {
-    // 2D: ∫_L^∞ ρ P̆_f dρ = a² R² (J0(t)² + J1(t)²)/2 at t = 2πRL (SPEC's identity).
+    // 2D: ∫_L^∞ ρ P̆_f dρ = a² R² (J0(t)² + J1(t)²)/2 at t = 2πRL (from d/dt [J0² + J1²] = -2 J1²/t).
     for f in integrands(2)
         .iter()
         .filter(|f| f.decay_exponent().is_finite())
@@ -103,7 +105,7 @@ fn transforms_match_direct_integration() {
         });
         let fh = disk.fourier(&omega);
         assert!(
-            (fh.re - re).abs() < 1e-12 && (fh.im - im).abs() < 1e-12,
+            (fh.re - re).abs() < common::ROUNDING && (fh.im - im).abs() < common::ROUNDING,
             "{omega:?}"
         );
     }
@@ -136,7 +138,10 @@ fn transforms_match_direct_integration() {
                 g.eval(&[x, y]) * (-2.0 * PI * (omega[0] * x + omega[1] * y)).cos()
             })
         });
-        assert!((g.fourier(&omega).re - re).abs() < 1e-12, "{omega:?}");
+        assert!(
+            (g.fourier(&omega).re - re).abs() < common::ROUNDING,
+            "{omega:?}"
+        );
     }
 }
 
@@ -256,7 +261,7 @@ fn grid_transform_matches_the_cell_by_cell_integral() {
     }
     for w in [[0.3, -1.7], [12.25, 4.5], [-0.01, 0.0]] {
         let (a, b) = (g.fourier(&w), grid_transform_by_cells(&g, w));
-        assert!((a - b).norm() < 1e-12, "{w:?}: {a} vs {b}");
+        assert!((a - b).norm() < common::ROUNDING, "{w:?}: {a} vs {b}");
     }
     assert!((g.fourier(&[0.0, 0.0]).re - g.integral()).abs() < 1e-15);
 }
@@ -361,7 +366,7 @@ fn png_grids_round_trip_with_the_top_row_at_the_largest_y() {
     assert_eq!((g.width(), g.height()), (3, 2));
     let expected = [0.4, 0.6, 0.8, 0.0, 1.0, 0.2];
     for (v, e) in g.values().iter().zip(expected) {
-        assert!((v - e).abs() < 1e-12, "{v} vs {e}");
+        assert!((v - e).abs() < common::ROUNDING, "{v} vs {e}");
     }
     assert!(read_grid_png(b"not a png").is_err());
     let dir = std::env::temp_dir().join("specvar-grid-test");

@@ -7,6 +7,8 @@ use specvar::sampler::*;
 use specvar::spectrum::*;
 use specvar::{PointSet, Result};
 
+mod common;
+
 fn disk() -> Ball {
     Ball::new(0.25, vec![0.5, 0.5], 1.0).unwrap()
 }
@@ -34,7 +36,7 @@ fn random_interval_covers_the_exact_variance() {
             };
             assert_eq!(r.interval, expected);
             // Homogenized: unbiased; the mean error is within 4 standard errors of 0.
-            assert!(r.bias.abs() < 4.0 * r.bias_stderr);
+            assert!(r.bias.abs() < common::Z_LOOSE * r.bias_stderr);
         }
     }
 }
@@ -122,7 +124,8 @@ fn fixed_patterns_have_the_bias_of_their_spectrum() {
 
 #[test]
 fn fixed_jitter_differs_from_homogenized_jitter() {
-    // SPEC: fixed jitter is luckier for a centred disk at small N.
+    // Fixed jitter is luckier than homogenized jitter for a centred disk at small N: the strata
+    // are symmetric about the disk (docs/theory.md, homogenization).
     let f = disk();
     let fixed = McParams {
         patterns: 20000,
@@ -148,17 +151,7 @@ fn results_do_not_depend_on_thread_count() {
     };
     let f = disk();
     let s = PoissonDisk::new(2).unwrap();
-    let one = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
-        .build()
-        .unwrap();
-    let two = rayon::ThreadPoolBuilder::new()
-        .num_threads(2)
-        .build()
-        .unwrap();
-    let a = one.install(|| empirical_variance(&s, &f, 32, &params).unwrap());
-    let b = two.install(|| empirical_variance(&s, &f, 32, &params).unwrap());
-    assert_eq!(a, b);
+    common::assert_thread_count_invariant(|| empirical_variance(&s, &f, 32, &params).unwrap());
 }
 
 #[test]

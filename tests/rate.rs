@@ -7,6 +7,8 @@ use specvar::rate::*;
 use specvar::sampler::*;
 use specvar::spectrum::*;
 
+mod common;
+
 #[test]
 fn theory_reproduces_the_talks_table() {
     let disk = 3.0;
@@ -175,4 +177,54 @@ fn measured_jitter_slope_agrees_with_the_predicted_slope() {
         "{measured:?} vs {predicted}"
     );
     assert!((predicted + 1.5).abs() < 0.05);
+}
+
+/// `specvar rates` and the report both run `run_study`: for the same settings the command
+/// line's rows, the library's and the report's are the same numbers.
+#[test]
+fn rates_command_library_and_report_give_identical_rows() {
+    use specvar::progress::Silent;
+    use specvar::report::{compute, ReportConfig};
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_specvar"))
+        .args([
+            "rates",
+            "--samplers",
+            "random,jitter",
+            "--integrands",
+            "gaussian,disk:r=0.2",
+            "--range",
+            "16",
+            "256",
+            "--trials",
+            "300",
+            "--seed",
+            "5",
+            "--json",
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let cli: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let config = StudyConfig {
+        samplers: vec![SamplerKind::Random, SamplerKind::Jitter],
+        integrands: vec!["gaussian".parse().unwrap(), "disk:r=0.2".parse().unwrap()],
+        ns: rate_ns(16, 256, 2),
+        trials: 300,
+        seed: 5,
+        ..StudyConfig::in_dimension(2)
+    };
+    let library = serde_json::to_value(&run_study(&config, &Silent).unwrap().rows).unwrap();
+    assert_eq!(cli["rows"], library);
+    let mut report = ReportConfig::quick(5);
+    report.study = config;
+    report.ambient.width = 4;
+    report.ambient.height = 4;
+    report.ambient.samplers = vec![SamplerKind::Random];
+    report.ambient.cache_dir = std::env::temp_dir().join("specvar-test-rates-report");
+    let computed = compute(&report, &Silent).unwrap();
+    assert_eq!(serde_json::to_value(&computed.study.rows).unwrap(), library);
 }

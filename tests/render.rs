@@ -8,6 +8,8 @@ use specvar::render::*;
 use specvar::sampler::*;
 use specvar::spectrum::ClosedForm;
 
+mod common;
+
 const Z_999: f64 = 3.29;
 
 #[test]
@@ -21,14 +23,14 @@ fn rays_hit_boxes_and_spheres_where_they_should() {
         radius: 1.0,
     };
     let (t, n) = sphere.intersect(&ray, f64::INFINITY).unwrap();
-    assert!((t - 4.0).abs() < 1e-12 && (n.z + 1.0).abs() < 1e-12);
+    assert!((t - 4.0).abs() < common::ROUNDING && (n.z + 1.0).abs() < common::ROUNDING);
     assert!(sphere.intersect(&ray, 3.9).is_none());
     let cube = Shape::AxisBox {
         min: Vec3::new(-1.0, -1.0, 2.0),
         max: Vec3::new(1.0, 1.0, 3.0),
     };
     let (t, n) = cube.intersect(&ray, f64::INFINITY).unwrap();
-    assert!((t - 7.0).abs() < 1e-12 && n == Vec3::new(0.0, 0.0, -1.0));
+    assert!((t - 7.0).abs() < common::ROUNDING && n == Vec3::new(0.0, 0.0, -1.0));
     let miss = Ray {
         origin: Vec3::new(3.0, 0.0, -5.0),
         direction: Vec3::new(0.0, 0.0, 1.0),
@@ -178,34 +180,10 @@ fn renders_do_not_depend_on_thread_count() {
         ..Default::default()
     };
     let sampler = PoissonDisk::new(2).unwrap();
-    let one = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
-        .build()
-        .unwrap()
-        .install(|| render_ao(&frame, &sampler, &params, &specvar::progress::Silent).unwrap());
-    let many = render_ao(&frame, &sampler, &params, &specvar::progress::Silent).unwrap();
-    assert_eq!(one, many);
-    let power_one = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
-        .build()
-        .unwrap()
-        .install(|| {
-            pixel_power(
-                &frame,
-                0.5,
-                &PixelPowerParams::default(),
-                &specvar::progress::Silent,
-            )
-            .unwrap()
-        });
-    let power_many = pixel_power(
-        &frame,
-        0.5,
-        &PixelPowerParams::default(),
-        &specvar::progress::Silent,
-    )
-    .unwrap();
-    assert_eq!(power_one, power_many);
+    let silent = &specvar::progress::Silent;
+    common::assert_thread_count_invariant(|| render_ao(&frame, &sampler, &params, silent).unwrap());
+    let power = PixelPowerParams::default();
+    common::assert_thread_count_invariant(|| pixel_power(&frame, 0.5, &power, silent).unwrap());
 }
 
 #[test]

@@ -5,6 +5,8 @@ use specvar::sampler::*;
 use specvar::spectrum::lattice::{naive_periodogram, Lattice};
 use specvar::spectrum::*;
 
+mod common;
+
 fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {
     a.iter()
         .zip(b)
@@ -45,7 +47,10 @@ fn fast_engine_error_follows_its_tolerance() {
     let loose = periodogram(&p, 30, Engine::Fast { tolerance: 1e-4 }).unwrap();
     let err = max_abs_diff(&direct, &loose);
     // Error in S is about ε Σ|c| = ε N; in P = |S|²/N at most about 2 ε N.
-    assert!(err < 2.0 * 1e-4 * 2000.0 && err > 1e-12, "{err:e}");
+    assert!(
+        err < 2.0 * 1e-4 * 2000.0 && err > common::ROUNDING,
+        "{err:e}"
+    );
 }
 
 #[test]
@@ -102,7 +107,7 @@ fn white_noise_rings_agree_with_one_within_the_derived_bound() {
         for b in &est.radial.bins {
             let sd = (2.0 / (m as f64 * b.count as f64)).sqrt();
             assert!(
-                (b.power - 1.0).abs() < 5.0 * sd,
+                (b.power - 1.0).abs() < common::Z_STRICT * sd,
                 "d={d} ring {}: {}",
                 b.rho,
                 b.power
@@ -172,7 +177,7 @@ fn jitter_rings_agree_with_the_closed_form() {
             let ring = b.rho.floor() as usize;
             let closed = sums[ring].0 / sums[ring].1 as f64;
             assert!(
-                (b.power - closed).abs() <= 5.0 * b.stderr + 1e-12,
+                (b.power - closed).abs() <= common::Z_STRICT * b.stderr + common::ROUNDING,
                 "d={d} ring {ring}: {} vs {closed} ± {}",
                 b.power,
                 b.stderr
@@ -243,8 +248,8 @@ fn rings_report_mean_radius_and_counts() {
         .unwrap();
     assert_eq!(bin.count, ring3.len());
     let mean = ring3.iter().sum::<f64>() / ring3.len() as f64;
-    assert!((bin.rho - mean).abs() < 1e-12);
-    assert!((bin.nu - mean / 10.0).abs() < 1e-12);
+    assert!((bin.rho - mean).abs() < common::ROUNDING);
+    assert!((bin.nu - mean / 10.0).abs() < common::ROUNDING);
     // Only complete rings: the outer radius stays within K.
     assert!(est.radial.bins.iter().all(|b| b.rho < 10.0));
 }
@@ -305,17 +310,7 @@ fn estimates_do_not_depend_on_thread_count() {
         ..Default::default()
     };
     let sampler = Jitter::new(2).unwrap();
-    let one = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
-        .build()
-        .unwrap();
-    let two = rayon::ThreadPoolBuilder::new()
-        .num_threads(2)
-        .build()
-        .unwrap();
-    let a = one.install(|| estimate(&sampler, 64, &params).unwrap());
-    let b = two.install(|| estimate(&sampler, 64, &params).unwrap());
-    assert_eq!(a, b);
+    common::assert_thread_count_invariant(|| estimate(&sampler, 64, &params).unwrap());
 }
 
 #[test]

@@ -253,6 +253,33 @@ impl Planned {
     }
 }
 
+/// A pool of reusable values: `take` hands out a spare one (or makes one), `give_back` keeps
+/// it for the next taker. The values' contents never affect results.
+struct Recycled<T, F> {
+    spare: std::sync::Mutex<Vec<T>>,
+    make: F,
+}
+
+impl<T: Send, F: Fn() -> T + Sync> Recycled<T, F> {
+    fn new(make: F) -> Self {
+        Self {
+            spare: std::sync::Mutex::new(Vec::new()),
+            make,
+        }
+    }
+
+    fn take(&self) -> T {
+        let spare = self.spare.lock().ok().and_then(|mut s| s.pop());
+        spare.unwrap_or_else(&self.make)
+    }
+
+    fn give_back(&self, value: T) {
+        if let Ok(mut s) = self.spare.lock() {
+            s.push(value);
+        }
+    }
+}
+
 /// Realizations per chunk of the deterministic reduction.
 const REDUCE_CHUNK: usize = 4;
 
@@ -358,6 +385,12 @@ impl Moments {
         }
     }
 
+    fn clear(&mut self) {
+        self.sum.fill(0.0);
+        self.sum_sq.fill(0.0);
+        self.ring.fill((0.0, 0.0));
+    }
+
     fn merge(&mut self, other: &Moments) {
         for (a, b) in self.sum.iter_mut().zip(&other.sum) {
             *a += b;
@@ -391,26 +424,32 @@ fn accumulate(
     let m = params.realizations;
     let chunk_count = m.div_ceil(REDUCE_CHUNK);
     // Chunks are merged in their own order, so the sums do not depend on the thread count; a
-    // batch of chunks at a time bounds the memory to one set of moments per thread.
+    // batch of chunks at a time bounds the memory to a few sets of moments per thread. The
+    // workspaces and moments are pooled: fresh buffers of tens of MB cost more in page faults
+    // than a transform.
     let batch = 2 * rayon::current_num_threads().max(1);
+    let workspaces = Recycled::new(|| planned.workspace());
+    let spare_moments = Recycled::new(|| Moments::new(lattice.len(), rings));
     let mut total = Moments::new(lattice.len(), rings);
     for first in (0..chunk_count).step_by(batch) {
         let chunks: Vec<Result<Moments>> = (first..(first + batch).min(chunk_count))
             .into_par_iter()
-            .map_init(
-                || planned.workspace(),
-                |work, c| {
-                    let mut moments = Moments::new(lattice.len(), rings);
-                    for r in c * REDUCE_CHUNK..((c + 1) * REDUCE_CHUNK).min(m) {
-                        planned.periodogram(&realization(r)?, work)?;
-                        moments.add(&work.power, &assign, &ring_count);
-                    }
-                    Ok(moments)
-                },
-            )
+            .map(|c| {
+                let mut work = workspaces.take();
+                let mut moments = spare_moments.take();
+                moments.clear();
+                for r in c * REDUCE_CHUNK..((c + 1) * REDUCE_CHUNK).min(m) {
+                    planned.periodogram(&realization(r)?, &mut work)?;
+                    moments.add(&work.power, &assign, &ring_count);
+                }
+                workspaces.give_back(work);
+                Ok(moments)
+            })
             .collect();
         for c in chunks {
-            total.merge(&c?);
+            let c = c?;
+            total.merge(&c);
+            spare_moments.give_back(c);
         }
     }
     let mf = m as f64;
