@@ -12,6 +12,7 @@
 //! spectrum with per-frequency standard errors, and a [`RadialSpectrum`].
 
 mod closed;
+pub mod export;
 pub mod lattice;
 pub mod nufft;
 mod radial;

@@ -1,11 +1,9 @@
 //! `specvar spectrum`: the expected power spectrum of a sampler or of point sets from a file.
 
 use specvar::sampler::SamplerKind;
-use specvar::spectrum::{
-    estimate, estimate_from_sets, nufft, Engine, LatticeSpectrum, RadialSpectrum, SpectrumParams,
-};
+use specvar::spectrum::export::{lattice_table, radial_table, TableFormat};
+use specvar::spectrum::{estimate, estimate_from_sets, nufft, Engine, SpectrumParams};
 use specvar::Result;
-use std::fmt::Write as _;
 use std::path::PathBuf;
 
 /// The engine, as named on the command line.
@@ -106,99 +104,15 @@ pub fn run(args: &Args) -> Result<()> {
     if let Some(plot) = &args.plot {
         specvar::plot::spectrum_plot(plot, &label, &est, args.radial)?;
     }
+    let format = match (args.json, args.csv) {
+        (true, _) => TableFormat::Json,
+        (_, true) => TableFormat::Csv,
+        _ => TableFormat::Text,
+    };
     let text = if args.radial {
-        format_radial(&est.radial, est.lattice.engine.name(), args.json, args.csv)?
+        radial_table(&est.radial, est.lattice.engine.name(), format)?
     } else {
-        format_lattice(&est.lattice, args.json)?
+        lattice_table(&est.lattice, format)?
     };
     super::write_output(args.output.as_deref(), &text)
-}
-
-#[derive(serde::Serialize)]
-struct RadialDoc<'a> {
-    n: usize,
-    dimension: usize,
-    realizations: usize,
-    method: &'a str,
-    bin_width: f64,
-    dc_limit: f64,
-    bins: &'a [specvar::spectrum::RadialBin],
-}
-
-fn format_radial(radial: &RadialSpectrum, method: &str, json: bool, csv: bool) -> Result<String> {
-    if json {
-        let doc = RadialDoc {
-            n: radial.n,
-            dimension: radial.dimension,
-            realizations: radial.realizations,
-            method,
-            bin_width: radial.bin_width,
-            dc_limit: radial.dc_limit,
-            bins: &radial.bins,
-        };
-        return Ok(super::to_json(&doc)? + "\n");
-    }
-    let sep = if csv { "," } else { " " };
-    let mut out = if csv {
-        String::from("nu,rho,power,stderr,count,anisotropy_db\n")
-    } else {
-        format!(
-            "# radial spectrum: N = {}, d = {}, {} realizations, {method}; P(0+) ≈ {:.4}\n# nu rho power stderr count anisotropy_db\n",
-            radial.n, radial.dimension, radial.realizations, radial.dc_limit
-        )
-    };
-    for b in &radial.bins {
-        let _ = writeln!(
-            out,
-            "{:.6}{sep}{:.4}{sep}{:.6}{sep}{:.3e}{sep}{}{sep}{:.3}",
-            b.nu, b.rho, b.power, b.stderr, b.count, b.anisotropy_db
-        );
-    }
-    Ok(out)
-}
-
-#[derive(serde::Serialize)]
-struct LatticeDoc<'a> {
-    n: usize,
-    dimension: usize,
-    realizations: usize,
-    method: &'a str,
-    kmax: usize,
-    shape: Vec<usize>,
-    order: &'a str,
-    values: &'a [f64],
-    stderr: &'a [f64],
-}
-
-fn format_lattice(spectrum: &LatticeSpectrum, json: bool) -> Result<String> {
-    let lattice = spectrum.lattice;
-    if json {
-        let doc = LatticeDoc {
-            n: spectrum.n,
-            dimension: lattice.dimension,
-            realizations: spectrum.realizations,
-            method: spectrum.engine.name(),
-            kmax: lattice.kmax,
-            shape: vec![lattice.side(); lattice.dimension],
-            order: "row-major, first axis slowest; index i along an axis is frequency i - kmax; the centre is DC (value N)",
-            values: &spectrum.mean,
-            stderr: &spectrum.stderr,
-        };
-        return Ok(super::to_json(&doc)? + "\n");
-    }
-    let axes = ["k0", "k1", "k2"];
-    let mut out = axes[..lattice.dimension].join(",") + ",power,stderr,dc\n";
-    for i in 0..lattice.len() {
-        for c in &lattice.frequency(i)[..lattice.dimension] {
-            let _ = write!(out, "{c},");
-        }
-        let _ = writeln!(
-            out,
-            "{},{},{}",
-            spectrum.mean[i],
-            spectrum.stderr[i],
-            spectrum.is_dc(i)
-        );
-    }
-    Ok(out)
 }
