@@ -346,3 +346,63 @@ fn bad_prediction_requests_are_errors() {
     let p = Random::new(3).unwrap().sample(10, 0, 0).unwrap();
     assert!(bias_of_pattern(&disk(), &p, 4).is_err());
 }
+
+/// A user's own integrand in 4D: every prediction route refuses it with an error (the spectra
+/// exist in 1 to 3 dimensions), and none panics.
+#[test]
+fn an_integrand_of_dimension_four_is_an_error_not_a_panic() {
+    struct Box4;
+    impl Integrand for Box4 {
+        fn kind(&self) -> IntegrandKind {
+            IntegrandKind::Ball
+        }
+        fn label(&self) -> String {
+            "4D".into()
+        }
+        fn is_isotropic(&self) -> bool {
+            true
+        }
+        fn dimension(&self) -> usize {
+            4
+        }
+        fn eval(&self, _: &[f64]) -> f64 {
+            1.0
+        }
+        fn integral(&self) -> f64 {
+            1.0
+        }
+        fn integral_of_square(&self) -> f64 {
+            1.0
+        }
+        fn fourier(&self, _: &[f64]) -> num_complex::Complex64 {
+            num_complex::Complex64::new(0.0, 0.0)
+        }
+        fn spectral_integral(&self) -> f64 {
+            1.0
+        }
+        fn spectral_energy(&self) -> f64 {
+            1.0
+        }
+        fn radial_power(&self, _: f64) -> f64 {
+            0.0
+        }
+        fn decay_exponent(&self) -> f64 {
+            f64::INFINITY
+        }
+        fn panel_width(&self) -> f64 {
+            1.0
+        }
+        fn negligible_beyond(&self) -> f64 {
+            1.0
+        }
+    }
+    let f = Box4;
+    let jitter = Jitter::new(4).unwrap();
+    assert!(Problem::new(&jitter, &f, 16).is_err());
+    let closed = SpectrumSource::Closed(ClosedForm::Jitter);
+    assert!(predict_polar(&f, &closed, 16, &PolarParams::default()).is_err());
+    assert!(predict_lattice(&f, &closed, 16, 4).is_err());
+    assert!(regular_grid_bias(&f, 16).is_err());
+    let points = jitter.sample(16, 0, 0).unwrap();
+    assert!(bias_of_pattern(&f, &points, 4).is_err());
+}

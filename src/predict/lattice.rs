@@ -2,7 +2,7 @@
 //! `Var[μ_N] = (1/N) Σ_{k≠0} |f̂(k)|² E[P_S(k)]`, summed over `|k_i| ≤ K`, and beyond `K` the
 //! remaining energy (by Parseval) times `P_S = 1`.
 
-use super::{check_n, ErrorBudget, Form, Prediction, Route, SpectrumSource};
+use super::{check_dimension, check_n, ErrorBudget, Form, Prediction, Route, SpectrumSource};
 use crate::error::{invalid, Error, Result};
 use crate::integrand::Integrand;
 use crate::quadrature::CompensatedSum;
@@ -32,6 +32,7 @@ impl LatticePower {
     /// A lattice of another dimension than `f`.
     pub fn of(f: &dyn Integrand, lattice: Lattice) -> Result<Self> {
         let d = f.dimension();
+        check_dimension(d)?;
         if lattice.dimension != d {
             return Err(Error::Mismatch(format!(
                 "lattice of dimension {} for an integrand of dimension {d}",
@@ -140,6 +141,7 @@ pub fn predict_from_power(
     check_n(n)?;
     let lattice = power.lattice;
     let d = lattice.dimension;
+    check_dimension(d)?;
     let spectrum = LatticeSpectrumAt::new(source, lattice, n)?;
     let side = lattice.side();
     let edge = lattice.kmax as u64;

@@ -210,6 +210,21 @@ pub(crate) fn check_n(n: usize) -> Result<()> {
     Ok(())
 }
 
+/// The dimensions in which spectra, and so predictions, are computed.
+pub const PREDICTION_DIMENSIONS: std::ops::RangeInclusive<usize> = 1..=3;
+
+pub(crate) fn check_dimension(d: usize) -> Result<()> {
+    if PREDICTION_DIMENSIONS.contains(&d) {
+        Ok(())
+    } else {
+        Err(invalid(
+            "dimension",
+            d,
+            "1 to 3 for spectra and predictions",
+        ))
+    }
+}
+
 /// The patterns of a problem: a sampler, or point sets of one's own.
 #[derive(Clone, Copy)]
 pub enum Patterns<'a> {
@@ -277,6 +292,7 @@ impl<'a> Problem<'a> {
 }
 
 fn check_dimensions(d: usize, f: &dyn Integrand) -> Result<()> {
+    check_dimension(f.dimension())?;
     if d != f.dimension() {
         return Err(Error::Mismatch(format!(
             "patterns of dimension {d} for an integrand of dimension {}",

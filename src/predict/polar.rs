@@ -7,7 +7,7 @@
 //! `∫ f² - M ∫ ρ^{d-1} P̆_f (1 - P̆_S)`, and the second integral only where `P̆_S` differs from 1,
 //! on panels of half an oscillation period: no oscillatory tail is ever integrated.
 
-use super::{check_n, ErrorBudget, Form, Prediction, Route, SpectrumSource};
+use super::{check_dimension, check_n, ErrorBudget, Form, Prediction, Route, SpectrumSource};
 use crate::error::{invalid, Error, Result};
 use crate::integrand::{sphere_measure, Integrand};
 use crate::quadrature::{integrate_panels, panel_breakpoints};
@@ -55,6 +55,7 @@ pub fn predict_polar(
 ) -> Result<Prediction> {
     check_n(n)?;
     let d = f.dimension();
+    check_dimension(d)?;
     if !f.is_isotropic() {
         return Err(Error::OutsideValidity {
             route: "the polar form".into(),
