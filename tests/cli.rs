@@ -25,7 +25,7 @@ fn bad_input_prints_one_line_and_exits_2() {
         vec!["sample", "-s", "nope", "-n", "4"],
         vec!["sample", "--bogus"],
         vec!["predict", "-s", "jitter", "-n", "16", "-f", "disk:q=1"],
-        vec!["predict", "-s", "halton", "-n", "16"],
+        vec!["predict", "-s", "halton", "-n", "16", "--form", "polar"],
         vec!["mc", "-s", "ccvt", "-n", "16", "-d", "5"],
         vec!["spectrum", "--input", "/nonexistent/points.txt"],
     ] {

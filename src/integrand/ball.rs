@@ -1,17 +1,18 @@
-//! The ball (the disk in 2D, an interval in 1D) of constant height.
+//! The ball (the disk in 2D, an interval in 1D) of constant height, on the torus.
 
-use super::{
-    check_parameters, shift_phase, squared_distance, unit_ball_volume, Integrand, IntegrandKind,
-};
+use super::{check_parameters, shift_phase, unit_ball_volume, Integrand, IntegrandKind};
 use crate::error::{invalid, Result};
+use crate::pointset::toroidal_distance_sq;
 use num_complex::Complex64;
 use std::f64::consts::PI;
 
-/// `f(x) = a` inside the ball `|x - x0| < R`, 0 outside; the ball must lie inside the unit
-/// cube, so that Monte Carlo on the torus sees the same function as the Fourier routes.
+/// `f(x) = a` inside the ball `|x - x0| < R` on the torus (distances taken toroidally, so a ball
+/// that crosses a face of the cube wraps around to the opposite one), 0 outside.
 ///
 /// `f̂(ρ) = a (R/ρ)^{d/2} J_{d/2}(2π R ρ)`: `a sin(2πRρ)/(πρ)` in 1D, `a R J_1(2πRρ)/ρ` in 2D,
 /// and in 3D `a (R/ρ)^{3/2} J_{3/2}(2πRρ)` with `J_{3/2}(t) = √(2/(πt)) (sin t / t - cos t)`.
+/// With `R ≤ 1/2` the wrapped ball never overlaps itself, so these are its torus coefficients at
+/// integer frequencies exactly, wherever it is centred.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Ball {
     radius: f64,
@@ -20,31 +21,32 @@ pub struct Ball {
 }
 
 impl Ball {
-    /// A ball of radius `radius`, centre `centre` (its length is the dimension, 1 to 3) and
-    /// height `height`.
+    /// A ball of radius `radius` (at most 1/2), centre `centre` (its length is the dimension,
+    /// 1 to 3) and height `height`.
     ///
     /// # Errors
-    /// A radius that is not positive and finite, a height that is not finite, a centre outside
-    /// the cube, or a ball that does not fit inside the unit cube.
+    /// A radius that is not in `(0, 1/2]`, a height that is not finite, or a centre outside the
+    /// cube.
     ///
     /// # Examples
     /// ```
     /// use specvar::integrand::{Ball, Integrand};
     /// let disk = Ball::new(0.25, vec![0.5, 0.5], 1.0).unwrap();
     /// assert!((disk.integral() - std::f64::consts::PI / 16.0).abs() < 1e-15);
-    /// assert!(Ball::new(0.3, vec![0.2, 0.5], 1.0).is_err()); // sticks out of the square
+    /// // Across a face, the disk wraps around the torus: the same integral, the same value at
+    /// // a point and at its image across the face.
+    /// let wrapped = Ball::new(0.3, vec![0.1, 0.5], 1.0).unwrap();
+    /// assert!((wrapped.integral() - std::f64::consts::PI * 0.09).abs() < 1e-15);
+    /// assert_eq!(wrapped.eval(&[0.95, 0.5]), 1.0);
+    /// assert!(Ball::new(0.6, vec![0.5, 0.5], 1.0).is_err()); // would overlap itself
     /// ```
     pub fn new(radius: f64, centre: Vec<f64>, height: f64) -> Result<Self> {
         check_parameters("ball", "radius", radius, &centre, height)?;
-        if centre.iter().any(|&c| c - radius < 0.0 || c + radius > 1.0) {
+        if radius > 0.5 {
             return Err(invalid(
                 "radius",
                 radius,
-                format!(
-                    "at most the distance from the centre {centre:?} to the cube's faces: \
-                     the predictions need the ball inside the unit cube, where the torus \
-                     Fourier series and the closed-form transform agree"
-                ),
+                "at most 1/2: a wider ball overlaps itself on the torus",
             ));
         }
         Ok(Self {
@@ -67,8 +69,12 @@ impl Ball {
         self.height
     }
 
+    fn d(&self) -> usize {
+        self.centre.len()
+    }
+
     fn volume(&self) -> f64 {
-        unit_ball_volume(self.centre.len()) * self.radius.powi(self.centre.len() as i32)
+        unit_ball_volume(self.d()) * self.radius.powi(self.d() as i32)
     }
 
     /// The real transform of the centred ball at `|ω| = rho`.
@@ -78,7 +84,7 @@ impl Ball {
             return a * self.volume();
         }
         let t = 2.0 * PI * r * rho;
-        match self.centre.len() {
+        match self.d() {
             1 => a * t.sin() / (PI * rho),
             2 => a * r * libm::j1(t) / rho,
             _ => {
@@ -92,6 +98,19 @@ impl Ball {
             }
         }
     }
+
+    /// The volume of the intersection of two balls of radius R at distance `s`.
+    fn lens(&self, s: f64) -> f64 {
+        let r = self.radius;
+        if s >= 2.0 * r {
+            return 0.0;
+        }
+        match self.d() {
+            1 => 2.0 * r - s,
+            2 => 2.0 * r * r * (s / (2.0 * r)).acos() - s / 2.0 * (4.0 * r * r - s * s).sqrt(),
+            _ => PI / 12.0 * (4.0 * r + s) * (2.0 * r - s).powi(2),
+        }
+    }
 }
 
 impl Integrand for Ball {
@@ -102,25 +121,20 @@ impl Integrand for Ball {
         true
     }
     fn label(&self) -> String {
-        let name = if self.centre.len() == 2 {
-            "disk"
-        } else {
-            "ball"
-        };
+        let name = if self.d() == 2 { "disk" } else { "ball" };
         format!(
             "{name}(r={}, c={:?}, a={}, d={})",
             self.radius,
             self.centre,
             self.height,
-            self.centre.len()
+            self.d()
         )
     }
     fn dimension(&self) -> usize {
-        self.centre.len()
+        self.d()
     }
     fn eval(&self, x: &[f64]) -> f64 {
-        let r2 = squared_distance(x, &self.centre);
-        if r2 < self.radius * self.radius {
+        if toroidal_distance_sq(x, &self.centre) < self.radius * self.radius {
             self.height
         } else {
             0.0
@@ -132,6 +146,37 @@ impl Integrand for Ball {
     fn integral_of_square(&self) -> f64 {
         self.height * self.height * self.volume()
     }
+    fn coefficient(&self, k: &[i64]) -> Complex64 {
+        let omega: Vec<f64> = k.iter().map(|&c| c as f64).collect();
+        self.fourier(&omega)
+    }
+    fn projection_energy(&self, _axis: usize) -> f64 {
+        // The projection is the chord measure: 2h√(R² - x²) in 2D, πh(R² - x²) in 3D.
+        let (r, h2) = (self.radius, self.height * self.height);
+        match self.d() {
+            1 => 2.0 * r * h2,
+            2 => 16.0 / 3.0 * h2 * r.powi(3),
+            _ => PI * PI * h2 * 16.0 / 15.0 * r.powi(5),
+        }
+    }
+    fn autocorrelation(&self, r: &[f64]) -> Option<f64> {
+        // The wrapped ball's autocorrelation sums the lens volumes over the images of the
+        // offset; with R ≤ 1/2 only the images in the neighbouring cells can be within 2R.
+        let d = self.d();
+        let mut total = 0.0;
+        for image in 0..3usize.pow(d as u32) {
+            let mut rest = image;
+            let mut s2 = 0.0;
+            for &c in r {
+                let shift = (rest % 3) as f64 - 1.0;
+                rest /= 3;
+                let t = crate::pointset::toroidal_delta(c, 0.0) + shift;
+                s2 += t * t;
+            }
+            total += self.lens(s2.sqrt());
+        }
+        Some(self.height * self.height * total)
+    }
     fn fourier(&self, omega: &[f64]) -> Complex64 {
         let rho = omega.iter().map(|w| w * w).sum::<f64>().sqrt();
         shift_phase(omega, &self.centre) * self.centred_transform(rho)
@@ -142,11 +187,14 @@ impl Integrand for Ball {
     fn spectral_energy(&self) -> f64 {
         self.integral_of_square()
     }
+    fn autocorrelation_reach(&self) -> f64 {
+        2.0 * self.radius
+    }
     fn radial_power(&self, rho: f64) -> f64 {
         self.centred_transform(rho).powi(2)
     }
     fn decay_exponent(&self) -> f64 {
-        self.centre.len() as f64 + 1.0
+        self.d() as f64 + 1.0
     }
     fn panel_width(&self) -> f64 {
         // J(2πRρ) has zeros about π apart in t = 2πRρ: half a period is 1/(2R) in ρ.

@@ -235,6 +235,28 @@ impl Integrand for GridIntegrand {
     fn integral_of_square(&self) -> f64 {
         self.mean_square
     }
+    fn coefficient(&self, k: &[i64]) -> Complex64 {
+        self.fourier_at_integer(k[0], k[1])
+    }
+    fn projection_energy(&self, axis: usize) -> f64 {
+        // The projection onto an axis is piecewise constant: the mean of each column (x) or
+        // row (y), so ∫ F² is the mean of their squares.
+        let (w, h) = (self.width, self.height);
+        let means: Vec<f64> = if axis == 0 {
+            (0..w)
+                .map(|x| (0..h).map(|y| self.values[y * w + x]).sum::<f64>() / h as f64)
+                .collect()
+        } else {
+            self.values
+                .chunks_exact(w)
+                .map(|row| row.iter().sum::<f64>() / w as f64)
+                .collect()
+        };
+        means.iter().map(|m| m * m).sum::<f64>() / means.len() as f64
+    }
+    fn autocorrelation_reach(&self) -> f64 {
+        1.0
+    }
     fn fourier(&self, omega: &[f64]) -> Complex64 {
         let integer = |w: f64| w.fract() == 0.0 && w.abs() < 1e15;
         if integer(omega[0]) && integer(omega[1]) {

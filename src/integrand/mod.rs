@@ -1,11 +1,15 @@
 //! Integrands with closed-form Fourier transforms: balls, Gaussians, and functions tabulated
 //! on a grid ([`GridIntegrand`], whose coefficients come from an FFT).
 //!
-//! An [`Integrand`] lives on the unit cube `[0,1)^d`. Monte Carlo integrates it there, so its
-//! exact integral over the cube ([`Integrand::integral`]) is the ground truth. The Fourier
-//! routes use its transform over the whole space, `f̂(ω) = ∫ f(x) e^{-2πi ω·x} dx`, which is the
-//! torus Fourier coefficient whenever `f` vanishes outside the cube (a ball inside the cube);
-//! for a Gaussian it differs by the mass outside the cube (below 1e-6 for σ = 0.1 centred).
+//! An [`Integrand`] lives on the unit torus `[0,1)^d`: Monte Carlo integrates what
+//! [`Integrand::eval`] gives there, so its exact integral ([`Integrand::integral`]) is the
+//! ground truth, and its Fourier coefficients at integer frequencies
+//! ([`Integrand::coefficient`]) are those of that function, periodized: a Gaussian truncated to
+//! the cube (its jumps at the faces give coefficients that fall like `1/k`), a ball wrapped
+//! around the torus. The lattice form uses these. The polar form uses the transform over the
+//! whole space, `f̂(ω) = ∫ f(x) e^{-2πi ω·x} dx`, which agrees with them only while the
+//! function is contained in the cube ([`Integrand::full_space_leak`]) and its autocorrelation
+//! fits in the torus ([`Integrand::autocorrelation_reach`]).
 
 mod ball;
 mod gaussian;
@@ -20,6 +24,7 @@ pub use grid_io::{read_grid_file, read_grid_png, read_grid_text};
 pub use spec::{parse_integrand, IntegrandKind, IntegrandSpec};
 
 use crate::error::{invalid, Result};
+use crate::spectrum::Lattice;
 use num_complex::Complex64;
 use std::f64::consts::PI;
 
@@ -40,8 +45,40 @@ pub trait Integrand: Send + Sync {
     fn integral(&self) -> f64;
     /// `∫_{[0,1)^d} f²`, exactly.
     fn integral_of_square(&self) -> f64;
-    /// `f̂(ω)` over the whole space, in closed form.
+    /// The torus Fourier coefficient `∫_{[0,1)^d} f(x) e^{-2πi k·x} dx` at integer `k` of the
+    /// function [`eval`](Self::eval) defines: exact (truncation at the faces, wrapping, cells).
+    fn coefficient(&self, k: &[i64]) -> Complex64;
+    /// `|coefficient(k)|²` for every frequency of `lattice`, in lattice order, into `out`
+    /// (length `lattice.len()`). Separable integrands override it with per-axis tables.
+    fn power_on_lattice(&self, lattice: Lattice, out: &mut [f64]) {
+        let d = lattice.dimension;
+        for (i, slot) in out.iter_mut().enumerate() {
+            *slot = self.coefficient(&lattice.frequency(i)[..d]).norm_sqr();
+        }
+    }
+    /// `∫ F_a(x)² dx` for the projection `F_a(x) = ∫ f dx_{b≠a}` onto axis `a`. By Parseval in
+    /// 1D, `∫ F_a² - I²` is the energy on the axis line `k = k_a e_a` of the lattice, where
+    /// samplers with per-axis stratification keep their power far from white.
+    fn projection_energy(&self, axis: usize) -> f64;
+    /// The torus autocorrelation `a_f(r) = ∫ f(x) f(x + r) dx` (`x + r` modulo 1), where it has
+    /// a closed form. With it the lattice form of a pattern is exact in space:
+    /// `(1/N) Σ_{k≠0} |f̂(k)|² P(k) = (1/N²) Σ_{i,j} a_f(x_i - x_j) - I²`.
+    fn autocorrelation(&self, r: &[f64]) -> Option<f64> {
+        let _ = r;
+        None
+    }
+    /// `f̂(ω)` over the whole space, in closed form (the polar form's transform).
     fn fourier(&self, omega: &[f64]) -> Complex64;
+    /// The relative difference between the full-space energy `∫_{R^d} f²` and the torus's
+    /// `∫_{[0,1)^d} f²`: 0 when the function is contained in the cube; the polar form is only
+    /// valid where it is negligible.
+    fn full_space_leak(&self) -> f64 {
+        0.0
+    }
+    /// The distance (largest component) beyond which the autocorrelation of the full-space
+    /// function is negligible (below 1e-12 of its peak): the polar form's integral equals the
+    /// lattice sum only while this reach plus the pattern's correlation range stays below 1.
+    fn autocorrelation_reach(&self) -> f64;
     /// `f̂(0)`: the integral over the whole space (equal to [`integral`](Self::integral) when
     /// `f` vanishes outside the cube).
     fn spectral_integral(&self) -> f64;
@@ -78,6 +115,9 @@ pub fn unit_ball_volume(d: usize) -> f64 {
     PI.powf(d as f64 / 2.0) / Gamma::gamma(d as f64 / 2.0 + 1.0)
 }
 
+/// The largest height accepted: energies and variances are squares of it and must stay finite.
+pub const MAX_HEIGHT: f64 = 1e100;
+
 /// Validates the parameters every integrand shares: dimension 1 to 3 (the centre's length), a
 /// positive finite scale (`scale_name`: radius or σ), a finite height, a centre in the cube.
 pub(crate) fn check_parameters(
@@ -94,8 +134,12 @@ pub(crate) fn check_parameters(
     if !(scale.is_finite() && scale > 0.0) {
         return Err(invalid(scale_name, scale, "positive and finite"));
     }
-    if !height.is_finite() {
-        return Err(invalid("height", height, "finite"));
+    if !(height.is_finite() && height.abs() <= MAX_HEIGHT) {
+        return Err(invalid(
+            "height",
+            height,
+            format!("finite and at most {MAX_HEIGHT:e} in size (energies are squares of it)"),
+        ));
     }
     check_centre(centre, d)
 }

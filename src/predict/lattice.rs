@@ -1,12 +1,20 @@
 //! The lattice form, exact on the torus:
-//! `Var[μ_N] = (1/N) Σ_{k≠0} |f̂(k)|² E[P_S(k)]`, summed over `|k_i| ≤ K`, and beyond `K` the
-//! remaining energy (by Parseval) times `P_S = 1`.
+//! `Var[μ_N] = (1/N) Σ_{k≠0} |f̂(k)|² E[P_S(k)]`, with `f̂` the torus coefficients of the function
+//! Monte Carlo integrates. It is summed over the lattice `|k_i| ≤ K`; beyond, the energy is
+//! known exactly by Parseval (and on each axis line by Parseval in 1D, through the projection
+//! of the integrand onto the axis), is counted as white (`P_S = 1`), and the deviation from
+//! white is bounded: `|truncation| ≤ (δ_axis E_axis + δ_off E_rest) / N`.
 
-use super::{check_dimension, check_n, ErrorBudget, Form, Prediction, Route, SpectrumSource};
-use crate::error::{invalid, Error, Result};
+use super::SpectrumSource;
+use super::{check_dimension, check_n, ErrorBudget, Form, Prediction, Route, SpectrumOrigin};
+use crate::error::{finite, invalid, Error, Result};
 use crate::integrand::Integrand;
+use crate::progress::Progress;
 use crate::quadrature::CompensatedSum;
-use crate::spectrum::{ClosedLattice, Lattice, LatticeSpectrum};
+use crate::spectrum::{
+    ClosedForm, ClosedLattice, Lattice, LatticeSpectrum, PatternSource, SpectrumAccumulator,
+    SpectrumParams, TailDeviation, WeightedMean,
+};
 use rayon::prelude::*;
 
 /// An integrand's power `|f̂(k)|²` on a lattice of integer frequencies, with the energy beyond
@@ -21,15 +29,18 @@ pub struct LatticePower {
     pub power: Vec<f64>,
     /// `∫ f² - I² - Σ_{k≠0 in the lattice} |f̂(k)|²` by Parseval: the energy beyond the lattice.
     pub beyond: f64,
+    /// The part of `beyond` on the axis lines `k = k_a e_a` (`|k_a| > K`), by Parseval on the
+    /// projections onto the axes.
+    pub axis_beyond: f64,
     /// What it is the power of.
     pub label: String,
 }
 
 impl LatticePower {
-    /// The power of `f` on `lattice` (computed in parallel over rows).
+    /// The power of `f` on `lattice` (its torus coefficients, computed in parallel over rows).
     ///
     /// # Errors
-    /// A lattice of another dimension than `f`.
+    /// A lattice of another dimension than `f`, or a dimension outside 1 to 3.
     pub fn of(f: &dyn Integrand, lattice: Lattice) -> Result<Self> {
         let d = f.dimension();
         check_dimension(d)?;
@@ -39,29 +50,34 @@ impl LatticePower {
                 lattice.dimension
             )));
         }
-        let side = lattice.side();
         let mut power = vec![0.0; lattice.len()];
-        power.par_chunks_mut(side).enumerate().for_each(|(r, row)| {
-            let mut omega = [0.0; 3];
-            for (j, slot) in row.iter_mut().enumerate() {
-                let i = r * side + j;
-                if i == lattice.dc_index() {
-                    continue;
-                }
-                let k = lattice.frequency(i);
-                for a in 0..d {
-                    omega[a] = k[a] as f64;
-                }
-                *slot = f.fourier(&omega[..d]).norm_sqr();
-            }
-        });
+        f.power_on_lattice(lattice, &mut power);
+        power[lattice.dc_index()] = 0.0;
+        let i0 = f.integral();
+        let energy = f.integral_of_square() - i0 * i0;
         let mut inside = CompensatedSum::default();
         power.iter().for_each(|&p| inside.add(p));
-        let i0 = f.spectral_integral();
+        let beyond = (energy - inside.value()).max(0.0);
+        // Each axis line's energy beyond K: ∫ F_a² - I² less the line's part inside.
+        let side = lattice.side();
+        let axis_beyond: f64 = (0..d)
+            .map(|a| {
+                let stride = side.pow((d - 1 - a) as u32);
+                let line: f64 = (1..=lattice.kmax)
+                    .map(|t| {
+                        power[lattice.dc_index() + t * stride]
+                            + power[lattice.dc_index() - t * stride]
+                    })
+                    .sum();
+                (f.projection_energy(a) - i0 * i0 - line).max(0.0)
+            })
+            .sum::<f64>()
+            .min(beyond);
         Ok(Self {
             lattice,
-            beyond: (f.spectral_energy() - i0 * i0 - inside.value()).max(0.0),
             power,
+            beyond,
+            axis_beyond,
             label: f.label(),
         })
     }
@@ -90,13 +106,69 @@ impl LatticePower {
             lattice: first.lattice,
             power,
             beyond: parts.iter().map(|p| p.beyond).sum::<f64>() * scale,
+            axis_beyond: parts.iter().map(|p| p.axis_beyond).sum::<f64>() * scale,
             label: label.into(),
         })
     }
+
+    /// The power averaged over the symmetries of the cube (axis permutations and reflections):
+    /// for a sampler whose distribution has them, `E[P_S]` has them too, so the lattice form is
+    /// unchanged and a per-pattern estimate of it gets less noisy.
+    pub fn symmetrized(&self) -> Self {
+        let lattice = self.lattice;
+        let d = lattice.dimension;
+        let perms = permutations(d);
+        let images = (perms.len() << d) as f64;
+        let side = lattice.side() as i64;
+        let kmax = lattice.kmax as i64;
+        let power = (0..lattice.len())
+            .into_par_iter()
+            .map(|i| {
+                let k = lattice.frequency(i);
+                let mut sum = 0.0;
+                for perm in &perms {
+                    for signs in 0..1usize << d {
+                        let flat = (0..d).fold(0i64, |acc, a| {
+                            let c = k[perm[a]] * if signs >> a & 1 == 1 { -1 } else { 1 };
+                            acc * side + c + kmax
+                        });
+                        sum += self.power[flat as usize];
+                    }
+                }
+                sum / images
+            })
+            .collect();
+        Self {
+            power,
+            ..self.clone()
+        }
+    }
+
+    /// The bound on `(1/N) Σ_{beyond} |f̂|² (P - 1)` given bounds on `|P - 1|` beyond.
+    fn tail_bound(&self, deviation: TailDeviation) -> f64 {
+        deviation.axis * self.axis_beyond + deviation.off_axis * (self.beyond - self.axis_beyond)
+    }
+}
+
+/// The permutations of `0..d`.
+fn permutations(d: usize) -> Vec<Vec<usize>> {
+    if d == 1 {
+        return vec![vec![0]];
+    }
+    let mut out = Vec::new();
+    for rest in permutations(d - 1) {
+        for at in 0..d {
+            let mut p = rest.clone();
+            p.insert(at, d - 1);
+            out.push(p);
+        }
+    }
+    out
 }
 
 /// The lattice-form variance of the homogenized estimator with `n` points, summed over
-/// `|k_i| ≤ kmax` (for an estimated spectrum, its own K), with `P_S = 1` assumed beyond.
+/// `|k_i| ≤ kmax` (for an estimated spectrum, its own K), the energy beyond counted as white
+/// with its deviation bounded.
 ///
 /// # Errors
 /// `n = 0`, a dimension mismatch, or an estimated spectrum at another N.
@@ -129,10 +201,14 @@ pub fn predict_lattice(
 }
 
 /// The lattice-form variance from an integrand's power on the lattice (see [`LatticePower`]):
-/// `(Σ_{k≠0} |f̂(k)|² P_S(k) + beyond) / N`, the energy beyond the lattice counted as white.
+/// `(Σ_{k≠0} |f̂(k)|² P_S(k) + beyond) / N`. With a closed form the tail bound is exact (none
+/// exists for the regular grid's replicas, so it is refused: use [`super::predict`]); with an
+/// estimated mean spectrum the noise is propagated per frequency and the tail deviation is
+/// measured at the lattice's edge.
 ///
 /// # Errors
-/// `n = 0`, or an estimated spectrum at another N or on another lattice.
+/// `n = 0`, the regular grid's closed form, or an estimated spectrum at another N or on
+/// another lattice.
 pub fn predict_from_power(
     power: &LatticePower,
     source: &SpectrumSource<'_>,
@@ -140,45 +216,37 @@ pub fn predict_from_power(
 ) -> Result<Prediction> {
     check_n(n)?;
     let lattice = power.lattice;
-    let d = lattice.dimension;
-    check_dimension(d)?;
-    let spectrum = LatticeSpectrumAt::new(source, lattice, n)?;
-    let side = lattice.side();
-    let edge = lattice.kmax as u64;
-    // Per row: Σ |f̂|² P, the edge's Σ |f̂|² |1 - P|, and Σ (|f̂|² se(P))².
-    let per_row: Vec<[f64; 3]> = power
-        .power
-        .par_chunks(side)
-        .enumerate()
-        .map(|(r, row)| {
-            let mut acc = [0.0; 3];
-            for (j, &power_f) in row.iter().enumerate() {
-                let i = r * side + j;
-                if i == lattice.dc_index() {
-                    continue;
-                }
-                let k = lattice.frequency(i);
-                let (power_s, se) = spectrum.at(i, &k[..d]);
-                acc[0] += power_f * power_s;
-                if k[..d].iter().any(|c| c.unsigned_abs() == edge) {
-                    acc[1] += power_f * (1.0 - power_s).abs();
-                }
-                if se.is_finite() {
-                    acc[2] += (power_f * se).powi(2);
-                }
+    check_dimension(lattice.dimension)?;
+    let (spectrum, deviation) = match source {
+        SpectrumSource::Closed(c) => {
+            let closed = c.on_lattice(n, lattice.dimension, lattice.kmax);
+            let deviation = closed
+                .tail_deviation()
+                .ok_or_else(|| Error::OutsideValidity {
+                    route: "the lattice form with the regular grid's spectrum on a finite lattice"
+                        .into(),
+                    reason:
+                        "its replicas (power N) continue beyond any lattice; predict() sums them \
+                         exactly in space"
+                            .into(),
+                })?;
+            (SpectrumAt::Closed(closed), deviation)
+        }
+        SpectrumSource::Estimated(e) => {
+            let s = &e.lattice;
+            if s.n != n || s.lattice != lattice {
+                return Err(Error::Mismatch(format!(
+                    "lattice spectrum of N = {} in {}D with K = {} for N = {n} in {}D with K = {}",
+                    s.n, s.lattice.dimension, s.lattice.kmax, lattice.dimension, lattice.kmax
+                )));
             }
-            acc
-        })
-        .collect();
-    let mut weighted = CompensatedSum::default();
-    let (mut edge_sum, mut noise) = (0.0, 0.0);
-    for [w, e, q] in per_row {
-        weighted.add(w);
-        edge_sum += e;
-        noise += q;
-    }
+            (SpectrumAt::Estimated(s), measured_tail_deviation(s))
+        }
+    };
+    let sums = weighted_sums(power, &spectrum);
+    let truncation = power.tail_bound(deviation) / n as f64;
     Ok(Prediction {
-        variance: (weighted.value() + power.beyond) / n as f64,
+        variance: (sums.value + power.beyond) / n as f64,
         route: Route {
             form: Form::Lattice,
             spectrum: source.origin(),
@@ -186,46 +254,51 @@ pub fn predict_from_power(
         reason: String::new(),
         budget: ErrorBudget {
             // P(k) = P(-k) exactly, so the two halves add coherently: 2 Σ (w se)².
-            spectrum_noise: (2.0 * noise).sqrt() / n as f64,
+            spectrum_noise: (2.0 * sums.noise).sqrt() / n as f64,
             quadrature: 0.0,
-            truncation: edge_sum.min(power.beyond) / n as f64,
+            truncation,
             model: 0.0,
         },
         n,
-        dimension: d,
+        dimension: lattice.dimension,
         dc_term: 0.0,
         evaluations: lattice.len() as u64,
         alternatives: Vec::new(),
     })
 }
 
+/// The white-noise variance, exact: `(∫f² - I²) / N` by Parseval, no lattice.
+pub(crate) fn white_noise(f: &dyn Integrand, n: usize) -> Result<Prediction> {
+    check_n(n)?;
+    let i0 = f.integral();
+    let variance = (f.integral_of_square() - i0 * i0) / n as f64;
+    Ok(Prediction {
+        variance: variance.max(0.0),
+        route: Route {
+            form: Form::Lattice,
+            spectrum: SpectrumOrigin::Closed(ClosedForm::WhiteNoise),
+        },
+        reason: String::new(),
+        budget: ErrorBudget {
+            // The subtraction's rounding, the only error left.
+            quadrature: 4.0 * f64::EPSILON * f.integral_of_square() / n as f64,
+            ..Default::default()
+        },
+        n,
+        dimension: f.dimension(),
+        dc_term: 0.0,
+        evaluations: 1,
+        alternatives: Vec::new(),
+    })
+}
+
 /// A spectrum read on one lattice for one N: a tabulated closed form, or an estimate there.
-enum LatticeSpectrumAt<'a> {
+enum SpectrumAt<'a> {
     Closed(ClosedLattice),
     Estimated(&'a LatticeSpectrum),
 }
 
-impl<'a> LatticeSpectrumAt<'a> {
-    fn new(source: &SpectrumSource<'a>, lattice: Lattice, n: usize) -> Result<Self> {
-        match source {
-            SpectrumSource::Closed(c) => Ok(Self::Closed(c.on_lattice(
-                n,
-                lattice.dimension,
-                lattice.kmax,
-            ))),
-            SpectrumSource::Estimated(e) => {
-                let s = &e.lattice;
-                if s.n != n || s.lattice != lattice {
-                    return Err(Error::Mismatch(format!(
-                        "lattice spectrum of N = {} in {}D with K = {} for N = {n} in {}D with K = {}",
-                        s.n, s.lattice.dimension, s.lattice.kmax, lattice.dimension, lattice.kmax
-                    )));
-                }
-                Ok(Self::Estimated(s))
-            }
-        }
-    }
-
+impl SpectrumAt<'_> {
     /// The mean power and its standard error at flat index `i`, frequency `k`.
     #[inline]
     fn at(&self, i: usize, k: &[i64]) -> (f64, f64) {
@@ -234,4 +307,214 @@ impl<'a> LatticeSpectrumAt<'a> {
             Self::Estimated(s) => (s.mean[i], s.stderr[i]),
         }
     }
+}
+
+struct Sums {
+    value: f64,
+    noise: f64,
+}
+
+/// `Σ_{k≠0} |f̂|² P` and `Σ (|f̂|² se(P))²`, parallel over rows, reduced in order.
+fn weighted_sums(power: &LatticePower, spectrum: &SpectrumAt<'_>) -> Sums {
+    let lattice = power.lattice;
+    let (side, d) = (lattice.side(), lattice.dimension);
+    let per_row: Vec<[f64; 2]> = power
+        .power
+        .par_chunks(side)
+        .enumerate()
+        .map(|(r, row)| {
+            let mut acc = [0.0; 2];
+            for (j, &power_f) in row.iter().enumerate() {
+                let i = r * side + j;
+                if i == lattice.dc_index() {
+                    continue;
+                }
+                let k = lattice.frequency(i);
+                let (power_s, se) = spectrum.at(i, &k[..d]);
+                acc[0] += power_f * power_s;
+                if se.is_finite() {
+                    acc[1] += (power_f * se).powi(2);
+                }
+            }
+            acc
+        })
+        .collect();
+    let mut value = CompensatedSum::default();
+    let mut noise = 0.0;
+    for [w, q] in per_row {
+        value.add(w);
+        noise += q;
+    }
+    Sums {
+        value: value.value(),
+        noise,
+    }
+}
+
+/// Standard errors a measured deviation from white adds to itself, so that the bound holds
+/// beyond the edge where the spectrum is no farther from white than in the lattice's outer half.
+const EDGE_MARGIN_Z: f64 = 3.0;
+
+/// Bounds on `|P - 1|` beyond the lattice, measured in its outer half (`K/2 < |k|_∞ ≤ K`): the
+/// largest deviation of a ring mean (off the axes) or of a stretch of an axis line, plus three
+/// of its standard errors. It assumes the spectrum gets no farther from white beyond the edge
+/// than it is there, which holds for spectra that settle to 1 (every sampler but lattices).
+pub(crate) fn measured_tail_deviation(s: &LatticeSpectrum) -> TailDeviation {
+    let lattice = s.lattice;
+    let (d, kmax) = (lattice.dimension, lattice.kmax as i64);
+    let half = kmax / 2;
+    // Off the axes: rings of unit width in |k|; on the axes: stretches of K/8 frequencies.
+    let stretch = (kmax / 8).max(1);
+    let mut rings: std::collections::BTreeMap<i64, (f64, f64, f64)> = Default::default();
+    let mut lines: std::collections::BTreeMap<(usize, i64), (f64, f64, f64)> = Default::default();
+    for i in 0..lattice.len() {
+        let k = lattice.frequency(i);
+        let k = &k[..d];
+        if k.iter().map(|c| c.abs()).max().unwrap_or(0) <= half {
+            continue;
+        }
+        let nonzero: Vec<usize> = (0..d).filter(|&a| k[a] != 0).collect();
+        let slot = if nonzero.len() == 1 {
+            let a = nonzero[0];
+            lines.entry((a, k[a].abs() / stretch)).or_default()
+        } else {
+            let r = (k.iter().map(|c| c * c).sum::<i64>() as f64).sqrt().floor() as i64;
+            rings.entry(r).or_default()
+        };
+        slot.0 += s.mean[i];
+        slot.1 += if s.stderr[i].is_finite() {
+            s.stderr[i].powi(2)
+        } else {
+            0.0
+        };
+        slot.2 += 1.0;
+    }
+    let worst = |groups: &mut dyn Iterator<Item = (f64, f64, f64)>| {
+        groups
+            .map(|(sum, var, count)| {
+                // P(k) = P(-k): the count holds each value twice.
+                let se = (2.0 * var).sqrt() / count;
+                (sum / count - 1.0).abs() + EDGE_MARGIN_Z * se
+            })
+            .fold(0.0f64, f64::max)
+    };
+    let off_axis = worst(&mut rings.values().copied());
+    let axis = worst(&mut lines.values().copied()).max(if d == 1 { off_axis } else { 0.0 });
+    TailDeviation {
+        axis: if d == 1 { axis.max(off_axis) } else { axis },
+        off_axis,
+    }
+}
+
+/// How the per-pattern lattice form spends its realizations.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PatternPlan {
+    /// Realizations to start with (rounded up to a multiple of 4).
+    pub initial: usize,
+    /// Keep adding realizations while the relative standard error is above this…
+    pub target_noise: f64,
+    /// …and the total stays within this many.
+    pub max_realizations: usize,
+    /// Spectrum parameters (lattice extent, engine, seed).
+    pub spectrum: SpectrumParams,
+    /// Average the weights over the cube's symmetries (for samplers whose distribution has
+    /// them).
+    pub symmetric: bool,
+}
+
+/// The lattice form pattern by pattern: each pattern's `V_r = (1/N) Σ_{k≠0} |f̂(k)|² P_r(k)` (its
+/// exact variance under random shifts, up to the lattice's truncation), their mean over the
+/// patterns, its standard error from their spread, and a tail bound from the spectrum's measured
+/// deviation from white at the lattice's edge. Realizations are added (in the same order, so
+/// the result depends only on the final count) while the relative error exceeds
+/// `plan.target_noise` and the count stays within `plan.max_realizations`.
+///
+/// Returns the prediction and the number of realizations used.
+///
+/// # Errors
+/// As [`SpectrumAccumulator`], or a lattice that differs from the plan's.
+pub fn predict_on_patterns(
+    power: &LatticePower,
+    source: PatternSource<'_>,
+    plan: &PatternPlan,
+    progress: &dyn Progress,
+) -> Result<Prediction> {
+    let lattice = power.lattice;
+    if plan.spectrum.kmax != lattice.kmax {
+        return Err(Error::Mismatch(format!(
+            "spectrum on |k_i| ≤ {} for a power on |k_i| ≤ {}",
+            plan.spectrum.kmax, lattice.kmax
+        )));
+    }
+    let weights = if plan.symmetric {
+        power.symmetrized().power
+    } else {
+        power.power.clone()
+    };
+    let mut acc = SpectrumAccumulator::new(source, &plan.spectrum, vec![weights])?;
+    let cap = source
+        .available()
+        .unwrap_or(usize::MAX)
+        .min(plan.max_realizations);
+    let mut target = round_up(plan.initial, cap);
+    loop {
+        progress.begin(
+            "spectrum realizations",
+            (target - acc.realizations()) as u64,
+        );
+        acc.extend_to(target, progress)?;
+        progress.end();
+        let w = acc.weighted()[0];
+        let rel = w.stderr / w.mean;
+        // A relative error that is not a number (one realization, a zero mean) cannot improve.
+        let noisy = rel.is_finite() && rel > plan.target_noise;
+        if !noisy || target >= cap {
+            break;
+        }
+        let wanted = (target as f64 * (rel / plan.target_noise).powi(2)).ceil() as usize;
+        target = round_up(wanted.max(target + 4), cap);
+    }
+    let estimate = acc.estimate();
+    let WeightedMean {
+        mean,
+        stderr,
+        realizations,
+    } = acc.weighted()[0];
+    let n = estimate.lattice.n;
+    let deviation = measured_tail_deviation(&estimate.lattice);
+    let variance = finite((mean + power.beyond) / n as f64, || {
+        format!("the lattice form of {} is not finite", power.label)
+    })?;
+    Ok(Prediction {
+        variance,
+        route: Route {
+            form: Form::Lattice,
+            spectrum: SpectrumOrigin::Estimated {
+                n,
+                realizations,
+                kmax: lattice.kmax,
+            },
+        },
+        reason: String::new(),
+        budget: ErrorBudget {
+            spectrum_noise: if stderr.is_finite() {
+                stderr / n as f64
+            } else {
+                0.0
+            },
+            quadrature: 0.0,
+            truncation: power.tail_bound(deviation) / n as f64,
+            model: 0.0,
+        },
+        n,
+        dimension: lattice.dimension,
+        dc_term: 0.0,
+        evaluations: (lattice.len() * realizations) as u64,
+        alternatives: Vec::new(),
+    })
+}
+
+/// `wanted` rounded up to a multiple of 4, at most `cap` (which need not be one).
+fn round_up(wanted: usize, cap: usize) -> usize {
+    (wanted.div_ceil(4) * 4).min(cap).max(1)
 }

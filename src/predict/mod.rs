@@ -1,33 +1,46 @@
 //! Variance and bias predicted from spectra.
 //!
 //! [`predict`] is the one call: given a [`Problem`] (a sampler or your own point sets, an
-//! integrand, N) it chooses a valid route, estimates what spectrum it needs, and returns a
-//! [`Prediction`] that says which route it took, why, and what its error budget is. The routes
-//! themselves are public too:
+//! integrand, N) it chooses a route that is valid for that problem, computes the spectrum the
+//! route needs, and returns a [`Prediction`] that says which route it took, why, and its error
+//! budget (spectrum noise, quadrature, truncation, model). The routes and their validity
+//! (`docs/theory.md` has the derivations):
 //!
-//! - [`predict_polar`] (module `polar`): one radial integral, for isotropic integrands, with
-//!   the DC term;
-//! - [`predict_lattice`] and [`predict_from_power`] (module `lattice`): the sum over integer
-//!   frequencies, exact on the torus;
-//! - [`bias_of_pattern`] and [`regular_grid_bias`] (module `bias`): the bias of a fixed
-//!   pattern.
+//! - **a closed form at N** (white noise, jitter with its strata, Latin hypercube, the
+//!   homogenized regular grid): the lattice form with it, exact on the torus; white noise by
+//!   Parseval, the regular grid summed in space through the integrand's autocorrelation, the
+//!   others with a tail bound from the closed form;
+//! - **otherwise, the spectrum estimated at N**: the lattice form pattern by pattern
+//!   ([`predict_on_patterns`]), with the noise of the patterns and a tail bound from the
+//!   spectrum's measured deviation from white; your own point sets take this route;
+//! - **the polar form** ([`predict_polar`]) on request or as an alternative: only for an
+//!   isotropic integrand contained in the cube whose autocorrelation, with the pattern's
+//!   correlations, fits in the torus; with an estimated spectrum only for a sampler that is
+//!   scale invariant at N and at the reference N, and never below the estimate's first ring
+//!   (N at most the reference N).
+//!
+//! The bias of a fixed pattern is [`bias_of_pattern`] and [`regular_grid_bias`].
 
 mod bias;
 mod lattice;
 mod polar;
+mod route;
+mod space;
 
-pub use bias::{bias_of_pattern, regular_grid_bias};
-pub use lattice::{predict_from_power, predict_lattice, LatticePower};
+pub use bias::{bias_of_pattern, regular_grid_bias, SpectralBias};
+pub use lattice::{
+    predict_from_power, predict_lattice, predict_on_patterns, LatticePower, PatternPlan,
+};
 pub use polar::{predict_polar, PolarParams};
+pub use route::{default_kmax, default_reference_n, polar_validity};
+pub use space::{pattern_shift_variance, regular_grid_variance};
 
 use crate::error::{finite, invalid, Error, Result};
 use crate::integrand::Integrand;
 use crate::pointset::PointSet;
-use crate::progress::{stage, Progress, Silent};
+use crate::progress::{Progress, Silent};
 use crate::sampler::Sampler;
-use crate::spectrum::{
-    estimate, estimate_from_sets, ClosedForm, Engine, SpectrumEstimate, SpectrumParams,
-};
+use crate::spectrum::{ClosedForm, SpectrumEstimate};
 use serde::Serialize;
 use std::fmt;
 
@@ -35,7 +48,7 @@ use std::fmt;
 #[derive(Debug, Clone, Copy)]
 pub enum SpectrumSource<'a> {
     /// A closed form, exact at every N (the lattice form reads it at integer frequencies, the
-    /// polar form its radial mean).
+    /// polar form its radial mean, where it has one).
     Closed(ClosedForm),
     /// An estimate at some N: the polar form reads its radial spectrum at `ν = ρ/N^{1/d}` (any
     /// N, for a scale-invariant sampler); the lattice form needs it at the target N.
@@ -52,31 +65,6 @@ impl SpectrumSource<'_> {
                 realizations: e.lattice.realizations,
                 kmax: e.lattice.lattice.kmax,
             },
-        }
-    }
-
-    /// `P̆_S(ν)` in dimension `d`: the radial (angular-mean) spectrum.
-    pub fn radial_power(&self, d: usize, nu: f64) -> f64 {
-        match self {
-            SpectrumSource::Closed(c) => c.radial(d, nu),
-            SpectrumSource::Estimated(e) => e.radial.power_at(nu),
-        }
-    }
-
-    /// `P̆_S(0⁺)`.
-    pub fn dc_limit(&self) -> f64 {
-        match self {
-            SpectrumSource::Closed(c) => c.dc_limit(),
-            SpectrumSource::Estimated(e) => e.radial.dc_limit,
-        }
-    }
-
-    /// The `ν` beyond which the radial spectrum is taken as white (`P̆_S = 1`), if it ever is.
-    fn white_beyond_radially(&self) -> Option<f64> {
-        match self {
-            SpectrumSource::Closed(ClosedForm::WhiteNoise) => Some(0.0),
-            SpectrumSource::Closed(ClosedForm::Jitter) => None,
-            SpectrumSource::Estimated(e) => Some(e.radial.max_nu()),
         }
     }
 }
@@ -153,7 +141,7 @@ impl fmt::Display for Route {
 pub struct ErrorBudget {
     /// One standard error from the noise of an estimated spectrum (0 for closed forms).
     pub spectrum_noise: f64,
-    /// The quadrature's error estimate (polar form).
+    /// The quadrature's error estimate (polar form) or the rounding of an exact sum.
     pub quadrature: f64,
     /// A bound on what the truncation of the sum or integral leaves out.
     pub truncation: f64,
@@ -195,12 +183,19 @@ pub struct Prediction {
     pub n: usize,
     /// Dimension.
     pub dimension: usize,
-    /// The DC term `P̆_S(0⁺) I² / N` already subtracted (0 for the lattice form).
+    /// The DC term `P̆_S(0⁺) I² / N` already subtracted (polar form; 0 for the lattice form).
     pub dc_term: f64,
     /// Integrand or spectrum evaluations spent.
     pub evaluations: u64,
     /// Other valid routes computed for comparison.
     pub alternatives: Vec<Alternative>,
+}
+
+impl Prediction {
+    /// Whether `value` lies within the budget's interval at `z` standard errors of the noise.
+    pub fn covers(&self, value: f64, z: f64) -> bool {
+        (value - self.variance).abs() <= self.budget.half_width(z)
+    }
 }
 
 pub(crate) fn check_n(n: usize) -> Result<()> {
@@ -265,6 +260,20 @@ impl<'a> Problem<'a> {
     ///
     /// # Errors
     /// No sets, sets of different sizes, or a dimension other than the integrand's.
+    ///
+    /// # Examples
+    /// ```
+    /// use specvar::prelude::*;
+    /// // Point sets from anywhere (here a file's text), 8 realizations of 64 points.
+    /// let text = specvar::io::write_text(
+    ///     &(0..8).map(|r| Jitter::new(2)?.sample(64, 5, r)).collect::<Result<Vec<_>>>()?,
+    /// );
+    /// let sets = specvar::io::read_text(&text)?;
+    /// let f = Gaussian::new(0.1, vec![0.5, 0.5], 1.0)?;
+    /// let p = predict(&Problem::from_point_sets(&sets, &f)?, &PredictParams::default())?;
+    /// assert_eq!(p.n, 64);
+    /// # Ok::<(), specvar::Error>(())
+    /// ```
     pub fn from_point_sets(sets: &'a [PointSet], integrand: &'a dyn Integrand) -> Result<Self> {
         let first = sets
             .first()
@@ -302,29 +311,56 @@ fn check_dimensions(d: usize, f: &dyn Integrand) -> Result<()> {
     Ok(())
 }
 
+/// Which form [`predict`] uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FormChoice {
+    /// The lattice form (exact on the torus), with the polar form as an alternative where it is
+    /// valid and cheap.
+    #[default]
+    Auto,
+    /// The lattice form.
+    Lattice,
+    /// The polar form, where it is valid (an error otherwise).
+    Polar,
+}
+
 /// Which spectrum [`predict`] uses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum SpectrumChoice {
-    /// A closed form (random and jitter).
+    /// A closed form where the sampler has one at N, an estimate otherwise.
+    #[default]
+    Auto,
+    /// A closed form (an error if there is none).
     Closed,
     /// Estimated from realizations.
-    #[default]
     Estimated,
 }
 
-/// Parameters of [`predict`].
+/// Parameters of [`predict`]. Every default is the library's choice; override what you need.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PredictParams {
-    /// Closed form or estimate.
+    /// The form.
+    pub form: FormChoice,
+    /// The spectrum.
     pub spectrum: SpectrumChoice,
-    /// The N at which the spectrum is estimated (`None`: [`default_reference_n`], or N itself
-    /// where the route needs the spectrum at N).
+    /// The polar form's reference N for an estimated spectrum (`None`: N itself, at least
+    /// [`default_reference_n`]).
     pub reference_n: Option<usize>,
-    /// Realizations of the estimate.
-    pub realizations: usize,
+    /// Realizations of an estimated spectrum (`None`: start at 32 and add while the relative
+    /// noise exceeds `target_noise` and the work budget allows).
+    pub realizations: Option<usize>,
+    /// The relative standard error an estimated prediction aims at.
+    pub target_noise: f64,
+    /// The work an estimated prediction may spend, in seconds of one core (from the samplers'
+    /// measured generation costs): it bounds the realizations.
+    pub work_budget_seconds: f64,
     /// Seed of the realizations.
     pub seed: u64,
+    /// The lattice extent (`None`: chosen from N and the integrand, then widened while the tail
+    /// bound exceeds 0.1% of the variance for closed forms, 1% for estimates).
+    pub kmax: Option<usize>,
     /// The polar form's quadrature.
     pub polar: PolarParams,
 }
@@ -332,31 +368,21 @@ pub struct PredictParams {
 impl Default for PredictParams {
     fn default() -> Self {
         Self {
-            spectrum: SpectrumChoice::default(),
+            form: FormChoice::Auto,
+            spectrum: SpectrumChoice::Auto,
             reference_n: None,
-            realizations: 32,
+            realizations: None,
+            target_noise: 0.02,
+            work_budget_seconds: 20.0,
             seed: 0,
+            kmax: None,
             polar: PolarParams::default(),
         }
     }
 }
 
-/// The default reference N for estimated spectra: 4096 in 1D and 2D, 32768 in 3D.
-pub fn default_reference_n(d: usize) -> usize {
-    if d == 3 {
-        32768
-    } else {
-        4096
-    }
-}
-
-/// The default lattice extent for an estimate at `n_ref`: `ν` up to 5.
-pub fn default_kmax(n_ref: usize, d: usize) -> usize {
-    (5.0 * (n_ref as f64).powf(1.0 / d as f64)).round() as usize
-}
-
-/// Predicts the variance of the homogenized estimator, choosing the route (see
-/// [`predict_with`], which also reports progress).
+/// Predicts the variance of the homogenized estimator, choosing a valid route (see the module
+/// notes, and [`predict_with`], which also reports progress).
 ///
 /// # Errors
 /// As [`predict_with`].
@@ -364,15 +390,15 @@ pub fn default_kmax(n_ref: usize, d: usize) -> usize {
 /// # Examples
 /// ```
 /// use specvar::integrand::Ball;
-/// use specvar::predict::{predict, PredictParams, Problem, SpectrumChoice};
+/// use specvar::predict::{predict, PredictParams, Problem};
 /// use specvar::sampler::Jitter;
 /// let disk = Ball::new(0.25, vec![0.5, 0.5], 1.0)?;
 /// let jitter = Jitter::new(2)?;
-/// let problem = Problem::new(&jitter, &disk, 256)?;
-/// let params = PredictParams { spectrum: SpectrumChoice::Closed, ..Default::default() };
-/// let p = predict(&problem, &params)?;
+/// let p = predict(&Problem::new(&jitter, &disk, 256)?, &PredictParams::default())?;
 /// println!("{:.4e} by the {} ({})", p.variance, p.route, p.reason);
+/// // Jitter has a closed form: no spectrum noise, an exact tail bound.
 /// assert!(p.variance > 0.0 && p.budget.spectrum_noise == 0.0);
+/// assert!(p.budget.truncation < 1e-3 * p.variance);
 /// # Ok::<(), specvar::Error>(())
 /// ```
 pub fn predict(problem: &Problem<'_>, params: &PredictParams) -> Result<Prediction> {
@@ -382,143 +408,45 @@ pub fn predict(problem: &Problem<'_>, params: &PredictParams) -> Result<Predicti
 /// Predicts the variance of the homogenized estimator, reporting the spectrum estimate's
 /// progress to `progress`.
 ///
-/// The route: an isotropic integrand gets the polar form (with the spectrum rescaled from a
-/// reference N for scale-invariant samplers) and, when the spectrum is at N itself or closed,
-/// the lattice form as an alternative. An anisotropic integrand (a grid) gets the lattice form
-/// with the spectrum at N.
-///
 /// # Errors
-/// A closed form asked for a sampler without one; a rescaled spectrum for a sampler that is
-/// not scale invariant at N; bad parameters; a sampler error.
+/// A closed form asked for a sampler without one; a route asked for outside its validity
+/// domain ([`Error::OutsideValidity`]); bad parameters; a sampler error; a result that is not
+/// finite.
 pub fn predict_with(
     problem: &Problem<'_>,
     params: &PredictParams,
     progress: &dyn Progress,
 ) -> Result<Prediction> {
-    route_and_predict(problem, params, progress).and_then(finite_prediction)
+    check_params(params)?;
+    route::predict_routed(problem, params, progress).and_then(finite_prediction)
 }
 
-fn route_and_predict(
-    problem: &Problem<'_>,
-    params: &PredictParams,
-    progress: &dyn Progress,
-) -> Result<Prediction> {
-    let f = problem.integrand;
-    let (n, d) = (problem.n, problem.dimension());
-    let kind = match problem.patterns {
-        Patterns::Sampler(s) => s.kind(),
-        Patterns::PointSets(_) => None,
-    };
-    let isotropic = f.is_isotropic();
-    match (params.spectrum, problem.patterns) {
-        (SpectrumChoice::Closed, _) => {
-            let closed = kind.and_then(|k| k.closed_form(n, d)).ok_or_else(|| {
-                invalid(
-                    "spectrum",
-                    "closed",
-                    "a sampler with a closed form (random; jitter with strata at N); use the \
-                     estimated spectrum",
-                )
-            })?;
-            let source = SpectrumSource::Closed(closed);
-            let kmax = ((8.0 * (n as f64).powf(1.0 / d as f64)).ceil() as usize).max(64);
-            let lattice = predict_lattice(f, &source, n, kmax)?;
-            if !isotropic {
-                return Ok(with_reason(
-                    lattice,
-                    "the integrand is anisotropic: lattice form",
-                ));
-            }
-            let mut polar = predict_polar(f, &source, n, &params.polar)?;
-            polar.alternatives.push(alternative(&lattice));
-            Ok(with_reason(
-                polar,
-                "closed form; isotropic integrand: polar form",
-            ))
-        }
-        (SpectrumChoice::Estimated, Patterns::PointSets(sets)) => {
-            let spectrum = SpectrumParams {
-                kmax: default_kmax(n, d),
-                realizations: sets.len(),
-                seed: params.seed,
-                engine: Engine::Auto,
-                bin_width: 1.0,
-            };
-            let est = stage(progress, "spectrum of the point sets", 0, || {
-                estimate_from_sets(sets, &spectrum)
-            })?;
-            from_estimate(f, &est, n, true, params, "the given point sets")
-        }
-        (SpectrumChoice::Estimated, Patterns::Sampler(sampler)) => {
-            let default_ref = if isotropic { default_reference_n(d) } else { n };
-            let n_ref = params.reference_n.unwrap_or(default_ref);
-            if !isotropic && n_ref != n {
-                return Err(invalid(
-                    "reference N",
-                    n_ref,
-                    format!("N = {n} for an anisotropic integrand (the lattice form needs the spectrum at N)"),
-                ));
-            }
-            let invariant = kind.is_some_and(|k| k.is_scale_invariant_at(n, d));
-            if n_ref != n && !invariant {
-                return Err(invalid(
-                    "sampler",
-                    sampler.name(),
-                    format!(
-                        "a scale-invariant sampler for a spectrum rescaled from N = {n_ref} \
-                         (random, poisson, bridson, ccvt; jitter at N = m^d), or reference N = {n}"
-                    ),
-                ));
-            }
-            sampler.check_count(n_ref)?;
-            let spectrum = SpectrumParams {
-                kmax: default_kmax(n_ref, d),
-                realizations: params.realizations,
-                seed: params.seed,
-                engine: Engine::Auto,
-                bin_width: 1.0,
-            };
-            let label = format!("spectrum of {} at N = {n_ref}", sampler.name());
-            let est = stage(progress, &label, 0, || estimate(sampler, n_ref, &spectrum))?;
-            let why = format!("{} at N = {n_ref}", sampler.name());
-            from_estimate(f, &est, n, n_ref == n, params, &why)
-        }
+fn check_params(params: &PredictParams) -> Result<()> {
+    if !(params.target_noise > 0.0 && params.target_noise.is_finite()) {
+        return Err(invalid(
+            "target noise",
+            params.target_noise,
+            "a positive number",
+        ));
     }
-}
-
-/// The prediction from an estimate: the polar form for an isotropic integrand, the lattice form
-/// (which needs the estimate at N) otherwise or beside it.
-fn from_estimate(
-    f: &dyn Integrand,
-    est: &SpectrumEstimate,
-    n: usize,
-    at_n: bool,
-    params: &PredictParams,
-    what: &str,
-) -> Result<Prediction> {
-    let source = SpectrumSource::Estimated(est);
-    let lattice = at_n
-        .then(|| predict_lattice(f, &source, n, est.lattice.lattice.kmax))
-        .transpose()?;
-    match lattice {
-        Some(l) if !f.is_isotropic() => Ok(with_reason(
-            l,
-            &format!("anisotropic integrand: lattice form with the spectrum of {what}"),
-        )),
-        lattice => {
-            let mut polar = predict_polar(f, &source, n, &params.polar)?;
-            polar.alternatives.extend(lattice.as_ref().map(alternative));
-            Ok(with_reason(
-                polar,
-                &format!("isotropic integrand: polar form with the radial spectrum of {what}"),
-            ))
-        }
+    if !(params.work_budget_seconds > 0.0 && params.work_budget_seconds.is_finite()) {
+        return Err(invalid(
+            "work budget",
+            params.work_budget_seconds,
+            "a positive number of seconds",
+        ));
     }
-}
-
-fn with_reason(mut p: Prediction, reason: &str) -> Prediction {
-    p.reason = reason.to_string();
-    p
+    if params.realizations.is_some_and(|m| m < 2) {
+        return Err(invalid(
+            "realizations",
+            params.realizations.unwrap_or(0),
+            "at least 2, so that the spectrum's noise can be estimated",
+        ));
+    }
+    if params.kmax == Some(0) {
+        return Err(invalid("kmax", 0, "at least 1"));
+    }
+    Ok(())
 }
 
 /// `p` if its variance and budget are finite numbers; otherwise an error that says so.
@@ -534,12 +462,4 @@ fn finite_prediction(p: Prediction) -> Result<Prediction> {
         finite(v, || format!("the {what} of the {} is {v}", p.route))?;
     }
     Ok(p)
-}
-
-fn alternative(p: &Prediction) -> Alternative {
-    Alternative {
-        route: p.route,
-        variance: p.variance,
-        budget: p.budget,
-    }
 }

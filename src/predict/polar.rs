@@ -62,6 +62,18 @@ pub fn predict_polar(
             reason: format!("{} is not isotropic: use the lattice form", f.label()),
         });
     }
+    if let SpectrumSource::Closed(c) = source {
+        if !c.is_scale_invariant() {
+            return Err(Error::OutsideValidity {
+                route: "the polar form".into(),
+                reason: format!(
+                    "the closed form ({}) depends on N itself, not on ν alone: use the lattice \
+                     form",
+                    c.name()
+                ),
+            });
+        }
+    }
     if let SpectrumSource::Closed(ClosedForm::Jitter) = source {
         if crate::sampler::perfect_root(n, d).is_none() {
             return Err(invalid(
@@ -85,9 +97,8 @@ pub fn predict_polar(
     }
     let scale = (n as f64).powf(1.0 / d as f64);
     let measure = sphere_measure(d);
-    let nu_end = source
-        .white_beyond_radially()
-        .unwrap_or(params.nu_max.unwrap_or(if d == 3 { 8.0 } else { 32.0 }));
+    let nu_end =
+        white_beyond(source).unwrap_or(params.nu_max.unwrap_or(if d == 3 { 8.0 } else { 32.0 }));
     let rho_end = (nu_end * scale).min(f.negligible_beyond());
     let kinks: Vec<f64> = match source {
         SpectrumSource::Estimated(e) => e.radial.bins.iter().map(|b| b.nu * scale).collect(),
@@ -99,11 +110,11 @@ pub fn predict_polar(
     let tol = params.tolerance * energy.max(f64::MIN_POSITIVE);
     let radial = |rho: f64| measure * rho.powi(d as i32 - 1) * f.radial_power(rho);
     let deficit = integrate_panels(&breaks, tol, |rho| {
-        radial(rho) * (1.0 - source.radial_power(d, rho / scale))
+        radial(rho) * (1.0 - radial_power(source, d, rho / scale))
     });
     // Beyond rho_end the source is white, or P̆_f is negligible, or (jitter) the deficit is
     // bounded by its value at the end times the energy left there.
-    let tail_bound = match source.white_beyond_radially() {
+    let tail_bound = match white_beyond(source) {
         Some(_) => 0.0,
         None if rho_end >= f.negligible_beyond() => 0.0,
         None => {
@@ -115,7 +126,7 @@ pub fn predict_polar(
         }
     };
     let integral = f.spectral_integral();
-    let dc = source.dc_limit() * integral * integral;
+    let dc = dc_limit(source) * integral * integral;
     let spectrum_noise = match source {
         SpectrumSource::Estimated(e) => {
             propagated_stderr(&e.radial, &breaks, scale, integral, &|rho| radial(rho)) / n as f64
@@ -206,4 +217,29 @@ fn propagated_stderr(
         .map(|(s, b)| (s * b.stderr).powi(2))
         .sum::<f64>()
         .sqrt()
+}
+
+/// `P̆_S(ν)` in dimension `d` (the closed forms reaching here are scale invariant).
+fn radial_power(source: &SpectrumSource<'_>, d: usize, nu: f64) -> f64 {
+    match source {
+        SpectrumSource::Closed(c) => c.radial(d, nu).unwrap_or(1.0),
+        SpectrumSource::Estimated(e) => e.radial.power_at(nu),
+    }
+}
+
+/// `P̆_S(0⁺)`.
+fn dc_limit(source: &SpectrumSource<'_>) -> f64 {
+    match source {
+        SpectrumSource::Closed(c) => c.dc_limit().unwrap_or(1.0),
+        SpectrumSource::Estimated(e) => e.radial.dc_limit,
+    }
+}
+
+/// The `ν` beyond which the radial spectrum is taken as white (`P̆_S = 1`), if it ever is.
+fn white_beyond(source: &SpectrumSource<'_>) -> Option<f64> {
+    match source {
+        SpectrumSource::Closed(ClosedForm::WhiteNoise) => Some(0.0),
+        SpectrumSource::Closed(_) => None,
+        SpectrumSource::Estimated(e) => Some(e.radial.max_nu()),
+    }
 }

@@ -3,10 +3,10 @@
 
 use super::{Frame, Reference, Rendering};
 use crate::error::{invalid, Result};
-use crate::predict::{predict_from_power, LatticePower, Prediction, SpectrumSource};
+use crate::predict::{predict_on_patterns, LatticePower, PatternPlan, Prediction};
 use crate::progress::Progress;
 use crate::sampler::Sampler;
-use crate::spectrum::{estimate, Engine, Lattice, SpectrumParams};
+use crate::spectrum::{Engine, Lattice, PatternSource, SpectrumParams};
 use rayon::prelude::*;
 
 /// A measured MSE with its standard error.
@@ -130,11 +130,11 @@ pub fn pixel_power(
     let rows: Vec<usize> = (0..frame.height()).step_by(params.stride).collect();
     let columns: Vec<usize> = (0..frame.width()).step_by(params.stride).collect();
     // Rows are summed in order afterwards, so the result does not depend on the thread count.
-    let per_row: Vec<(Vec<f64>, f64)> = rows
+    let per_row: Vec<(Vec<f64>, f64, f64)> = rows
         .par_iter()
         .map(|&y| {
             let mut power = vec![0.0; lattice.len()];
-            let mut beyond = 0.0;
+            let (mut beyond, mut axis_beyond) = (0.0, 0.0);
             for &x in &columns {
                 let Some(point) = frame.point(y * frame.width() + x) else {
                     continue;
@@ -143,22 +143,25 @@ pub fn pixel_power(
                 let part = LatticePower::of(&grid, lattice)?;
                 power.iter_mut().zip(&part.power).for_each(|(a, p)| *a += p);
                 beyond += part.beyond;
+                axis_beyond += part.axis_beyond;
             }
             progress.advance(1);
-            Ok((power, beyond))
+            Ok((power, beyond, axis_beyond))
         })
         .collect::<Result<_>>()?;
     let mut power = vec![0.0; lattice.len()];
-    let mut beyond = 0.0;
-    for (row_power, row_beyond) in per_row {
+    let (mut beyond, mut axis_beyond) = (0.0, 0.0);
+    for (row_power, row_beyond, row_axis) in per_row {
         power.iter_mut().zip(&row_power).for_each(|(a, p)| *a += p);
         beyond += row_beyond;
+        axis_beyond += row_axis;
     }
     let count = (rows.len() * columns.len()) as f64;
     Ok(LatticePower {
         lattice,
         power: power.into_iter().map(|p| p / count).collect(),
         beyond: beyond / count,
+        axis_beyond: axis_beyond / count,
         label: format!(
             "mean visibility power of {} of {} × {} pixels ({}² grid per pixel)",
             rows.len() * columns.len(),
@@ -169,9 +172,10 @@ pub fn pixel_power(
     })
 }
 
-/// The image MSE predicted for `sampler` with `n` rays: its lattice spectrum at `n` estimated
-/// from `realizations` homogenized patterns of seed `seed` on `power`'s lattice, then the
-/// lattice form against the pixels' mean power.
+/// The image MSE predicted for `sampler` with `n` rays: the lattice form against the pixels'
+/// mean power, pattern by pattern over `realizations` patterns of seed `seed` on `power`'s
+/// lattice (the noise from their spread; weights averaged over the cube's symmetries where the
+/// sampler has them).
 ///
 /// # Errors
 /// A sampler that cannot produce `n` points in 2D, or fewer than 2 realizations.
@@ -185,13 +189,19 @@ pub fn predict_mse(
     if realizations < 2 {
         return Err(invalid("spectrum realizations", realizations, "at least 2"));
     }
-    let params = SpectrumParams {
-        kmax: power.lattice.kmax,
-        realizations,
-        seed,
-        engine: Engine::Auto,
-        bin_width: 1.0,
+    let plan = PatternPlan {
+        initial: realizations,
+        target_noise: f64::INFINITY,
+        max_realizations: realizations,
+        spectrum: SpectrumParams {
+            kmax: power.lattice.kmax,
+            realizations,
+            seed,
+            engine: Engine::Auto,
+            bin_width: 1.0,
+        },
+        symmetric: sampler.kind().is_some_and(|k| k.is_symmetric_at(n, 2)),
     };
-    let spectrum = estimate(sampler, n, &params)?;
-    predict_from_power(power, &SpectrumSource::Estimated(&spectrum), n)
+    let source = PatternSource::Sampler { sampler, n, seed };
+    predict_on_patterns(power, source, &plan, &crate::progress::Silent)
 }

@@ -143,6 +143,8 @@ impl SamplerKind {
         match self {
             SamplerKind::Random => Some(ClosedForm::WhiteNoise),
             SamplerKind::Jitter => super::strata(n, d).map(|_| ClosedForm::Jitter),
+            SamplerKind::Regular => super::strata(n, d).map(|_| ClosedForm::RegularGrid),
+            SamplerKind::LatinHypercube => Some(ClosedForm::LatinHypercube),
             _ => None,
         }
     }
@@ -192,6 +194,22 @@ impl SamplerKind {
                 | SamplerKind::Bridson
                 | SamplerKind::Ccvt
         )
+    }
+
+    /// Whether the distribution of patterns at `n` points is unchanged by the symmetries of the
+    /// cube (permutations of the axes and reflections `x_a → 1 - x_a`), so that `E[P_S]` is
+    /// too: not for Halton and Sobol (each axis is its own sequence), correlated multi-jitter
+    /// (rows and columns are built differently), or rectangular strata.
+    pub fn is_symmetric_at(self, n: usize, d: usize) -> bool {
+        match self {
+            SamplerKind::Random
+            | SamplerKind::PoissonDisk
+            | SamplerKind::Bridson
+            | SamplerKind::Ccvt
+            | SamplerKind::LatinHypercube => true,
+            SamplerKind::Jitter | SamplerKind::Regular => super::perfect_root(n, d).is_some(),
+            SamplerKind::Halton | SamplerKind::Sobol | SamplerKind::Cmj => false,
+        }
     }
 
     /// The time to generate one point of a 2D pattern, in nanoseconds (measured at N = 1024 to

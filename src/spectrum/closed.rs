@@ -1,4 +1,4 @@
-//! Closed-form expected power spectra: white noise and jittered sampling.
+//! Closed-form expected power spectra: white noise, jitter, Latin hypercube, the regular grid.
 
 use crate::quadrature::GaussLegendre;
 use crate::sampler::strata;
@@ -14,42 +14,67 @@ pub fn sinc(x: f64) -> f64 {
     }
 }
 
-/// A sampler whose expected power spectrum is known exactly.
+/// A sampler whose expected power spectrum (homogenized) is known exactly.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ClosedForm {
     /// `E[P_S(k)] = 1` for every `k ≠ 0`.
     WhiteNoise,
-    /// Jittered sampling with `m^d = N` strata: `E[P_S(k)] = 1 - Π_i sinc²(π k_i / m)`.
+    /// Jittered sampling with strata `m_i` per axis: `E[P_S(k)] = 1 - Π_i sinc²(π k_i / m_i)`.
     Jitter,
+    /// Latin hypercube with N strata per axis: `E[P_S(k)] = 1 + (N - 1) Π_i g(k_i)` with
+    /// `g(0) = 1` and `g(k) = -sinc²(πk/N)/(N - 1)`: along an axis `1 - sinc²(πk/N)` (1D jitter
+    /// of N strata), off the axes `1 + sinc² sinc² / (N - 1)` in 2D.
+    LatinHypercube,
+    /// The cell-centred regular grid with strata `m_i`, homogenized: `N` on the replicas
+    /// `k ∈ m Z^d`, 0 elsewhere.
+    RegularGrid,
+}
+
+/// Bounds on `|E[P_S(k)] - 1|` outside a lattice `|k_i| ≤ K`: on the axis lines and elsewhere.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct TailDeviation {
+    /// On the axis lines `k = k_a e_a`, `|k_a| > K`.
+    pub axis: f64,
+    /// At every other frequency outside the lattice.
+    pub off_axis: f64,
 }
 
 impl ClosedForm {
-    /// The expected spectrum at scaled frequency `ν = k / N^{1/d}` (a vector), `ν ≠ 0`.
+    /// Whether the form is a function of `ν = k / N^{1/d}` alone (white noise and square
+    /// jitter), so that it has a radial form for the polar form.
+    pub fn is_scale_invariant(self) -> bool {
+        matches!(self, ClosedForm::WhiteNoise | ClosedForm::Jitter)
+    }
+
+    /// The expected spectrum at scaled frequency `ν = k / N^{1/d}` (a vector), `ν ≠ 0`, for the
+    /// scale-invariant forms; `None` for the others, whose spectrum depends on N itself.
     ///
     /// # Examples
     /// ```
     /// use specvar::spectrum::ClosedForm;
     /// // Jitter is white at non-zero multiples of m along an axis…
-    /// assert!((ClosedForm::Jitter.power(&[1.0, 0.0]) - 1.0).abs() < 1e-15);
+    /// assert!((ClosedForm::Jitter.power(&[1.0, 0.0]).unwrap() - 1.0).abs() < 1e-15);
     /// // …and rises like π²|ν|²/3 from zero at DC.
     /// let nu = [0.01, 0.02];
     /// let expected = std::f64::consts::PI.powi(2) * (0.01f64.powi(2) + 0.02f64.powi(2)) / 3.0;
-    /// assert!((ClosedForm::Jitter.power(&nu) / expected - 1.0).abs() < 1e-3);
-    /// assert_eq!(ClosedForm::WhiteNoise.power(&[0.3, 0.1]), 1.0);
+    /// assert!((ClosedForm::Jitter.power(&nu).unwrap() / expected - 1.0).abs() < 1e-3);
+    /// assert_eq!(ClosedForm::WhiteNoise.power(&[0.3, 0.1]), Some(1.0));
+    /// assert_eq!(ClosedForm::LatinHypercube.power(&[0.3, 0.1]), None);
     /// ```
-    pub fn power(self, nu: &[f64]) -> f64 {
+    pub fn power(self, nu: &[f64]) -> Option<f64> {
         match self {
-            ClosedForm::WhiteNoise => 1.0,
-            ClosedForm::Jitter => {
+            ClosedForm::WhiteNoise => Some(1.0),
+            ClosedForm::Jitter => Some(
                 1.0 - nu
                     .iter()
                     .map(|v| {
                         let s = sinc(PI * v);
                         s * s
                     })
-                    .product::<f64>()
-            }
+                    .product::<f64>(),
+            ),
+            ClosedForm::LatinHypercube | ClosedForm::RegularGrid => None,
         }
     }
 
@@ -59,64 +84,82 @@ impl ClosedForm {
     /// # Examples
     /// ```
     /// use specvar::spectrum::ClosedForm;
-    /// // Jitter with 12 × 8 strata: white at k = (12, 0), zero power along no axis but DC.
+    /// // Jitter with 12 × 8 strata: white at k = (12, 0) and (0, 8), deep near DC.
     /// let jitter = ClosedForm::Jitter.on_lattice(96, 2, 24);
     /// assert!((jitter.power(&[12, 0]) - 1.0).abs() < 1e-15);
     /// assert!((jitter.power(&[0, 8]) - 1.0).abs() < 1e-15);
     /// assert!(jitter.power(&[1, 1]) < 0.1);
     /// assert_eq!(jitter.power(&[0, 0]), 96.0);
+    /// // Latin hypercube: 1D jitter of N strata along the axes, nearly white elsewhere.
+    /// let lhs = ClosedForm::LatinHypercube.on_lattice(64, 2, 8);
+    /// assert!(lhs.power(&[3, 0]) < 0.03 && (lhs.power(&[3, 2]) - 1.0).abs() < 0.02);
     /// ```
     pub fn on_lattice(self, n: usize, d: usize, kmax: usize) -> ClosedLattice {
+        let cells: Vec<f64> = match self {
+            ClosedForm::LatinHypercube => vec![n as f64; d],
+            _ => match strata(n, d) {
+                Some(cells) => cells.iter().map(|&m| m as f64).collect(),
+                None => vec![(n as f64).powf(1.0 / d as f64); d],
+            },
+        };
+        let table = |f: &dyn Fn(f64, f64) -> f64| -> Vec<Vec<f64>> {
+            cells
+                .iter()
+                .map(|&m| {
+                    (0..=2 * kmax)
+                        .map(|t| f(t as f64 - kmax as f64, m))
+                        .collect()
+                })
+                .collect()
+        };
+        let sinc2 = |k: f64, m: f64| sinc(PI * k / m).powi(2);
         let axes = match self {
             ClosedForm::WhiteNoise => Vec::new(),
-            ClosedForm::Jitter => {
-                let cells: Vec<f64> = match strata(n, d) {
-                    Some(cells) => cells.iter().map(|&m| m as f64).collect(),
-                    None => vec![(n as f64).powf(1.0 / d as f64); d],
-                };
-                cells
-                    .iter()
-                    .map(|m| {
-                        (0..=2 * kmax)
-                            .map(|t| {
-                                let s = sinc(PI * (t as f64 - kmax as f64) / m);
-                                s * s
-                            })
-                            .collect()
-                    })
-                    .collect()
+            ClosedForm::Jitter => table(&sinc2),
+            ClosedForm::LatinHypercube => {
+                let scale = (n as f64 - 1.0).max(1.0);
+                table(&|k: f64, m: f64| if k == 0.0 { 1.0 } else { -sinc2(k, m) / scale })
+            }
+            ClosedForm::RegularGrid => {
+                table(&|k: f64, m: f64| if (k / m).fract() == 0.0 { 1.0 } else { 0.0 })
             }
         };
         ClosedLattice {
             form: self,
             n,
             kmax,
+            cells,
             axes,
         }
     }
 
-    /// A short name: `white noise` or `jitter`.
+    /// A short name.
     pub fn name(self) -> &'static str {
         match self {
             ClosedForm::WhiteNoise => "white noise",
             ClosedForm::Jitter => "jitter",
+            ClosedForm::LatinHypercube => "Latin hypercube",
+            ClosedForm::RegularGrid => "regular grid",
         }
     }
 
-    /// The limit of the radial spectrum at `ν → 0⁺`.
-    pub fn dc_limit(self) -> f64 {
+    /// The limit of the radial spectrum at `ν → 0⁺` (scale-invariant forms; else `None`).
+    pub fn dc_limit(self) -> Option<f64> {
         match self {
-            ClosedForm::WhiteNoise => 1.0,
-            ClosedForm::Jitter => 0.0,
+            ClosedForm::WhiteNoise => Some(1.0),
+            ClosedForm::Jitter => Some(0.0),
+            _ => None,
         }
     }
 
     /// The radial spectrum: the mean of [`power`](Self::power) over the sphere `|ν| = nu` in
-    /// dimension `d` (1 to 3), by Gauss–Legendre panels over one symmetry sector.
-    pub fn radial(self, d: usize, nu: f64) -> f64 {
+    /// dimension `d` (1 to 3), by Gauss–Legendre panels over one symmetry sector; `None` for
+    /// the forms that are not scale invariant.
+    pub fn radial(self, d: usize, nu: f64) -> Option<f64> {
         match self {
-            ClosedForm::WhiteNoise => 1.0,
-            ClosedForm::Jitter => jitter_radial(d, nu),
+            ClosedForm::WhiteNoise => Some(1.0),
+            ClosedForm::Jitter => Some(jitter_radial(d, nu)),
+            _ => None,
         }
     }
 }
@@ -128,7 +171,10 @@ pub struct ClosedLattice {
     form: ClosedForm,
     n: usize,
     kmax: usize,
-    /// Jitter: `sinc²(π k / m_a)` for `k = -K..=K`, per axis.
+    /// Strata per axis.
+    cells: Vec<f64>,
+    /// Per axis, for `k = -K..=K`: jitter `sinc²(π k / m)`; Latin hypercube `g(k)`; regular
+    /// grid 1 on the replicas.
     axes: Vec<Vec<f64>>,
 }
 
@@ -147,16 +193,47 @@ impl ClosedLattice {
         if k.iter().all(|&c| c == 0) {
             return self.n as f64;
         }
+        let offset = self.kmax as i64;
+        let product = || {
+            k.iter()
+                .zip(&self.axes)
+                .map(|(&c, table)| table[(c + offset) as usize])
+                .product::<f64>()
+        };
         match self.form {
             ClosedForm::WhiteNoise => 1.0,
+            ClosedForm::Jitter => 1.0 - product(),
+            ClosedForm::LatinHypercube => 1.0 + (self.n as f64 - 1.0) * product(),
+            ClosedForm::RegularGrid => self.n as f64 * product(),
+        }
+    }
+
+    /// Bounds on `|E[P_S(k)] - 1|` outside the lattice, or `None` for the regular grid, whose
+    /// replicas (power N) continue beyond any lattice.
+    ///
+    /// Jitter: outside the lattice some `|k_i| > K`, so `1 - P = Π sinc² ≤ (m_i/(πK))²`. Latin
+    /// hypercube: on an axis `1 - P = sinc²(πk/N) ≤ min(1, (N/(πK))²)`; elsewhere
+    /// `|P - 1| ≤ 1/(N - 1)` (two non-zero components) or `1/(N - 1)²` (three).
+    pub fn tail_deviation(&self) -> Option<TailDeviation> {
+        let k = self.kmax.max(1) as f64;
+        let widest = self.cells.iter().fold(0.0f64, |a, &m| a.max(m));
+        match self.form {
+            ClosedForm::WhiteNoise => Some(TailDeviation {
+                axis: 0.0,
+                off_axis: 0.0,
+            }),
             ClosedForm::Jitter => {
-                let offset = self.kmax as i64;
-                1.0 - k
-                    .iter()
-                    .zip(&self.axes)
-                    .map(|(&c, table)| table[(c + offset) as usize])
-                    .product::<f64>()
+                let delta = (widest / (PI * k)).powi(2).min(1.0);
+                Some(TailDeviation {
+                    axis: delta,
+                    off_axis: delta,
+                })
             }
+            ClosedForm::LatinHypercube => Some(TailDeviation {
+                axis: (self.n as f64 / (PI * k)).powi(2).min(1.0),
+                off_axis: 1.0 / (self.n as f64 - 1.0).max(1.0),
+            }),
+            ClosedForm::RegularGrid => None,
         }
     }
 }
@@ -167,7 +244,7 @@ fn jitter_radial(d: usize, nu: f64) -> f64 {
     if nu == 0.0 {
         return 0.0;
     }
-    let f = |v: &[f64]| ClosedForm::Jitter.power(v);
+    let f = |v: &[f64]| ClosedForm::Jitter.power(v).unwrap_or(1.0);
     let panels = 2 + (2.0 * nu).ceil() as usize;
     let rule = GaussLegendre::new(12);
     match d {

@@ -11,21 +11,22 @@
 //! [`estimate`] averages the periodograms of many realizations into an expected lattice
 //! spectrum with per-frequency standard errors, and a [`RadialSpectrum`].
 
+mod accumulate;
 mod closed;
 pub mod export;
 pub mod lattice;
 pub mod nufft;
 mod radial;
 
-pub use closed::{sinc, ClosedForm, ClosedLattice};
+pub use accumulate::{PatternSource, SpectrumAccumulator, WeightedMean};
+pub use closed::{sinc, ClosedForm, ClosedLattice, TailDeviation};
 pub use lattice::Lattice;
 pub use radial::{RadialBin, RadialSpectrum};
 
-use crate::error::{invalid, Error, Result};
+use crate::error::{invalid, Result};
 use crate::pointset::PointSet;
 use crate::sampler::Sampler;
 use num_complex::Complex64;
-use rayon::prelude::*;
 use serde::Serialize;
 
 /// How to compute a periodogram.
@@ -244,7 +245,7 @@ impl Planned {
         Ok(())
     }
 
-    fn engine(&self) -> Engine {
+    pub(crate) fn engine(&self) -> Engine {
         match self {
             Planned::Direct(_) => Engine::Direct,
             Planned::Fast(plan) => Engine::Fast {
@@ -253,36 +254,6 @@ impl Planned {
         }
     }
 }
-
-/// A pool of reusable values: `take` hands out a spare one (or makes one), `give_back` keeps
-/// it for the next taker. The values' contents never affect results.
-struct Recycled<T, F> {
-    spare: std::sync::Mutex<Vec<T>>,
-    make: F,
-}
-
-impl<T: Send, F: Fn() -> T + Sync> Recycled<T, F> {
-    fn new(make: F) -> Self {
-        Self {
-            spare: std::sync::Mutex::new(Vec::new()),
-            make,
-        }
-    }
-
-    fn take(&self) -> T {
-        let spare = self.spare.lock().ok().and_then(|mut s| s.pop());
-        spare.unwrap_or_else(&self.make)
-    }
-
-    fn give_back(&self, value: T) {
-        if let Ok(mut s) = self.spare.lock() {
-            s.push(value);
-        }
-    }
-}
-
-/// Realizations per chunk of the deterministic reduction.
-const REDUCE_CHUNK: usize = 4;
 
 /// Estimates the expected spectrum of `sampler` at `n` points over `params.realizations`
 /// realizations `0..M` of `params.seed`. The patterns are used as the sampler gives them; wrap
@@ -307,176 +278,26 @@ pub fn estimate(
     n: usize,
     params: &SpectrumParams,
 ) -> Result<SpectrumEstimate> {
-    sampler.check_count(n)?;
-    check_params(params)?;
-    let planned = Planned::new(sampler.dimension(), n, params.kmax, params.engine)?;
-    accumulate(&planned, sampler.dimension(), n, params, |r| {
-        sampler.sample(n, params.seed, r as u64)
-    })
+    if params.realizations == 0 {
+        return Err(invalid("realizations", 0, "at least 1"));
+    }
+    let source = PatternSource::Sampler {
+        sampler,
+        n,
+        seed: params.seed,
+    };
+    let mut acc = SpectrumAccumulator::new(source, params, Vec::new())?;
+    acc.extend_to(params.realizations, &crate::progress::Silent)?;
+    Ok(acc.estimate())
 }
 
 /// Estimates the expected spectrum of given point sets (e.g. read from a file): all must have
-/// the same dimension and size.
+/// the same dimension and size; every set is used (`params.realizations` is ignored).
 ///
 /// # Errors
 /// Empty input, mixed dimensions or sizes, a dimension above 3, or bad parameters.
 pub fn estimate_from_sets(sets: &[PointSet], params: &SpectrumParams) -> Result<SpectrumEstimate> {
-    let first = sets
-        .first()
-        .ok_or_else(|| Error::Mismatch("no point sets".into()))?;
-    let (d, n) = (first.dimension(), first.len());
-    if sets.iter().any(|s| s.dimension() != d || s.len() != n) {
-        return Err(Error::Mismatch(
-            "all point sets must have the same dimension and number of points".into(),
-        ));
-    }
-    let params = SpectrumParams {
-        realizations: sets.len(),
-        ..*params
-    };
-    check_params(&params)?;
-    let planned = Planned::new(d, n, params.kmax, params.engine)?;
-    accumulate(&planned, d, n, &params, |r| Ok(sets[r].clone()))
-}
-
-fn check_params(params: &SpectrumParams) -> Result<()> {
-    if params.realizations == 0 {
-        return Err(invalid("realizations", 0, "at least 1"));
-    }
-    if !(params.bin_width.is_finite() && params.bin_width > 0.0) {
-        return Err(invalid("bin width", params.bin_width, "a positive number"));
-    }
-    Ok(())
-}
-
-/// Running sums over realizations: per frequency and per ring.
-struct Moments {
-    sum: Vec<f64>,
-    sum_sq: Vec<f64>,
-    ring: Vec<(f64, f64)>,
-    /// Scratch: one realization's ring sums.
-    ring_sum: Vec<f64>,
-}
-
-impl Moments {
-    fn new(len: usize, rings: usize) -> Self {
-        Self {
-            sum: vec![0.0; len],
-            sum_sq: vec![0.0; len],
-            ring: vec![(0.0, 0.0); rings],
-            ring_sum: vec![0.0; rings],
-        }
-    }
-
-    fn add(&mut self, p: &[f64], assign: &[Option<u32>], ring_count: &[f64]) {
-        self.ring_sum.fill(0.0);
-        for (i, &v) in p.iter().enumerate() {
-            self.sum[i] += v;
-            self.sum_sq[i] += v * v;
-            if let Some(b) = assign[i] {
-                self.ring_sum[b as usize] += v;
-            }
-        }
-        for (b, s) in self.ring_sum.iter().enumerate() {
-            if ring_count[b] > 0.0 {
-                let mean = s / ring_count[b];
-                self.ring[b].0 += mean;
-                self.ring[b].1 += mean * mean;
-            }
-        }
-    }
-
-    fn clear(&mut self) {
-        self.sum.fill(0.0);
-        self.sum_sq.fill(0.0);
-        self.ring.fill((0.0, 0.0));
-    }
-
-    fn merge(&mut self, other: &Moments) {
-        for (a, b) in self.sum.iter_mut().zip(&other.sum) {
-            *a += b;
-        }
-        for (a, b) in self.sum_sq.iter_mut().zip(&other.sum_sq) {
-            *a += b;
-        }
-        for (a, b) in self.ring.iter_mut().zip(&other.ring) {
-            a.0 += b.0;
-            a.1 += b.1;
-        }
-    }
-}
-
-fn accumulate(
-    planned: &Planned,
-    d: usize,
-    n: usize,
-    params: &SpectrumParams,
-    realization: impl Fn(usize) -> Result<PointSet> + Sync,
-) -> Result<SpectrumEstimate> {
-    let lattice = Lattice {
-        dimension: d,
-        kmax: params.kmax,
-    };
-    let (assign, rings) = radial::ring_assignment(&lattice, params.bin_width);
-    let mut ring_count = vec![0.0; rings];
-    for b in assign.iter().flatten() {
-        ring_count[*b as usize] += 1.0;
-    }
-    let m = params.realizations;
-    let chunk_count = m.div_ceil(REDUCE_CHUNK);
-    // Chunks are merged in their own order, so the sums do not depend on the thread count; a
-    // batch of chunks at a time bounds the memory to a few sets of moments per thread. The
-    // workspaces and moments are pooled: fresh buffers of tens of MB cost more in page faults
-    // than a transform.
-    let batch = 2 * rayon::current_num_threads().max(1);
-    let workspaces = Recycled::new(|| planned.workspace());
-    let spare_moments = Recycled::new(|| Moments::new(lattice.len(), rings));
-    let mut total = Moments::new(lattice.len(), rings);
-    for first in (0..chunk_count).step_by(batch) {
-        let chunks: Vec<Result<Moments>> = (first..(first + batch).min(chunk_count))
-            .into_par_iter()
-            .map(|c| {
-                let mut work = workspaces.take();
-                let mut moments = spare_moments.take();
-                moments.clear();
-                for r in c * REDUCE_CHUNK..((c + 1) * REDUCE_CHUNK).min(m) {
-                    planned.periodogram(&realization(r)?, &mut work)?;
-                    moments.add(&work.power, &assign, &ring_count);
-                }
-                workspaces.give_back(work);
-                Ok(moments)
-            })
-            .collect();
-        for c in chunks {
-            let c = c?;
-            total.merge(&c);
-            spare_moments.give_back(c);
-        }
-    }
-    let mf = m as f64;
-    let mean: Vec<f64> = total.sum.iter().map(|s| s / mf).collect();
-    let stderr = total
-        .sum_sq
-        .iter()
-        .zip(&mean)
-        .map(|(s2, mu)| {
-            if m > 1 {
-                ((s2 / mf - mu * mu).max(0.0) / (mf - 1.0)).sqrt()
-            } else {
-                f64::NAN
-            }
-        })
-        .collect();
-    let radial = RadialSpectrum::from_parts(&lattice, &mean, n, m, params.bin_width, &total.ring);
-    Ok(SpectrumEstimate {
-        lattice: LatticeSpectrum {
-            lattice,
-            n,
-            realizations: m,
-            engine: planned.engine(),
-            mean,
-            stderr,
-        },
-        radial,
-    })
+    let mut acc = SpectrumAccumulator::new(PatternSource::Sets(sets), params, Vec::new())?;
+    acc.extend_to(sets.len(), &crate::progress::Silent)?;
+    Ok(acc.estimate())
 }

@@ -2,7 +2,9 @@
 //! call.
 
 use super::problem::{ProblemArgs, Source};
-use specvar::predict::{predict_with, Form, PredictParams, Prediction, Problem, SpectrumChoice};
+use specvar::predict::{
+    predict_with, Form, FormChoice, PredictParams, Prediction, Problem, SpectrumChoice,
+};
 use specvar::Result;
 
 /// Arguments of `specvar predict`.
@@ -11,15 +13,24 @@ pub struct Args {
     /// Sampler or point-set file, integrand, N and dimension.
     #[command(flatten)]
     pub problem: ProblemArgs,
-    /// Spectrum source: closed (random and jitter) or estimated.
+    /// Spectrum: a closed form where the sampler has one (auto), closed, or estimated.
     #[arg(long, value_enum)]
     pub spectrum: Option<SpectrumArg>,
-    /// N at which the spectrum is estimated (scale-invariant samplers serve every N from it).
+    /// Form: the lattice form (auto: exact on the torus) or the polar form where it is valid.
+    #[arg(long, value_enum)]
+    pub form: Option<FormArg>,
+    /// The polar form's reference N for an estimated spectrum, rescaled to N.
     #[arg(long)]
     pub reference_n: Option<usize>,
-    /// Realizations for the estimate.
+    /// Realizations of an estimated spectrum (default: adaptive, from 32).
     #[arg(long, short = 'm')]
     pub realizations: Option<usize>,
+    /// Relative standard error an estimated prediction aims at.
+    #[arg(long)]
+    pub target_noise: Option<f64>,
+    /// The lattice extent K (default: chosen from N and the integrand's tail).
+    #[arg(long)]
+    pub kmax: Option<usize>,
     /// Seed.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
@@ -31,10 +42,23 @@ pub struct Args {
 /// [`SpectrumChoice`] on the command line.
 #[derive(Debug, Clone, Copy, clap::ValueEnum)]
 pub enum SpectrumArg {
+    /// A closed form where there is one, else an estimate.
+    Auto,
     /// The sampler's closed form.
     Closed,
     /// Estimated from realizations.
     Estimated,
+}
+
+/// [`FormChoice`] on the command line.
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+pub enum FormArg {
+    /// The lattice form, with the polar form as an alternative where valid.
+    Auto,
+    /// The lattice form.
+    Lattice,
+    /// The polar form.
+    Polar,
 }
 
 /// Predicts and prints.
@@ -42,12 +66,21 @@ pub fn run(args: &Args) -> Result<()> {
     let defaults = PredictParams::default();
     let params = PredictParams {
         spectrum: match args.spectrum {
+            Some(SpectrumArg::Auto) => SpectrumChoice::Auto,
             Some(SpectrumArg::Closed) => SpectrumChoice::Closed,
             Some(SpectrumArg::Estimated) => SpectrumChoice::Estimated,
             None => defaults.spectrum,
         },
+        form: match args.form {
+            Some(FormArg::Auto) => FormChoice::Auto,
+            Some(FormArg::Lattice) => FormChoice::Lattice,
+            Some(FormArg::Polar) => FormChoice::Polar,
+            None => defaults.form,
+        },
         reference_n: args.reference_n,
-        realizations: args.realizations.unwrap_or(defaults.realizations),
+        realizations: args.realizations,
+        target_noise: args.target_noise.unwrap_or(defaults.target_noise),
+        kmax: args.kmax,
         seed: args.seed,
         ..defaults
     };

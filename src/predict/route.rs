@@ -1,0 +1,438 @@
+//! Which route [`super::predict`] takes, and why: every decision of substance about a prediction
+//! (closed form or estimate, form, reference N, lattice extent, realizations) is made here.
+
+use super::lattice::{predict_on_patterns, white_noise, LatticePower, PatternPlan};
+use super::space::regular_grid_variance;
+use super::{
+    predict_from_power, predict_polar, Alternative, ErrorBudget, Form, FormChoice, Patterns,
+    PredictParams, Prediction, Problem, Route, SpectrumChoice, SpectrumOrigin, SpectrumSource,
+};
+use crate::error::{invalid, Error, Result};
+use crate::integrand::Integrand;
+use crate::progress::{stage, Progress};
+use crate::sampler::{perfect_root, strata, SamplerKind};
+use crate::spectrum::{estimate, ClosedForm, Engine, Lattice, PatternSource, SpectrumParams};
+
+/// The default reference N for a rescaled spectrum: 4096 in 1D and 2D, 32768 in 3D.
+pub fn default_reference_n(d: usize) -> usize {
+    if d == 3 {
+        32768
+    } else {
+        4096
+    }
+}
+
+/// Largest lattice of a closed-form sum: `2^22` frequencies (tables make each one cheap).
+const CLOSED_LATTICE_BUDGET: usize = 1 << 22;
+/// Largest lattice of a per-pattern estimate: `2^20` frequencies (one transform per pattern).
+const ESTIMATED_LATTICE_BUDGET: usize = 1 << 20;
+/// The tail bound a closed-form route accepts, relative to the variance, before it widens.
+const CLOSED_TAIL_SHARE: f64 = 1e-3;
+/// The same for an estimated spectrum, whose noise is larger anyway.
+const ESTIMATED_TAIL_SHARE: f64 = 1e-2;
+/// Realizations an estimate starts with.
+const INITIAL_REALIZATIONS: usize = 32;
+/// Realizations an adaptive estimate never exceeds.
+const MAX_REALIZATIONS: usize = 4096;
+/// Relative full-space leak below which an integrand counts as contained in the cube.
+const CONTAINED_LEAK: f64 = 1e-9;
+
+/// The largest `K` with `(2K+1)^d ≤ budget`.
+fn largest_kmax(d: usize, budget: usize) -> usize {
+    (((budget as f64).powf(1.0 / d as f64) - 1.0) / 2.0)
+        .floor()
+        .max(1.0) as usize
+}
+
+/// The default lattice extent for an estimate at `n_ref`: `ν` up to 5, within the lattice
+/// budget of a per-pattern estimate.
+pub fn default_kmax(n_ref: usize, d: usize) -> usize {
+    let k = (5.0 * (n_ref as f64).powf(1.0 / d as f64)).round() as usize;
+    k.clamp(1, largest_kmax(d, ESTIMATED_LATTICE_BUDGET))
+}
+
+/// The initial lattice extent of a route: `ν = K/N^{1/d}` up to `nu`, at least 16.
+fn initial_kmax(n: usize, d: usize, nu: f64, budget: usize) -> usize {
+    let k = (nu * (n as f64).powf(1.0 / d as f64)).ceil() as usize;
+    k.max(16).min(largest_kmax(d, budget))
+}
+
+/// Checks the polar form's validity for `f` and patterns whose correlations reach `range`:
+/// an isotropic integrand, contained in the cube (its full-space transform is its torus
+/// transform), whose autocorrelation's reach plus `range` stays below 1 (then, by Poisson
+/// summation, the lattice sum equals the radial integral).
+///
+/// # Errors
+/// [`Error::OutsideValidity`] naming the assumption that fails.
+pub fn polar_validity(f: &dyn Integrand, range: f64) -> Result<()> {
+    let fail = |reason: String| {
+        Err(Error::OutsideValidity {
+            route: "the polar form".into(),
+            reason,
+        })
+    };
+    if !f.is_isotropic() {
+        return fail(format!(
+            "{} is not isotropic; use the lattice form",
+            f.label()
+        ));
+    }
+    if f.full_space_leak() > CONTAINED_LEAK {
+        return fail(format!(
+            "{} is not contained in the cube (its full-space energy differs from the torus's \
+             by {:.1e}): Monte Carlo sees a truncated function; use the lattice form",
+            f.label(),
+            f.full_space_leak()
+        ));
+    }
+    let reach = f.autocorrelation_reach() + range;
+    if reach >= 1.0 {
+        return fail(format!(
+            "the autocorrelation of {} reaches {:.3} with the pattern's correlations: its \
+             images on the torus overlap, and the radial integral is not the lattice sum; use \
+             the lattice form",
+            f.label(),
+            reach
+        ));
+    }
+    Ok(())
+}
+
+/// How far a sampler's pair correlations reach at N (largest component): none for white noise,
+/// one stratum for jitter, two mean spacings for the others.
+fn correlation_range(kind: Option<SamplerKind>, n: usize, d: usize) -> f64 {
+    let spacing = (n as f64).powf(-1.0 / d as f64);
+    match kind {
+        Some(SamplerKind::Random) => 0.0,
+        Some(SamplerKind::Jitter) => spacing,
+        _ => 2.0 * spacing,
+    }
+}
+
+pub(crate) fn predict_routed(
+    problem: &Problem<'_>,
+    params: &PredictParams,
+    progress: &dyn Progress,
+) -> Result<Prediction> {
+    let (n, d) = (problem.n, problem.dimension());
+    let kind = match problem.patterns {
+        Patterns::Sampler(s) => s.kind(),
+        Patterns::PointSets(_) => None,
+    };
+    let closed = match params.spectrum {
+        SpectrumChoice::Estimated => None,
+        _ => kind.and_then(|k| k.closed_form(n, d)),
+    };
+    if params.spectrum == SpectrumChoice::Closed && closed.is_none() {
+        return Err(invalid(
+            "spectrum",
+            "closed",
+            "a sampler with a closed form at N (random; jitter and the regular grid with strata \
+             at N; Latin hypercube); use the estimated spectrum",
+        ));
+    }
+    match (closed, params.form) {
+        (Some(c), FormChoice::Polar) => closed_polar(problem, c, kind, params),
+        (Some(c), _) => closed_lattice(problem, c, kind, params),
+        (None, FormChoice::Polar) => rescaled_polar(problem, kind, params, progress),
+        (None, _) => estimated_lattice(problem, kind, params, progress),
+    }
+}
+
+fn with_reason(mut p: Prediction, reason: String) -> Prediction {
+    p.reason = reason;
+    p
+}
+
+/// The lattice form with a closed form: exact, with an exact tail bound.
+fn closed_lattice(
+    problem: &Problem<'_>,
+    closed: ClosedForm,
+    kind: Option<SamplerKind>,
+    params: &PredictParams,
+) -> Result<Prediction> {
+    let f = problem.integrand;
+    let (n, d) = (problem.n, problem.dimension());
+    let name = kind.map_or("the sampler".to_string(), |k| k.to_string());
+    let mut p = match closed {
+        ClosedForm::WhiteNoise => with_reason(
+            white_noise(f, n)?,
+            format!("{name} is white noise: (∫f² - I²)/N exactly, by Parseval"),
+        ),
+        ClosedForm::RegularGrid => regular_grid(f, n, &name)?,
+        _ => {
+            let mut kmax = params
+                .kmax
+                .unwrap_or_else(|| initial_kmax(n, d, 8.0, CLOSED_LATTICE_BUDGET));
+            let source = SpectrumSource::Closed(closed);
+            let mut p = predict_from_power(&LatticePower::of(f, lattice(d, kmax))?, &source, n)?;
+            while params.kmax.is_none()
+                && p.budget.truncation > CLOSED_TAIL_SHARE * p.variance
+                && Lattice::len(&lattice(d, 2 * kmax)) <= CLOSED_LATTICE_BUDGET
+            {
+                kmax *= 2;
+                p = predict_from_power(&LatticePower::of(f, lattice(d, kmax))?, &source, n)?;
+            }
+            with_reason(
+                p,
+                format!(
+                    "{name} has a closed form at N = {n} ({}): the lattice form, exact on the \
+                     torus, on |k_i| ≤ {kmax}, its tail bounded by the closed form",
+                    closed.name()
+                ),
+            )
+        }
+    };
+    if params.form == FormChoice::Auto && closed.is_scale_invariant() {
+        if let Ok(polar) = closed_polar(problem, closed, kind, params) {
+            p.alternatives.push(alternative(&polar));
+        }
+    }
+    Ok(p)
+}
+
+fn lattice(d: usize, kmax: usize) -> Lattice {
+    Lattice { dimension: d, kmax }
+}
+
+/// The homogenized regular grid, summed exactly in space through the autocorrelation.
+fn regular_grid(f: &dyn Integrand, n: usize, name: &str) -> Result<Prediction> {
+    let (value, rounding) = regular_grid_variance(f, n)?.ok_or_else(|| Error::OutsideValidity {
+        route: "the lattice form with the regular grid's spectrum".into(),
+        reason: format!(
+            "its replicas (power N on m Z^d) continue beyond any lattice, and {} has no \
+             closed-form autocorrelation to sum them in space; estimate the spectrum instead",
+            f.label()
+        ),
+    })?;
+    Ok(Prediction {
+        variance: value,
+        route: Route {
+            form: Form::Lattice,
+            spectrum: SpectrumOrigin::Closed(ClosedForm::RegularGrid),
+        },
+        reason: format!(
+            "{name} at N = {n} has power N on its replicas m Z^d and 0 elsewhere: the lattice \
+             form summed exactly in space, (1/N) Σ_g a_f(g) - I² over the grid vectors g"
+        ),
+        budget: ErrorBudget {
+            quadrature: rounding,
+            ..Default::default()
+        },
+        n,
+        dimension: f.dimension(),
+        dc_term: 0.0,
+        evaluations: n as u64,
+        alternatives: Vec::new(),
+    })
+}
+
+/// The polar form with a closed form's radial mean.
+fn closed_polar(
+    problem: &Problem<'_>,
+    closed: ClosedForm,
+    kind: Option<SamplerKind>,
+    params: &PredictParams,
+) -> Result<Prediction> {
+    let (n, d) = (problem.n, problem.dimension());
+    if !closed.is_scale_invariant()
+        || (closed == ClosedForm::Jitter && perfect_root(n, d).is_none())
+    {
+        return Err(Error::OutsideValidity {
+            route: "the polar form".into(),
+            reason: format!(
+                "the closed form ({}) at N = {n} is not a function of ν alone (strata {:?}); use \
+                 the lattice form",
+                closed.name(),
+                strata(n, d)
+            ),
+        });
+    }
+    polar_validity(problem.integrand, correlation_range(kind, n, d))?;
+    let p = predict_polar(
+        problem.integrand,
+        &SpectrumSource::Closed(closed),
+        n,
+        &params.polar,
+    )?;
+    Ok(with_reason(
+        p,
+        format!(
+            "the closed form's radial mean ({}); the integrand is isotropic, contained, and its \
+             autocorrelation fits in the torus",
+            closed.name()
+        ),
+    ))
+}
+
+/// The polar form with a spectrum estimated at a reference N and rescaled.
+fn rescaled_polar(
+    problem: &Problem<'_>,
+    kind: Option<SamplerKind>,
+    params: &PredictParams,
+    progress: &dyn Progress,
+) -> Result<Prediction> {
+    let (n, d) = (problem.n, problem.dimension());
+    let Patterns::Sampler(sampler) = problem.patterns else {
+        return Err(Error::OutsideValidity {
+            route: "the polar form with a rescaled spectrum".into(),
+            reason: "given point sets have one N; their spectrum is read at that N by the \
+                     lattice form"
+                .into(),
+        });
+    };
+    let n_ref = params
+        .reference_n
+        .unwrap_or_else(|| default_reference_n(d).max(n));
+    let invariant = |m| kind.is_some_and(|k| k.is_scale_invariant_at(m, d));
+    if !invariant(n) || !invariant(n_ref) {
+        return Err(Error::OutsideValidity {
+            route: format!("a spectrum rescaled from N = {n_ref}"),
+            reason: format!(
+                "{} is not scale invariant at N = {n} and N = {n_ref} (its spectrum is not one \
+                 function of ν there); use the lattice form with the spectrum at N",
+                sampler.name()
+            ),
+        });
+    }
+    if n > n_ref {
+        return Err(Error::OutsideValidity {
+            route: format!("a spectrum rescaled from N = {n_ref}"),
+            reason: format!(
+                "N = {n} needs the spectrum below the estimate's first ring (ν = N_ref^(-1/d)); \
+                 estimate at a reference N of at least {n}"
+            ),
+        });
+    }
+    polar_validity(problem.integrand, correlation_range(kind, n, d))?;
+    sampler.check_count(n_ref)?;
+    let costly = kind.is_some_and(|k| k.is_costly());
+    let spectrum = SpectrumParams {
+        kmax: default_kmax(n_ref, d),
+        realizations: params
+            .realizations
+            .unwrap_or(if costly { 8 } else { INITIAL_REALIZATIONS }),
+        seed: params.seed,
+        engine: Engine::Auto,
+        bin_width: 1.0,
+    };
+    let label = format!("spectrum of {} at N = {n_ref}", sampler.name());
+    let est = stage(progress, &label, 0, || estimate(sampler, n_ref, &spectrum))?;
+    let p = predict_polar(
+        problem.integrand,
+        &SpectrumSource::Estimated(&est),
+        n,
+        &params.polar,
+    )?;
+    Ok(with_reason(
+        p,
+        format!(
+            "the radial spectrum of {} estimated at N = {n_ref} and read at ν = ρ/N^(1/d): the \
+             sampler is scale invariant there, the integrand isotropic and contained",
+            sampler.name()
+        ),
+    ))
+}
+
+/// The lattice form with the spectrum estimated at N, pattern by pattern.
+fn estimated_lattice(
+    problem: &Problem<'_>,
+    kind: Option<SamplerKind>,
+    params: &PredictParams,
+    progress: &dyn Progress,
+) -> Result<Prediction> {
+    let f = problem.integrand;
+    let (n, d) = (problem.n, problem.dimension());
+    let (source, what) = match problem.patterns {
+        Patterns::Sampler(sampler) => (
+            PatternSource::Sampler {
+                sampler,
+                n,
+                seed: params.seed,
+            },
+            sampler.name().to_string(),
+        ),
+        Patterns::PointSets(sets) => (
+            PatternSource::Sets(sets),
+            format!("{} given point sets", sets.len()),
+        ),
+    };
+    let initial = match source {
+        PatternSource::Sets(sets) => sets.len(),
+        PatternSource::Sampler { .. } => params.realizations.unwrap_or(INITIAL_REALIZATIONS),
+    };
+    let mut kmax = params
+        .kmax
+        .unwrap_or_else(|| initial_kmax(n, d, 6.0, ESTIMATED_LATTICE_BUDGET));
+    let plan = |kmax| PatternPlan {
+        initial,
+        target_noise: params.target_noise,
+        max_realizations: params
+            .realizations
+            .unwrap_or_else(|| affordable_realizations(kind, n, lattice(d, kmax), params)),
+        spectrum: SpectrumParams {
+            kmax,
+            realizations: initial,
+            seed: params.seed,
+            engine: Engine::Auto,
+            bin_width: 1.0,
+        },
+        symmetric: kind.is_some_and(|k| k.is_symmetric_at(n, d)),
+    };
+    let mut p = predict_on_patterns(
+        &LatticePower::of(f, lattice(d, kmax))?,
+        source,
+        &plan(kmax),
+        progress,
+    )?;
+    while params.kmax.is_none()
+        && p.budget.truncation > ESTIMATED_TAIL_SHARE * p.variance
+        && lattice(d, 2 * kmax).len() <= ESTIMATED_LATTICE_BUDGET
+    {
+        kmax *= 2;
+        p = predict_on_patterns(
+            &LatticePower::of(f, lattice(d, kmax))?,
+            source,
+            &plan(kmax),
+            progress,
+        )?;
+    }
+    let realizations = match p.route.spectrum {
+        SpectrumOrigin::Estimated { realizations, .. } => realizations,
+        SpectrumOrigin::Closed(_) => 0,
+    };
+    let why = match kind {
+        None => format!("{what}: no closed form is known"),
+        Some(k) => format!("{k} has no closed form at N = {n}"),
+    };
+    Ok(with_reason(
+        p,
+        format!(
+            "{why}: the lattice form with the spectrum of {realizations} patterns at N = {n}, \
+             pattern by pattern, on |k_i| ≤ {kmax}; noise from the patterns' spread, tail bounded \
+             by the spectrum's deviation from white at the lattice's edge"
+        ),
+    ))
+}
+
+/// How many realizations the work budget pays for: drawing each pattern (the sampler's measured
+/// cost per point) and transforming it (about 30 ns per cell of the oversampled grid).
+fn affordable_realizations(
+    kind: Option<SamplerKind>,
+    n: usize,
+    lattice: Lattice,
+    params: &PredictParams,
+) -> usize {
+    let draw = n as f64 * kind.map_or(1_000.0, |k| k.cost_per_point_ns());
+    let transform = 30.0 * (2.0 * lattice.side() as f64).powi(lattice.dimension as i32);
+    let affordable = params.work_budget_seconds * 1e9 / (draw + transform);
+    (affordable as usize).clamp(INITIAL_REALIZATIONS, MAX_REALIZATIONS)
+}
+
+fn alternative(p: &Prediction) -> Alternative {
+    Alternative {
+        route: p.route,
+        variance: p.variance,
+        budget: p.budget,
+    }
+}
