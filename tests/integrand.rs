@@ -378,3 +378,167 @@ fn png_grids_round_trip_with_the_top_row_at_the_largest_y() {
     assert!(f.label().contains("g.png"));
     assert!(spec.build(3).is_err());
 }
+
+/// `∫_0^1 g(x) e^{-2πikx} dx` by 20-point Gauss–Legendre on panels of a quarter period: an
+/// independent route to the truncated Gaussian's torus coefficients (no Faddeeva function).
+fn coefficient_by_quadrature(k: i64, c: f64, s: f64) -> num_complex::Complex64 {
+    let rule = GaussLegendre::new(20);
+    let panels = (4 * k.unsigned_abs() as usize).max(16);
+    let h = 1.0 / panels as f64;
+    let (mut re, mut im) = (0.0, 0.0);
+    for p in 0..panels {
+        let a = p as f64 * h;
+        let g = |x: f64| (-(x - c).powi(2) / (2.0 * s * s)).exp();
+        re += rule.integrate(a, a + h, |x| g(x) * (2.0 * PI * k as f64 * x).cos());
+        im -= rule.integrate(a, a + h, |x| g(x) * (2.0 * PI * k as f64 * x).sin());
+    }
+    num_complex::Complex64::new(re, im)
+}
+
+/// The truncated Gaussian's torus coefficients (closed form through the Faddeeva function)
+/// against quadrature, for centred, off-centre, near-face, wide and narrow Gaussians, up to
+/// k = 1024: agreement to 1e-14 of the mass (the quadrature's own rounding floor).
+#[test]
+fn truncated_gaussian_coefficients_match_quadrature() {
+    for (c, s) in [
+        (0.5, 0.1),
+        (0.3, 0.1),
+        (0.05, 0.02),
+        (0.9, 0.5),
+        (0.5, 3.0),
+        (0.0, 0.05),
+    ] {
+        let g = Gaussian::new(s, vec![c], 1.0).unwrap();
+        let mass = g.integral();
+        for k in [0i64, 1, -2, 5, 17, 64, 255, 1024] {
+            let closed = g.coefficient(&[k]);
+            let quad = coefficient_by_quadrature(k, c, s);
+            assert!(
+                (closed - quad).norm() < 1e-14 * mass.max(1.0),
+                "c={c} σ={s} k={k}: {closed} vs {quad}"
+            );
+        }
+    }
+    // In 2D the coefficient is the product over axes.
+    let g = Gaussian::new(0.1, vec![0.3, 0.6], 2.0).unwrap();
+    let product =
+        2.0 * coefficient_by_quadrature(7, 0.3, 0.1) * coefficient_by_quadrature(-3, 0.6, 0.1);
+    assert!((g.coefficient(&[7, -3]) - product).norm() < 1e-14);
+}
+
+/// Parseval on the torus: the squared coefficients of the truncated Gaussian add up to ∫ f² on
+/// the cube (not to the full-space energy). An off-centre Gaussian jumps by A = g(0) - g(1) at
+/// the faces, so the tail beyond K is about A²/(2π²K); it is allowed twice over.
+#[test]
+fn torus_parseval_holds_for_truncated_gaussians() {
+    for (c, s) in [(0.5, 0.1), (0.2, 0.1), (0.5, 0.4)] {
+        let g = Gaussian::new(s, vec![c], 1.0).unwrap();
+        let kmax = 4096i64;
+        let sum: f64 = (-kmax..=kmax).map(|k| g.coefficient(&[k]).norm_sqr()).sum();
+        let jump = g.eval(&[0.0]) - g.eval(&[1.0 - 1e-15]);
+        let tail = jump * jump / (2.0 * PI * PI * kmax as f64);
+        let energy = g.integral_of_square();
+        assert!(
+            (energy - sum).abs() <= 2.0 * tail + common::ROUNDING * energy,
+            "c={c} σ={s}: {energy} vs {sum}"
+        );
+    }
+}
+
+/// The projections' energies are the axis lines' Parseval sums: `∫F_a² = Σ_k |f̂(k e_a)|²`.
+/// The sum stops at K; the projection of a Gaussian jumps at the faces by
+/// `A = (g_a(0) - g_a(1)) Π_{b≠a} ∫g_b`, leaving a tail of about `A²/(2π²K)`, allowed twice.
+/// The disk's projection (the chord measure, whose energy is `16R³/3`) is continuous with a
+/// square-root edge: its tail falls like `K^-2`, 2e-4 of it at K = 20000 is ample.
+#[test]
+fn projection_energy_is_the_axis_line_sum() {
+    let (c, s) = ([0.4, 0.7], 0.15);
+    let g = Gaussian::new(s, c.to_vec(), 1.0).unwrap();
+    let disk = Ball::new(0.2, vec![0.45, 0.5], 1.0).unwrap();
+    let line = |f: &dyn Integrand, axis: usize, kmax: i64| -> f64 {
+        (-kmax..=kmax)
+            .map(|k| {
+                let mut kk = [0i64; 2];
+                kk[axis] = k;
+                f.coefficient(&kk).norm_sqr()
+            })
+            .sum()
+    };
+    let kmax = 2048;
+    for axis in 0..2 {
+        let edge = |x: f64| (-(x - c[axis]).powi(2) / (2.0 * s * s)).exp();
+        let jump = (edge(0.0) - edge(1.0)) * g.coefficient(&[0, 0]).re
+            / Gaussian::new(s, vec![c[axis]], 1.0).unwrap().integral();
+        let tail = jump * jump / (2.0 * PI * PI * kmax as f64);
+        let (sum, exact) = (line(&g, axis, kmax), g.projection_energy(axis));
+        assert!(
+            (sum - exact).abs() <= 2.0 * tail + common::ROUNDING * exact,
+            "Gaussian axis {axis}: {sum} vs {exact}"
+        );
+        let (sum, exact) = (line(&disk, axis, 20000), disk.projection_energy(axis));
+        assert!(
+            common::close(sum, exact, 2e-4),
+            "disk axis {axis}: {sum} vs {exact}"
+        );
+    }
+}
+
+/// The torus autocorrelations against the midpoint rule on a 2000 × 2000 grid of `x`: the
+/// Gaussian's (smooth but for the faces' jumps) to 1e-5, the wrapped disk's (a lens across the
+/// torus's seam) to the grid's resolution along the disk's edge, about 4R/2000.
+#[test]
+fn autocorrelations_match_numerical_integration() {
+    let g = Gaussian::new(0.1, vec![0.3, 0.6], 1.0).unwrap();
+    let disk = Ball::new(0.3, vec![0.1, 0.5], 1.0).unwrap();
+    let steps = 2000;
+    for (f, tolerance) in [(&g as &dyn Integrand, 1e-5), (&disk, 4.0 * 0.3 / 2000.0)] {
+        for r in [[0.0, 0.0], [0.05, -0.1], [0.4, 0.3], [-0.45, 0.2]] {
+            let mut sum = 0.0;
+            for i in 0..steps {
+                for j in 0..steps {
+                    let x = [
+                        (i as f64 + 0.5) / steps as f64,
+                        (j as f64 + 0.5) / steps as f64,
+                    ];
+                    let y = [
+                        specvar::pointset::wrap(x[0] + r[0]),
+                        specvar::pointset::wrap(x[1] + r[1]),
+                    ];
+                    sum += f.eval(&x) * f.eval(&y);
+                }
+            }
+            let numeric = sum / (steps * steps) as f64;
+            let exact = f.autocorrelation(&r).unwrap();
+            assert!(
+                (numeric - exact).abs() <= tolerance * f.integral_of_square(),
+                "{} r={r:?}: {numeric} vs {exact}",
+                f.label()
+            );
+        }
+    }
+}
+
+/// A ball across a face wraps around the torus: its value at a point and at the point's image,
+/// its integral, and its coefficients equal to the full-space transform (as its images do not
+/// overlap for R ≤ 1/2).
+#[test]
+fn a_ball_across_a_face_wraps_around_the_torus() {
+    let f = Ball::new(0.3, vec![0.9, 0.5], 2.0).unwrap();
+    assert_eq!(f.eval(&[0.1, 0.5]), 2.0);
+    assert_eq!(f.eval(&[0.5, 0.5]), 0.0);
+    assert!((f.integral() - 2.0 * PI * 0.09).abs() < common::ROUNDING);
+    // Monte Carlo over the cube sees the wrapped disk: a midpoint rule on a fine grid agrees.
+    let steps = 1000;
+    let sum: f64 = (0..steps * steps)
+        .map(|i| {
+            f.eval(&[
+                ((i % steps) as f64 + 0.5) / steps as f64,
+                ((i / steps) as f64 + 0.5) / steps as f64,
+            ])
+        })
+        .sum();
+    assert!(
+        (sum / (steps * steps) as f64 - f.integral()).abs() < 4.0 * 0.3 * 2.0 * 2.0 / steps as f64
+    );
+    assert!(Ball::new(0.51, vec![0.5, 0.5], 1.0).is_err());
+}

@@ -154,85 +154,15 @@ fn jitter_with_a_spectrum_estimated_at_4096_is_within_one_percent() {
     }
 }
 
-/// Area of the disk (centre c, radius r) below-left of the corner (x, y):
-/// `∫_{-r}^{min(x-cx, r)} (clamp(y - cy, -h, h) + h) dt`, `h = √(r² - t²)`, in closed form.
-fn corner_area(x: f64, y: f64, c: [f64; 2], r: f64) -> f64 {
-    let (xr, yr) = (x - c[0], y - c[1]);
-    let h_int = |t: f64| {
-        let t = t.clamp(-r, r);
-        (t * (r * r - t * t).max(0.0).sqrt() + r * r * (t / r).asin()) / 2.0
-    };
-    let upper = xr.min(r);
-    if upper <= -r || yr <= -r {
-        return 0.0;
-    }
-    // ∫ 2h over [a, b]
-    let full = |a: f64, b: f64| {
-        if b > a {
-            2.0 * (h_int(b) - h_int(a))
-        } else {
-            0.0
-        }
-    };
-    // ∫ (y + h) over [a, b]
-    let partial = |a: f64, b: f64| {
-        if b > a {
-            yr * (b - a) + h_int(b) - h_int(a)
-        } else {
-            0.0
-        }
-    };
-    if yr >= r {
-        return full(-r, upper);
-    }
-    let s = (r * r - yr * yr).sqrt();
-    // |t| > s: h < |y|: the whole chord (y > 0) or nothing (y < 0); |t| < s: from -h to y.
-    let outer = |a: f64, b: f64| if yr > 0.0 { full(a, b) } else { 0.0 };
-    outer(-r, upper.min(-s)) + partial(-s, upper.min(s)) + outer(s, upper)
-}
-
-fn rect_area(x0: f64, x1: f64, y0: f64, y1: f64, c: [f64; 2], r: f64) -> f64 {
-    corner_area(x1, y1, c, r) - corner_area(x0, y1, c, r) - corner_area(x1, y0, c, r)
-        + corner_area(x0, y0, c, r)
-}
-
-/// Homogenized jitter's variance for the disk without Fourier analysis: with grid offset u,
-/// `Var = ∫f²/N - E_u[Σ_j (∫_{cell_j(u)} f)²]`, the mean over u by the midpoint rule on a
-/// `q × q` grid of offsets (the function is periodic in u).
-fn geometric_jitter_variance(m: usize, q: usize) -> f64 {
-    let (c, r) = ([0.5, 0.5], 0.25);
-    let n = (m * m) as f64;
-    let energy = std::f64::consts::PI * r * r;
-    let mut mean = 0.0;
-    for a in 0..q {
-        for b in 0..q {
-            let (ux, uy) = ((a as f64 + 0.5) / q as f64, (b as f64 + 0.5) / q as f64);
-            let mut sum = 0.0;
-            // Cells reaching past 1 wrap to [0, u/m), which the disk (inside [1/4, 3/4]) never
-            // touches for m ≥ 4: the unwrapped rectangle gives the same area.
-            for i in 0..m {
-                for j in 0..m {
-                    let x0 = (i as f64 + ux) / m as f64 - 1.0 / m as f64;
-                    let y0 = (j as f64 + uy) / m as f64 - 1.0 / m as f64;
-                    let area = rect_area(x0, x0 + 1.0 / m as f64, y0, y0 + 1.0 / m as f64, c, r);
-                    sum += area * area;
-                }
-            }
-            mean += sum;
-        }
-    }
-    energy / n - mean / (q * q) as f64
-}
-
 #[test]
 fn corner_areas_add_up_to_the_disk() {
     let (c, r) = ([0.5, 0.5], 0.25);
-    let whole = rect_area(0.0, 1.0, 0.0, 1.0, c, r);
+    let whole = common::rect_area(0.0, 1.0, 0.0, 1.0, c, r);
     assert!((whole - std::f64::consts::PI / 16.0).abs() < 1e-15);
-    let quarter = rect_area(0.5, 1.0, 0.5, 1.0, c, r);
+    let quarter = common::rect_area(0.5, 1.0, 0.5, 1.0, c, r);
     assert!((quarter - std::f64::consts::PI / 64.0).abs() < 1e-15);
     // A strip [0.5, 0.6] × everything: ∫ 2√(r² - t²) over t ∈ [0, 0.1].
-    let strip = rect_area(0.5, 0.6, 0.0, 1.0, c, r);
+    let strip = common::rect_area(0.5, 0.6, 0.0, 1.0, c, r);
     let exact = 0.1 * (r * r - 0.01f64).sqrt() + r * r * (0.1f64 / r).asin();
     assert!((strip - exact).abs() < 1e-15);
 }
@@ -240,8 +170,8 @@ fn corner_areas_add_up_to_the_disk() {
 #[test]
 fn jitter_matches_the_geometric_variance_without_fourier() {
     for m in [4usize, 8] {
-        let coarse = geometric_jitter_variance(m, 128);
-        let fine = geometric_jitter_variance(m, 256);
+        let coarse = common::geometric_jitter_variance(0.25, [0.5, 0.5], m, 128);
+        let fine = common::geometric_jitter_variance(0.25, [0.5, 0.5], m, 256);
         let fourier = predict_lattice(
             &disk(),
             &SpectrumSource::Closed(ClosedForm::Jitter),
@@ -383,8 +313,8 @@ fn an_integrand_of_dimension_four_is_an_error_not_a_panic() {
         fn projection_energy(&self, _: usize) -> f64 {
             1.0
         }
-        fn autocorrelation_reach(&self) -> f64 {
-            0.1
+        fn autocorrelation_beyond(&self, _: f64) -> Option<f64> {
+            None
         }
         fn spectral_integral(&self) -> f64 {
             1.0

@@ -187,8 +187,10 @@ impl Integrand for Ball {
     fn spectral_energy(&self) -> f64 {
         self.integral_of_square()
     }
-    fn autocorrelation_reach(&self) -> f64 {
-        2.0 * self.radius
+    fn autocorrelation_beyond(&self, distance: f64) -> Option<f64> {
+        // Two balls of radius R do not meet beyond 2R; closer, the images overlap and no small
+        // bound exists.
+        (distance >= 2.0 * self.radius).then_some(0.0)
     }
     fn radial_power(&self, rho: f64) -> f64 {
         self.centred_transform(rho).powi(2)

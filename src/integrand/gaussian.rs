@@ -252,10 +252,15 @@ impl Integrand for Gaussian {
         let full = self.spectral_energy();
         ((full - self.integral_of_square()) / full).abs()
     }
-    fn autocorrelation_reach(&self) -> f64 {
-        // a_f of the untruncated Gaussian is a Gaussian of width σ√2: below 1e-12 of its peak
-        // beyond 2σ √(ln 1e12) = 10.5 σ.
-        10.52 * self.sigma
+    fn autocorrelation_beyond(&self, distance: f64) -> Option<f64> {
+        // a(r) = a² (πσ²)^{d/2} exp(-|r|²/(4σ²)), and |r| is at least its largest component.
+        let d = self.centre.len() as f64;
+        let s2 = self.sigma * self.sigma;
+        Some(
+            self.height.powi(2)
+                * (PI * s2).powf(d / 2.0)
+                * (-distance.max(0.0).powi(2) / (4.0 * s2)).exp(),
+        )
     }
     fn radial_power(&self, rho: f64) -> f64 {
         let d = self.centre.len() as f64;

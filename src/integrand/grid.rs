@@ -254,8 +254,8 @@ impl Integrand for GridIntegrand {
         };
         means.iter().map(|m| m * m).sum::<f64>() / means.len() as f64
     }
-    fn autocorrelation_reach(&self) -> f64 {
-        1.0
+    fn autocorrelation_beyond(&self, _distance: f64) -> Option<f64> {
+        None
     }
     fn fourier(&self, omega: &[f64]) -> Complex64 {
         let integer = |w: f64| w.fract() == 0.0 && w.abs() < 1e15;

@@ -8,8 +8,8 @@
 //! the cube (its jumps at the faces give coefficients that fall like `1/k`), a ball wrapped
 //! around the torus. The lattice form uses these. The polar form uses the transform over the
 //! whole space, `f̂(ω) = ∫ f(x) e^{-2πi ω·x} dx`, which agrees with them only while the
-//! function is contained in the cube ([`Integrand::full_space_leak`]) and its autocorrelation
-//! fits in the torus ([`Integrand::autocorrelation_reach`]).
+//! function is contained in the cube ([`Integrand::full_space_leak`]) and its autocorrelation's
+//! images on the torus are negligible ([`Integrand::autocorrelation_beyond`]).
 
 mod ball;
 mod gaussian;
@@ -75,10 +75,11 @@ pub trait Integrand: Send + Sync {
     fn full_space_leak(&self) -> f64 {
         0.0
     }
-    /// The distance (largest component) beyond which the autocorrelation of the full-space
-    /// function is negligible (below 1e-12 of its peak): the polar form's integral equals the
-    /// lattice sum only while this reach plus the pattern's correlation range stays below 1.
-    fn autocorrelation_reach(&self) -> f64;
+    /// A bound on the full-space function's autocorrelation `|a(r)|` at offsets whose largest
+    /// component is at least `distance`, or `None` where the function offers none. The polar
+    /// form's integral differs from the lattice sum by the autocorrelation's images at the
+    /// non-zero integer offsets (Poisson summation), so this bounds its model error.
+    fn autocorrelation_beyond(&self, distance: f64) -> Option<f64>;
     /// `f̂(0)`: the integral over the whole space (equal to [`integral`](Self::integral) when
     /// `f` vanishes outside the cube).
     fn spectral_integral(&self) -> f64;

@@ -57,14 +57,19 @@ fn initial_kmax(n: usize, d: usize, nu: f64, budget: usize) -> usize {
     k.max(16).min(largest_kmax(d, budget))
 }
 
-/// Checks the polar form's validity for `f` and patterns whose correlations reach `range`:
-/// an isotropic integrand, contained in the cube (its full-space transform is its torus
-/// transform), whose autocorrelation's reach plus `range` stays below 1 (then, by Poisson
-/// summation, the lattice sum equals the radial integral).
+/// The largest model error the polar form may carry, relative to its variance.
+const POLAR_MODEL_SHARE: f64 = 1e-2;
+
+/// Checks the polar form's assumptions for `f` and patterns whose correlations reach `range`
+/// (largest component), and returns its model error at N. The radial integral uses the
+/// full-space transform, so `f` must be isotropic and contained in the cube; by Poisson summation
+/// it differs from the lattice sum by the images of the autocorrelation (convolved with the
+/// pattern's correlations) at the `2d` nearest non-zero integer offsets and beyond, at most
+/// `2 · 2d · sup_{|r|∞ ≥ 1 - range} |a(r)| / N`.
 ///
 /// # Errors
 /// [`Error::OutsideValidity`] naming the assumption that fails.
-pub fn polar_validity(f: &dyn Integrand, range: f64) -> Result<()> {
+pub fn polar_validity(f: &dyn Integrand, range: f64, n: usize) -> Result<f64> {
     let fail = |reason: String| {
         Err(Error::OutsideValidity {
             route: "the polar form".into(),
@@ -85,17 +90,32 @@ pub fn polar_validity(f: &dyn Integrand, range: f64) -> Result<()> {
             f.full_space_leak()
         ));
     }
-    let reach = f.autocorrelation_reach() + range;
-    if reach >= 1.0 {
-        return fail(format!(
-            "the autocorrelation of {} reaches {:.3} with the pattern's correlations: its \
-             images on the torus overlap, and the radial integral is not the lattice sum; use \
-             the lattice form",
-            f.label(),
-            reach
-        ));
+    match f.autocorrelation_beyond(1.0 - range) {
+        Some(bound) => Ok(4.0 * f.dimension() as f64 * bound / n as f64),
+        None => fail(format!(
+            "the autocorrelation of {} reaches past 1 - {range:.3} (the pattern's correlations \
+             included): its images on the torus overlap, and the radial integral is not the \
+             lattice sum; use the lattice form",
+            f.label()
+        )),
     }
-    Ok(())
+}
+
+/// Puts the polar form's model error into `p`'s budget, or refuses it when the error exceeds
+/// [`POLAR_MODEL_SHARE`] of the variance.
+fn with_model(mut p: Prediction, model: f64) -> Result<Prediction> {
+    if model > POLAR_MODEL_SHARE * p.variance {
+        return Err(Error::OutsideValidity {
+            route: "the polar form".into(),
+            reason: format!(
+                "the autocorrelation's images on the torus may move the variance by {model:.2e}, \
+                 {:.1}% of it; use the lattice form",
+                100.0 * model / p.variance
+            ),
+        });
+    }
+    p.budget.model = model;
+    Ok(p)
 }
 
 /// How far a sampler's pair correlations reach at N (largest component): none for white noise,
@@ -248,13 +268,14 @@ fn closed_polar(
             ),
         });
     }
-    polar_validity(problem.integrand, correlation_range(kind, n, d))?;
+    let model = polar_validity(problem.integrand, correlation_range(kind, n, d), n)?;
     let p = predict_polar(
         problem.integrand,
         &SpectrumSource::Closed(closed),
         n,
         &params.polar,
     )?;
+    let p = with_model(p, model)?;
     Ok(with_reason(
         p,
         format!(
@@ -304,7 +325,7 @@ fn rescaled_polar(
             ),
         });
     }
-    polar_validity(problem.integrand, correlation_range(kind, n, d))?;
+    let model = polar_validity(problem.integrand, correlation_range(kind, n, d), n)?;
     sampler.check_count(n_ref)?;
     let costly = kind.is_some_and(|k| k.is_costly());
     let spectrum = SpectrumParams {
@@ -324,6 +345,7 @@ fn rescaled_polar(
         n,
         &params.polar,
     )?;
+    let p = with_model(p, model)?;
     Ok(with_reason(
         p,
         format!(

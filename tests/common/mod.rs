@@ -43,3 +43,94 @@ pub fn assert_thread_count_invariant<T: PartialEq + Debug + Send>(f: impl Fn() -
 pub fn close(a: f64, b: f64, tolerance: f64) -> bool {
     (a / b - 1.0).abs() <= tolerance
 }
+
+/// Area of the disk (centre c, radius r) below-left of the corner (x, y):
+/// `∫_{-r}^{min(x-cx, r)} (clamp(y - cy, -h, h) + h) dt`, `h = √(r² - t²)`, in closed form.
+pub fn corner_area(x: f64, y: f64, c: [f64; 2], r: f64) -> f64 {
+    let (xr, yr) = (x - c[0], y - c[1]);
+    let h_int = |t: f64| {
+        let t = t.clamp(-r, r);
+        (t * (r * r - t * t).max(0.0).sqrt() + r * r * (t / r).asin()) / 2.0
+    };
+    let upper = xr.min(r);
+    if upper <= -r || yr <= -r {
+        return 0.0;
+    }
+    // ∫ 2h over [a, b]
+    let full = |a: f64, b: f64| {
+        if b > a {
+            2.0 * (h_int(b) - h_int(a))
+        } else {
+            0.0
+        }
+    };
+    // ∫ (y + h) over [a, b]
+    let partial = |a: f64, b: f64| {
+        if b > a {
+            yr * (b - a) + h_int(b) - h_int(a)
+        } else {
+            0.0
+        }
+    };
+    if yr >= r {
+        return full(-r, upper);
+    }
+    let s = (r * r - yr * yr).sqrt();
+    // |t| > s: h < |y|: the whole chord (y > 0) or nothing (y < 0); |t| < s: from -h to y.
+    let outer = |a: f64, b: f64| if yr > 0.0 { full(a, b) } else { 0.0 };
+    outer(-r, upper.min(-s)) + partial(-s, upper.min(s)) + outer(s, upper)
+}
+
+pub fn rect_area(x0: f64, x1: f64, y0: f64, y1: f64, c: [f64; 2], r: f64) -> f64 {
+    corner_area(x1, y1, c, r) - corner_area(x0, y1, c, r) - corner_area(x1, y0, c, r)
+        + corner_area(x0, y0, c, r)
+}
+
+/// Homogenized jitter's variance for the disk without Fourier analysis: with grid offset u,
+/// `Var = ∫f²/N - E_u[Σ_j (∫_{cell_j(u)} f)²]`, the mean over u by the midpoint rule on a
+/// `q × q` grid of offsets (the function is periodic in u).
+/// The area of the disk inside the torus rectangle `[x0, x0 + w) × [y0, y0 + h)`, whose parts
+/// below 0 wrap to the top of the square.
+pub fn torus_rect_area(x0: f64, w: f64, y0: f64, h: f64, c: [f64; 2], r: f64) -> f64 {
+    let pieces = |a: f64, len: f64| -> Vec<(f64, f64)> {
+        if a < 0.0 {
+            vec![(a + 1.0, 1.0), (0.0, a + len)]
+        } else {
+            vec![(a, a + len)]
+        }
+    };
+    let mut area = 0.0;
+    for (xa, xb) in pieces(x0, w) {
+        for &(ya, yb) in &pieces(y0, h) {
+            area += rect_area(xa, xb, ya, yb, c, r);
+        }
+    }
+    area
+}
+
+/// Homogenized jitter's variance for the disk of height 1 (`m × m` strata) without Fourier
+/// analysis: with grid offset u, `Var = ∫f²/N - E_u[Σ_j (∫_{cell_j(u)} f)²]`, the mean over u by
+/// the midpoint rule on a `q × q` grid of offsets (the function is periodic in u), cells
+/// wrapping around the torus.
+pub fn geometric_jitter_variance(r: f64, c: [f64; 2], m: usize, q: usize) -> f64 {
+    let n = (m * m) as f64;
+    let energy = std::f64::consts::PI * r * r;
+    let w = 1.0 / m as f64;
+    let mut mean = 0.0;
+    for a in 0..q {
+        for b in 0..q {
+            let (ux, uy) = ((a as f64 + 0.5) / q as f64, (b as f64 + 0.5) / q as f64);
+            let mut sum = 0.0;
+            for i in 0..m {
+                for j in 0..m {
+                    let x0 = (i as f64 + ux) * w - w;
+                    let y0 = (j as f64 + uy) * w - w;
+                    let area = torus_rect_area(x0, w, y0, w, c, r);
+                    sum += area * area;
+                }
+            }
+            mean += sum;
+        }
+    }
+    energy / n - mean / (q * q) as f64
+}
