@@ -259,3 +259,61 @@ fn predict_accepts_grid_files_and_names_bad_lines() {
     assert_eq!(code, 2);
     assert!(err.contains("line 2"), "{err}");
 }
+
+/// Point sets written by another program (here: formulas in this test, formatted by hand): 24
+/// shifted copies of 128 points of the R2 Kronecker sequence, `x_i = frac(s + i (1/φ, 1/φ²))`
+/// with φ the plastic number, shifts from a linear congruential generator. `predict --input`
+/// gives the mean of the sets' exact shift variances (up to its tail bound), which `mc --input`
+/// measures on exactly those sets: they must agree within Monte Carlo's error.
+#[test]
+fn predict_and_mc_accept_point_sets_written_elsewhere() {
+    let phi = 1.324_717_957_244_746_f64;
+    let step = [1.0 / phi, 1.0 / (phi * phi)];
+    let mut state: u64 = 12345;
+    let mut lcg = || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut text = String::from("# R2 sequence, 24 shifted copies\n");
+    for set in 0..24 {
+        if set > 0 {
+            text.push_str("#\n");
+        }
+        let shift = [lcg(), lcg()];
+        for i in 0..128 {
+            let x: Vec<String> = (0..2)
+                .map(|a| format!("{:.17}", (shift[a] + i as f64 * step[a]).fract()))
+                .collect();
+            text.push_str(&x.join(" "));
+            text.push('\n');
+        }
+    }
+    let path = std::env::temp_dir().join("specvar_cli_r2_sets.txt");
+    std::fs::write(&path, &text).unwrap();
+    let file = path.to_str().unwrap();
+    let (code, out, err) = specvar(&["predict", "--input", file, "-f", "gaussian", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let p = json(&out);
+    assert_eq!(p["n"].as_u64(), Some(128));
+    let variance = p["variance"].as_f64().unwrap();
+    let truncation = p["budget"]["truncation"].as_f64().unwrap();
+    let (code, out, err) = specvar(&[
+        "mc", "--input", file, "-f", "gaussian", "--trials", "96000", "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let m = json(&out);
+    assert_eq!(
+        (m["patterns"].as_u64(), m["shifts"].as_u64()),
+        (Some(24), Some(4000))
+    );
+    let (lo, hi) = (
+        m["ci_low"].as_f64().unwrap(),
+        m["ci_high"].as_f64().unwrap(),
+    );
+    assert!(
+        variance + truncation >= lo && variance - truncation <= hi,
+        "predicted {variance} vs Monte Carlo [{lo}, {hi}]"
+    );
+}

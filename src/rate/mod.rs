@@ -12,6 +12,7 @@ mod alpha;
 mod study;
 
 pub use alpha::{fit_alpha, AlphaFit};
+pub(crate) use study::PATTERN_MEMORY;
 pub use study::{
     rate_ns, run_study, AlphaSource, ReferenceSpectrum, SamplerSpectrum, Study, StudyConfig,
     StudyRow, StudySeries,
@@ -107,6 +108,40 @@ pub fn weighted_line(x: &[f64], y: &[f64], variances: Option<&[f64]>) -> Result<
         intercept,
         points: x.len(),
     })
+}
+
+/// The log-log slope of `values` against `ns` fitted with the weights `1/rel_weights²` (another
+/// series' relative errors), its standard error propagated from `values`' own relative errors
+/// `rel_errors`: the slope is `Σ c_i ln v_i`, so its variance is `Σ c_i² rel_i²`. Two series
+/// fitted with the same weights have slopes that differ only where their values do, even when
+/// the curve they follow is not a power law.
+///
+/// # Errors
+/// As [`loglog_slope`].
+pub fn loglog_slope_with_weights(
+    ns: &[f64],
+    values: &[f64],
+    rel_weights: &[f64],
+    rel_errors: &[f64],
+) -> Result<SlopeFit> {
+    let mut fit = loglog_slope(ns, values, Some(rel_weights))?;
+    let x: Vec<f64> = ns.iter().map(|n| n.ln()).collect();
+    let w: Vec<f64> = rel_weights
+        .iter()
+        .map(|r| 1.0 / (r * r).max(f64::MIN_POSITIVE))
+        .collect();
+    let sw: f64 = w.iter().sum();
+    let xm = x.iter().zip(&w).map(|(x, w)| x * w).sum::<f64>() / sw;
+    let sxx: f64 = x.iter().zip(&w).map(|(x, w)| w * (x - xm).powi(2)).sum();
+    let variance: f64 = x
+        .iter()
+        .zip(&w)
+        .zip(rel_errors)
+        .map(|((x, w), e)| (w * (x - xm) / sxx * e).powi(2))
+        .sum();
+    fit.stderr = variance.sqrt();
+    fit.ci = (fit.slope - Z_99 * fit.stderr, fit.slope + Z_99 * fit.stderr);
+    Ok(fit)
 }
 
 /// The log-log slope of `values` against `ns`, with relative standard errors `rel_stderr` if

@@ -1,11 +1,11 @@
 //! The rate study: samplers × integrands × N, with the theoretical, predicted and measured
 //! convergence rates. `specvar rates` and the report both run [`run_study`].
 
-use super::{fit_alpha, loglog_slope, theory_rate, AlphaFit, SlopeFit};
-use crate::error::{invalid, Error, Result};
+use super::{fit_alpha, loglog_slope, loglog_slope_with_weights, theory_rate, AlphaFit, SlopeFit};
+use crate::error::{invalid, Result};
 use crate::integrand::{Integrand, IntegrandSpec};
 use crate::montecarlo::{empirical_variances, McParams, McResult, Z_99};
-use crate::predict::{predict_polar, PolarParams, Prediction, SpectrumSource};
+use crate::predict::{predict_with, PredictParams, Prediction, Problem};
 use crate::progress::{stage, Progress};
 use crate::sampler::SamplerKind;
 use crate::spectrum::{estimate, Engine, SpectrumEstimate, SpectrumParams};
@@ -29,20 +29,27 @@ pub struct ReferenceSpectrum {
 pub struct StudyConfig {
     /// Dimension (1 to 3).
     pub dimension: usize,
-    /// Samplers: scale-invariant ones, since their predictions are rescaled.
+    /// Samplers.
     pub samplers: Vec<SamplerKind>,
-    /// Isotropic integrands (the polar form).
+    /// Integrands.
     pub integrands: Vec<IntegrandSpec>,
     /// The N values (at least two distinct).
     pub ns: Vec<usize>,
     /// Monte Carlo estimator evaluations per N (pools for costly samplers:
     /// [`SamplerKind::pool`]).
     pub trials: usize,
-    /// Seed of the spectra; the Monte Carlo patterns use an independent stream of it.
+    /// Seed of the spectra; the predictions' and the Monte Carlo patterns use independent
+    /// streams of it.
     pub seed: u64,
-    /// The reference spectrum.
+    /// The reference spectrum (for `α` and the plots; predictions estimate what they need).
     pub reference: ReferenceSpectrum,
+    /// The predictions' parameters (their seed is the study's prediction stream).
+    #[serde(skip)]
+    pub predict: PredictParams,
 }
+
+/// Memory for keeping costly patterns during a study or a report.
+pub(crate) const PATTERN_MEMORY: usize = 256 << 20;
 
 impl Default for StudyConfig {
     fn default() -> Self {
@@ -85,19 +92,22 @@ impl StudyConfig {
                 realizations: 64,
                 costly_realizations: 8,
             },
+            predict: PredictParams::default(),
         }
     }
 }
 
 /// The Monte Carlo patterns' seed, independent of the spectra's.
 const MC_STREAM: u64 = 0x4D43;
+/// The predictions' seed, independent of both.
+const PREDICT_STREAM: u64 = 0x5052;
 
 impl StudyConfig {
     /// Checks the configuration before any work.
     ///
     /// # Errors
-    /// Fewer than two distinct N, a sampler that is not scale invariant at some N or does not
-    /// exist in the dimension, an anisotropic integrand, or too few trials.
+    /// Fewer than two distinct N, a sampler that does not exist in the dimension or cannot
+    /// produce some N, no samplers or integrands, or too few trials.
     pub fn check(&self) -> Result<()> {
         let d = self.dimension;
         let mut distinct = self.ns.clone();
@@ -121,28 +131,10 @@ impl StudyConfig {
             let sampler = kind.build(d)?;
             for &n in self.ns.iter().chain([&self.reference.n]) {
                 sampler.check_count(n)?;
-                if !kind.is_scale_invariant_at(n, d) {
-                    return Err(Error::OutsideValidity {
-                        route: format!(
-                            "a spectrum of {kind} rescaled from N = {}",
-                            self.reference.n
-                        ),
-                        reason: format!(
-                            "{kind} is not scale invariant at N = {n}; the rate study rescales \
-                             one spectrum, so use random, jitter, poisson, bridson or ccvt"
-                        ),
-                    });
-                }
             }
         }
         for spec in &self.integrands {
-            if !spec.build(d)?.is_isotropic() {
-                return Err(invalid(
-                    "integrand",
-                    spec,
-                    "an isotropic integrand (ball or gaussian)",
-                ));
-            }
+            spec.build(d)?;
         }
         if self.trials < 2 {
             return Err(invalid("trials", self.trials, "at least 2"));
@@ -228,7 +220,8 @@ pub struct StudyRow {
     pub theory_rate: f64,
     /// Whether a `log N` factor applies.
     pub log_factor: bool,
-    /// Log-log slope of the predicted variances over the N range.
+    /// Log-log slope of the predicted variances over the N range, fitted with Monte Carlo's
+    /// weights; its error propagated from the predictions' budgets.
     pub predicted_rate: SlopeFit,
     /// Log-log slope of the Monte Carlo variances, weighted by their intervals.
     pub empirical_rate: SlopeFit,
@@ -256,8 +249,8 @@ impl Study {
 }
 
 /// Runs the study: per sampler, its spectrum at the reference N and its `α`; per N, one Monte
-/// Carlo run shared by all integrands; the polar-form prediction from the reference spectrum at
-/// every N; and the slopes.
+/// Carlo run shared by all integrands and the one-call prediction ([`predict_with`], the route
+/// valid at that N) for each; and the slopes.
 ///
 /// # Errors
 /// As [`StudyConfig::check`], or any failure of the computations.
@@ -272,7 +265,7 @@ impl Study {
 ///     samplers: vec![SamplerKind::Random, SamplerKind::Jitter],
 ///     integrands: vec![IntegrandSpec::Gaussian { sigma: 0.1, height: 1.0, centre: None }],
 ///     ns: vec![16, 64, 256],
-///     trials: 2000,
+///     trials: 4000,
 ///     reference: ReferenceSpectrum { n: 1024, kmax: 96, realizations: 16, costly_realizations: 4 },
 ///     ..Default::default()
 /// };
@@ -300,18 +293,16 @@ pub fn run_study(config: &StudyConfig, progress: &dyn Progress) -> Result<Study>
     for &kind in &config.samplers {
         let spectrum = reference_spectrum(kind, config, progress)?;
         let measured = monte_carlo(kind, &f_refs, config, progress)?;
+        let sampler = kind.build_memoized(config.dimension, PATTERN_MEMORY)?;
+        let params = PredictParams {
+            seed: config.seed ^ PREDICT_STREAM,
+            ..config.predict
+        };
         for (j, f) in f_refs.iter().enumerate() {
             let predicted = config
                 .ns
                 .iter()
-                .map(|&n| {
-                    predict_polar(
-                        *f,
-                        &SpectrumSource::Estimated(&spectrum.estimate),
-                        n,
-                        &PolarParams::default(),
-                    )
-                })
+                .map(|&n| predict_with(&Problem::new(sampler.as_ref(), *f, n)?, &params, progress))
                 .collect::<Result<Vec<_>>>()?;
             let series = StudySeries {
                 sampler: kind,
@@ -390,9 +381,9 @@ fn monte_carlo(
     })
 }
 
-/// Relative standard error of a Monte Carlo variance, from its 99% interval.
+/// Relative standard error of a Monte Carlo variance, from the width of its 99% interval.
 pub(crate) fn rel_stderr(r: &McResult) -> f64 {
-    (r.ci_high / r.ci_low).ln() / (2.0 * Z_99)
+    (r.ci_high - r.ci_low) / (2.0 * Z_99 * r.variance)
 }
 
 fn row(
@@ -408,6 +399,12 @@ fn row(
     };
     let (theory, log_factor) = theory_rate(alpha, f.decay_exponent(), d);
     let predicted: Vec<f64> = series.predicted.iter().map(|p| p.variance).collect();
+    // One standard error of each prediction, its bounds counted as such.
+    let predicted_rel: Vec<f64> = series
+        .predicted
+        .iter()
+        .map(|p| p.budget.half_width(1.0) / p.variance)
+        .collect();
     let mc: Vec<f64> = series.measured.iter().map(|r| r.variance).collect();
     let rel: Vec<f64> = series.measured.iter().map(rel_stderr).collect();
     Ok(StudyRow {
@@ -418,7 +415,8 @@ fn row(
         alpha_source,
         theory_rate: theory,
         log_factor,
-        predicted_rate: loglog_slope(&ns, &predicted, None)?,
+        // Fitted with Monte Carlo's weights, so that the two slopes weigh the N alike.
+        predicted_rate: loglog_slope_with_weights(&ns, &predicted, &rel, &predicted_rel)?,
         empirical_rate: loglog_slope(&ns, &mc, Some(&rel))?,
     })
 }

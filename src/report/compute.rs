@@ -2,23 +2,26 @@
 //! calls, and no output written.
 
 use super::model::{
-    AmbientSection, Check, Crossover, Illustration, Report, ReportConfig, SeriesExtras, Timing,
+    AmbientSection, Check, ClosureConfig, ClosureRow, ClosureTable, Crossover, Illustration,
+    PolarComparison, Report, ReportConfig, SeriesExtras, Timing,
 };
 use crate::error::Result;
 use crate::integrand::{Gaussian, Integrand};
-use crate::montecarlo::{McResult, Z_99};
+use crate::montecarlo::{empirical_variances, McParams, McResult, Z_99};
 use crate::predict::{
-    predict_lattice, predict_polar, regular_grid_bias, PolarParams, Prediction, SpectrumSource,
+    polar_validity, predict_polar, predict_with, regular_grid_bias, PolarParams, PredictParams,
+    Prediction, Problem, SpectrumSource,
 };
 use crate::progress::Progress;
-use crate::rate::{crossover, run_study, Study, StudySeries};
+use crate::rate::{crossover, run_study, SamplerSpectrum, Study, StudySeries, PATTERN_MEMORY};
 use crate::render::{measured_ratio, run_comparison, TALK_MSE};
 use crate::sampler::{Regular, Sampler, SamplerKind};
-use crate::spectrum::{estimate, periodogram, Engine, SpectrumParams};
+use crate::spectrum::{periodogram, Engine};
 use std::time::Instant;
 
-/// The at-target spectra's seed stream, independent of the study's.
-const TARGET_STREAM: u64 = 0x7A;
+/// The closure table's seed streams, independent of the study's.
+const CLOSURE_PREDICT_STREAM: u64 = 0xC1;
+const CLOSURE_MC_STREAM: u64 = 0xC2;
 
 /// Computes the report.
 ///
@@ -35,10 +38,11 @@ pub fn compute(config: &ReportConfig, progress: &dyn Progress) -> Result<Report>
     let start = Instant::now();
     let study = run_study(&config.study, progress)?;
     timed("rate study: spectra, predictions, Monte Carlo", start);
+    let extras = extras(&study)?;
     let start = Instant::now();
-    let extras = extras(config, progress)?;
-    timed("closed forms and lattice form at the target N", start);
-    let crossovers = crossovers(&study)?;
+    let closure = closure(&config.closure, config.seed, progress)?;
+    timed("closure table: every sampler off the talk's setup", start);
+    let crossovers = crossovers(&study);
     let illustration = illustration()?;
     let start = Instant::now();
     let run = run_comparison(&config.ambient, progress)?;
@@ -54,12 +58,14 @@ pub fn compute(config: &ReportConfig, progress: &dyn Progress) -> Result<Report>
         rows: run.rows,
         reference: run.reference,
     };
-    let mut checks = study_checks(&study, &extras);
+    let mut checks = study_checks(&study);
+    checks.extend(closure_checks(&closure));
     checks.extend(ambient_checks(&ambient));
     Ok(Report {
         config: config.clone(),
         study,
         extras,
+        closure,
         crossovers,
         illustration,
         ambient,
@@ -68,139 +74,150 @@ pub fn compute(config: &ReportConfig, progress: &dyn Progress) -> Result<Report>
     })
 }
 
-/// Closed-form predictions at every N, and the lattice form from a spectrum estimated at each N
-/// up to the target's `max_n` (one estimate per sampler and N serves every integrand).
-fn extras(config: &ReportConfig, progress: &dyn Progress) -> Result<Vec<SeriesExtras>> {
-    let d = config.study.dimension;
-    let fs: Vec<Box<dyn Integrand>> = config
-        .study
-        .integrands
-        .iter()
-        .map(|s| s.build(d))
-        .collect::<Result<_>>()?;
+/// The polar form rescaled from each sampler's reference spectrum at every N of its series,
+/// where that route is valid (otherwise why not): the route a spectrum tool would take, beside
+/// the valid one.
+fn extras(study: &Study) -> Result<Vec<SeriesExtras>> {
+    let d = study.config.dimension;
     let mut out = Vec::new();
-    for &kind in &config.study.samplers {
-        let sampler = kind.build(d)?;
-        let targets: Vec<usize> = config
-            .study
-            .ns
-            .iter()
-            .copied()
-            .filter(|&n| n <= config.target.max_n)
-            .collect();
-        let estimates = targets
-            .iter()
-            .map(|&n| {
-                let params = SpectrumParams {
-                    kmax: target_kmax(n),
-                    realizations: config.target.realizations,
-                    seed: config.seed ^ TARGET_STREAM,
-                    engine: Engine::Auto,
-                    bin_width: 1.0,
-                };
-                let stage = format!("spectrum of {kind} at N = {n}");
-                progress.begin(&stage, 0);
-                let e = estimate(sampler.as_ref(), n, &params);
-                progress.end();
-                e
-            })
-            .collect::<Result<Vec<_>>>()?;
-        for f in &fs {
-            let closed = config
-                .study
+    for spectrum in &study.spectra {
+        for spec in &study.config.integrands {
+            let f = spec.build(d)?;
+            let polar = study
+                .config
                 .ns
                 .iter()
-                .filter_map(|&n| kind.closed_form(n, d).map(|c| (n, c)))
-                .map(|(n, c)| {
-                    predict_polar(
-                        f.as_ref(),
-                        &SpectrumSource::Closed(c),
-                        n,
-                        &PolarParams::default(),
-                    )
-                })
-                .collect::<Result<Vec<_>>>()?;
-            let at_target = targets
-                .iter()
-                .zip(&estimates)
-                .map(|(&n, e)| {
-                    predict_lattice(
-                        f.as_ref(),
-                        &SpectrumSource::Estimated(e),
-                        n,
-                        e.lattice.lattice.kmax,
-                    )
-                })
-                .collect::<Result<Vec<_>>>()?;
-            out.push(SeriesExtras { closed, at_target });
+                .map(|&n| polar_comparison(f.as_ref(), spectrum, n, study.config.reference.n))
+                .collect();
+            out.push(SeriesExtras { polar });
         }
     }
     Ok(out)
 }
 
-/// Lattice extent for the spectrum at the target N: `ν` up to 8, at least 48.
-fn target_kmax(n: usize) -> usize {
-    ((8.0 * (n as f64).sqrt()).ceil() as usize).max(48)
+fn polar_comparison(
+    f: &dyn Integrand,
+    spectrum: &SamplerSpectrum,
+    n: usize,
+    n_ref: usize,
+) -> PolarComparison {
+    let kind = spectrum.sampler;
+    let d = f.dimension();
+    if !kind.is_scale_invariant_at(n, d) {
+        return PolarComparison::Invalid(format!("{kind} is not scale invariant at N = {n}"));
+    }
+    if n > n_ref {
+        return PolarComparison::Invalid(format!("N above the reference N = {n_ref}"));
+    }
+    let range = 2.0 * (n as f64).powf(-1.0 / d as f64);
+    let checked = polar_validity(f, range, n).and_then(|model| {
+        let source = SpectrumSource::Estimated(&spectrum.estimate);
+        let mut p = predict_polar(f, &source, n, &PolarParams::default())?;
+        p.budget.model = model;
+        Ok(p)
+    });
+    match checked {
+        Ok(p) => PolarComparison::Valid(p),
+        Err(e) => PolarComparison::Invalid(e.to_string()),
+    }
 }
 
-/// Jitter against Poisson disk on each integrand, from dense predictions and from Monte Carlo.
-fn crossovers(study: &Study) -> Result<Vec<Crossover>> {
-    let spectrum = |kind| study.spectra.iter().find(|s| s.sampler == kind);
-    let (Some(jitter), Some(poisson)) = (
-        spectrum(SamplerKind::Jitter),
-        spectrum(SamplerKind::PoissonDisk),
-    ) else {
-        return Ok(Vec::new());
-    };
-    let ns = &study.config.ns;
-    let (first, last) = (ns[0] as f64, ns[ns.len() - 1] as f64);
-    let dense: Vec<f64> = (0..=60)
-        .map(|i| first * (last / first).powf(i as f64 / 60.0))
-        .collect();
-    let d = study.config.dimension;
-    let mut out = Vec::new();
-    for (j, spec) in study.config.integrands.iter().enumerate() {
-        let f = spec.build(d)?;
-        let curve = |e| -> Result<Vec<f64>> {
-            dense
-                .iter()
-                .map(|&n| {
-                    predict_polar(
-                        f.as_ref(),
-                        &SpectrumSource::Estimated(e),
-                        n.round() as usize,
-                        &PolarParams::default(),
-                    )
-                    .map(|p| p.variance)
-                })
-                .collect()
-        };
-        let predicted = crossover(
-            &dense,
-            &curve(&jitter.estimate)?,
-            &curve(&poisson.estimate)?,
-        );
-        let measured = match (
-            study.series_of(SamplerKind::Jitter, j),
-            study.series_of(SamplerKind::PoissonDisk, j),
-        ) {
-            (Some(a), Some(b)) => {
-                let xs: Vec<f64> = ns.iter().map(|&n| n as f64).collect();
-                crossover(&xs, &mc_values(a), &mc_values(b))
-            }
-            _ => None,
-        };
-        out.push(Crossover {
-            what: format!("jitter vs Poisson disk, {}", f.label()),
-            predicted,
-            measured,
-        });
-    }
-    Ok(out)
+/// Jitter against Poisson disk on each integrand: where the predicted curves cross and where
+/// the measured ones do (each log-log interpolated between the study's N).
+fn crossovers(study: &Study) -> Vec<Crossover> {
+    let ns: Vec<f64> = study.config.ns.iter().map(|&n| n as f64).collect();
+    (0..study.config.integrands.len())
+        .filter_map(|j| {
+            let a = study.series_of(SamplerKind::Jitter, j)?;
+            let b = study.series_of(SamplerKind::PoissonDisk, j)?;
+            let predicted =
+                |s: &StudySeries| s.predicted.iter().map(|p| p.variance).collect::<Vec<_>>();
+            Some(Crossover {
+                what: format!("jitter vs Poisson disk, {}", a.label),
+                predicted: crossover(&ns, &predicted(a), &predicted(b)),
+                measured: crossover(&ns, &mc_values(a), &mc_values(b)),
+            })
+        })
+        .collect()
 }
 
 fn mc_values(s: &StudySeries) -> Vec<f64> {
     s.measured.iter().map(|r| r.variance).collect()
+}
+
+/// Every sampler × integrand × N of the closure configuration: the default prediction and one
+/// Monte Carlo run per sampler and N (all integrands on the same patterns), independent seeds.
+fn closure(config: &ClosureConfig, seed: u64, progress: &dyn Progress) -> Result<ClosureTable> {
+    let fs: Vec<Box<dyn Integrand>> = config
+        .integrands
+        .iter()
+        .map(|s| s.build(2))
+        .collect::<Result<_>>()?;
+    let f_refs: Vec<&dyn Integrand> = fs.iter().map(|f| f.as_ref()).collect();
+    let params = PredictParams {
+        seed: seed ^ CLOSURE_PREDICT_STREAM,
+        ..config.predict
+    };
+    let mut rows = Vec::new();
+    for &kind in &config.samplers {
+        let sampler = kind.build_memoized(2, PATTERN_MEMORY)?;
+        for &n in config
+            .ns
+            .iter()
+            .filter(|&&n| sampler.check_count(n).is_ok())
+        {
+            let mc = McParams::pooled(kind, config.trials, seed ^ CLOSURE_MC_STREAM, true);
+            progress.begin(
+                &format!("closure: monte carlo of {kind} at N = {n}"),
+                mc.patterns as u64,
+            );
+            let measured = empirical_variances(sampler.as_ref(), &f_refs, n, &mc, progress)?;
+            progress.end();
+            for (f, measured) in f_refs.iter().zip(measured) {
+                let prediction =
+                    predict_with(&Problem::new(sampler.as_ref(), *f, n)?, &params, progress)?;
+                let z = combined_z(&prediction, &measured);
+                rows.push(ClosureRow {
+                    sampler: kind,
+                    integrand: f.label(),
+                    n,
+                    prediction,
+                    measured,
+                    z,
+                    agrees: z.abs() <= Z_99,
+                });
+            }
+        }
+    }
+    let misses = rows.iter().filter(|r| !r.agrees).count();
+    Ok(ClosureTable {
+        expected_misses: 0.01 * rows.len() as f64,
+        binomial_p: binomial_tail(rows.len(), misses, 0.01),
+        max_abs_z: rows.iter().map(|r| r.z.abs()).fold(0.0, f64::max),
+        misses,
+        rows,
+    })
+}
+
+/// The difference between a prediction and Monte Carlo beyond the prediction's bounds, in
+/// their combined standard errors (0 when the bounds cover it).
+fn combined_z(p: &Prediction, r: &McResult) -> f64 {
+    let mc_se = (r.ci_high - r.ci_low) / (2.0 * Z_99);
+    let b = &p.budget;
+    let bounds = b.quadrature + b.truncation + b.model;
+    let diff = p.variance - r.variance;
+    let sigma = b.spectrum_noise.hypot(mc_se);
+    (diff.abs() - bounds).max(0.0) / sigma * diff.signum()
+}
+
+/// `P(X ≥ k)` for `X ~ Binomial(n, p)`.
+fn binomial_tail(n: usize, k: usize, p: f64) -> f64 {
+    let ln_choose =
+        |n: usize, i: usize| -> f64 { (1..=i).map(|j| ((n - i + j) as f64 / j as f64).ln()).sum() };
+    let below: f64 = (0..k.min(n + 1))
+        .map(|i| (ln_choose(n, i) + i as f64 * p.ln() + (n - i) as f64 * (1.0 - p).ln()).exp())
+        .sum();
+    (1.0 - below).max(0.0)
 }
 
 /// The talk's 1D illustrations: a cell-centred grid of 8 points and a Gaussian of σ = 0.05.
@@ -237,34 +254,26 @@ fn illustration() -> Result<Illustration> {
 
 /// Every prediction against its Monte Carlo interval, and every predicted rate against the
 /// measured one's interval.
-fn study_checks(study: &Study, extras: &[SeriesExtras]) -> Vec<Check> {
+fn study_checks(study: &Study) -> Vec<Check> {
     let mut checks = Vec::new();
-    for (series, extra) in study.series.iter().zip(extras) {
-        for (k, r) in series.measured.iter().enumerate() {
-            let sources = std::iter::once(("estimated spectrum", &series.predicted[k]))
-                .chain(extra.closed.get(k).map(|p| ("closed form", p)))
-                .chain(
-                    extra
-                        .at_target
-                        .get(k)
-                        .map(|p| ("lattice form at this N", p)),
-                );
-            for (source, p) in sources {
-                checks.push(prediction_check(series, source, p, r));
-            }
+    for series in &study.series {
+        for (p, r) in series.predicted.iter().zip(&series.measured) {
+            checks.push(prediction_check(series, p, r));
         }
     }
     for row in &study.rows {
         let (lo, hi) = row.empirical_rate.ci;
         let predicted = row.predicted_rate.slope;
+        // The predicted slope has its own error (from the predictions' budgets).
+        let slack = Z_99 * row.predicted_rate.stderr;
         checks.push(Check {
             what: format!(
                 "rate, {} on {}: predicted within the Monte Carlo interval",
                 row.sampler, row.integrand
             ),
-            pass: predicted >= lo && predicted <= hi,
+            pass: predicted + slack >= lo && predicted - slack <= hi,
             detail: format!(
-                "predicted {predicted:.3}, Monte Carlo {:.3} [{lo:.3}, {hi:.3}], theory {:.3}",
+                "predicted {predicted:.3} ± {slack:.3}, Monte Carlo {:.3} [{lo:.3}, {hi:.3}], theory {:.3}",
                 row.empirical_rate.slope, row.theory_rate
             ),
         });
@@ -272,32 +281,50 @@ fn study_checks(study: &Study, extras: &[SeriesExtras]) -> Vec<Check> {
     checks
 }
 
-fn prediction_check(series: &StudySeries, source: &str, p: &Prediction, r: &McResult) -> Check {
-    let inside = p.variance >= r.ci_low && p.variance <= r.ci_high;
-    let off = p.variance / r.variance - 1.0;
-    // A miss is explained by the prediction's own noise when the prediction's 99% band (from
-    // the spectrum estimate) reaches the Monte Carlo interval.
-    let band = Z_99 * p.budget.spectrum_noise;
-    let explained = p.variance + band >= r.ci_low && p.variance - band <= r.ci_high;
-    let why = if inside {
-        String::new()
-    } else if explained {
-        format!(
-            "; within the prediction's own 99% band ±{:.1}% from spectrum noise",
-            100.0 * band / p.variance
-        )
-    } else {
-        "; NOT explained by the spectrum noise".to_string()
-    };
+/// The closure table's summary as checks: misses consistent with the nominal 1%, none beyond
+/// four combined standard errors.
+fn closure_checks(table: &ClosureTable) -> Vec<Check> {
+    vec![
+        Check {
+            what: "closure table: misses consistent with the intervals' nominal 1%".into(),
+            pass: table.binomial_p >= 0.01,
+            detail: format!(
+                "{} misses of {} (expected {:.1}); P(this many or more) = {:.3}",
+                table.misses,
+                table.rows.len(),
+                table.expected_misses,
+                table.binomial_p
+            ),
+        },
+        Check {
+            what: "closure table: no miss beyond 4 combined standard errors".into(),
+            pass: table.max_abs_z <= 4.0,
+            detail: format!("largest |z| = {:.2}", table.max_abs_z),
+        },
+    ]
+}
+
+/// A prediction against its Monte Carlo run: they agree when their difference is within the
+/// prediction's bounds plus 2.576 combined standard errors (the prediction's noise and Monte
+/// Carlo's).
+fn prediction_check(series: &StudySeries, p: &Prediction, r: &McResult) -> Check {
+    let z = combined_z(p, r);
     Check {
         what: format!(
-            "{}, {}, N = {}: prediction ({source}) inside the 99% interval",
-            series.sampler, series.label, r.n
+            "{}, {}, N = {}: prediction ({}) agrees with Monte Carlo at 99%",
+            series.sampler, series.label, r.n, p.route
         ),
-        pass: inside,
+        pass: z.abs() <= Z_99,
         detail: format!(
-            "predicted {:.4e}, Monte Carlo {:.4e} [{:.4e}, {:.4e}] ({} patterns × {} shifts), off by {:+.2}%{why}",
-            p.variance, r.variance, r.ci_low, r.ci_high, r.patterns, r.shifts, 100.0 * off
+            "predicted {:.4e} ± {:.1e}, Monte Carlo {:.4e} [{:.4e}, {:.4e}] ({} patterns × {} shifts), off by {:+.2}%, z = {z:+.2}",
+            p.variance,
+            p.budget.half_width(Z_99),
+            r.variance,
+            r.ci_low,
+            r.ci_high,
+            r.patterns,
+            r.shifts,
+            100.0 * (p.variance / r.variance - 1.0)
         ),
     }
 }

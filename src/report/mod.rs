@@ -15,8 +15,8 @@ mod write;
 
 pub use compute::compute;
 pub use model::{
-    AmbientSection, Check, Crossover, Illustration, Report, ReportConfig, SeriesExtras,
-    TargetSpectrum, Timing, DEFAULT_SEED, TALK_SAMPLERS,
+    AmbientSection, Check, ClosureConfig, ClosureRow, ClosureTable, Crossover, Illustration,
+    PolarComparison, Report, ReportConfig, SeriesExtras, Timing, DEFAULT_SEED, TALK_SAMPLERS,
 };
 #[cfg(feature = "plot")]
 pub use write::write;

@@ -1,19 +1,59 @@
 //! What the report computed: plain data, no computation and no output.
 
 use crate::integrand::IntegrandSpec;
-use crate::predict::Prediction;
+use crate::montecarlo::McResult;
+use crate::predict::{PredictParams, Prediction};
 use crate::rate::{ReferenceSpectrum, Study, StudyConfig};
 use crate::render::{ComparisonConfig, ComparisonRow, PixelPowerParams, Reference, RenderParams};
 use crate::sampler::SamplerKind;
 use serde::Serialize;
 
-/// The lattice form with the spectrum estimated at the target N itself, computed up to `max_n`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-pub struct TargetSpectrum {
-    /// The largest N at which it is computed.
-    pub max_n: usize,
-    /// Realizations of each spectrum.
-    pub realizations: usize,
+/// The closure table: every sampler on integrands off the talk's setup, the default
+/// prediction against Monte Carlo.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ClosureConfig {
+    /// Samplers.
+    pub samplers: Vec<SamplerKind>,
+    /// Integrands.
+    pub integrands: Vec<IntegrandSpec>,
+    /// N values.
+    pub ns: Vec<usize>,
+    /// Monte Carlo evaluations per sampler and N (pools for costly samplers).
+    pub trials: usize,
+    /// The predictions' parameters (their seed is the report's closure stream).
+    #[serde(skip)]
+    pub predict: PredictParams,
+}
+
+impl ClosureConfig {
+    /// Every 2D sampler on the disk and the Gaussian of the talk, a Gaussian off centre (whose
+    /// jumps at the faces Monte Carlo sees), a wide one (σ = 0.3) and a wide disk (r = 0.45,
+    /// whose autocorrelation wraps around the torus), at N = 16, 64, 256, 1024.
+    pub fn full() -> Self {
+        let gaussian = |sigma: f64, centre: Option<Vec<f64>>| IntegrandSpec::Gaussian {
+            sigma,
+            height: 1.0,
+            centre,
+        };
+        let disk = |radius: f64| IntegrandSpec::Ball {
+            radius,
+            height: 1.0,
+            centre: None,
+        };
+        Self {
+            samplers: SamplerKind::in_dimension(2),
+            integrands: vec![
+                disk(0.25),
+                gaussian(0.1, None),
+                gaussian(0.1, Some(vec![0.3, 0.6])),
+                gaussian(0.3, None),
+                disk(0.45),
+            ],
+            ns: vec![16, 64, 256, 1024],
+            trials: 20_000,
+            predict: PredictParams::default(),
+        }
+    }
 }
 
 /// What the report computes. [`Default`] is the full run; [`ReportConfig::quick`] the short one.
@@ -25,8 +65,8 @@ pub struct ReportConfig {
     pub seed: u64,
     /// The rate study (spectra, predictions and Monte Carlo over N).
     pub study: StudyConfig,
-    /// The lattice form at the target N.
-    pub target: TargetSpectrum,
+    /// The closure table.
+    pub closure: ClosureConfig,
     /// The ambient-occlusion renders.
     #[serde(skip)]
     pub ambient: ComparisonConfig,
@@ -84,11 +124,9 @@ impl ReportConfig {
                     realizations: 256,
                     costly_realizations: 16,
                 },
+                predict: PredictParams::default(),
             },
-            target: TargetSpectrum {
-                max_n: 256,
-                realizations: 64,
-            },
+            closure: ClosureConfig::full(),
             ambient: ComparisonConfig {
                 render: RenderParams {
                     seed,
@@ -99,9 +137,15 @@ impl ReportConfig {
         }
     }
 
-    /// The short run with `seed`: N = 16 … 1024, spectra at 1024, a 32 × 32 render.
+    /// The short run with `seed`: N = 16 … 1024, spectra at 1024, a 32 × 32 render; predictions
+    /// aim at 5% noise within a second of work each (their budgets say what they reach).
     pub fn quick(seed: u64) -> Self {
         let full = Self::full(seed);
+        let quick_predictions = PredictParams {
+            target_noise: 0.05,
+            work_budget_seconds: 1.0,
+            ..PredictParams::default()
+        };
         Self {
             quick: true,
             study: StudyConfig {
@@ -113,11 +157,14 @@ impl ReportConfig {
                     realizations: 32,
                     costly_realizations: 4,
                 },
+                predict: quick_predictions,
                 ..full.study
             },
-            target: TargetSpectrum {
-                max_n: 64,
-                realizations: 16,
+            closure: ClosureConfig {
+                ns: vec![16, 64, 256],
+                trials: 4000,
+                predict: quick_predictions,
+                ..ClosureConfig::full()
             },
             ambient: ComparisonConfig {
                 width: 32,
@@ -140,13 +187,58 @@ impl ReportConfig {
     }
 }
 
-/// Predictions beside a study series that the study itself does not make.
+/// The polar form with the study's reference spectrum rescaled to one N, where it is valid.
+#[derive(Debug, Clone, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PolarComparison {
+    /// Valid there: its prediction.
+    Valid(Prediction),
+    /// Not valid there: why.
+    Invalid(String),
+}
+
+/// Beside a study series: the old route, the polar form rescaled from one reference spectrum,
+/// at each N.
 #[derive(Debug, Clone, Serialize)]
 pub struct SeriesExtras {
-    /// The polar form with the closed-form spectrum at each N (random and jitter; else empty).
-    pub closed: Vec<Prediction>,
-    /// The lattice form with the spectrum estimated at each N up to the target's `max_n`.
-    pub at_target: Vec<Prediction>,
+    /// One per N of the series.
+    pub polar: Vec<PolarComparison>,
+}
+
+/// One row of the closure table.
+#[derive(Debug, Clone, Serialize)]
+pub struct ClosureRow {
+    /// The sampler.
+    pub sampler: SamplerKind,
+    /// The integrand's label.
+    pub integrand: String,
+    /// N.
+    pub n: usize,
+    /// The default prediction.
+    pub prediction: Prediction,
+    /// Monte Carlo.
+    pub measured: McResult,
+    /// The difference beyond the prediction's bounds, in combined standard errors (the
+    /// prediction's noise and Monte Carlo's): 0 when the bounds cover it.
+    pub z: f64,
+    /// Whether they agree at 99%: `|z| ≤ 2.576`.
+    pub agrees: bool,
+}
+
+/// The closure table with its summary.
+#[derive(Debug, Clone, Serialize)]
+pub struct ClosureTable {
+    /// Every row.
+    pub rows: Vec<ClosureRow>,
+    /// Rows that do not agree at 99%.
+    pub misses: usize,
+    /// Misses expected at the nominal 1%.
+    pub expected_misses: f64,
+    /// `P(X ≥ misses)` for `X ~ Binomial(rows, 0.01)`: the chance of this many misses or more
+    /// if every budget and interval means what it says.
+    pub binomial_p: f64,
+    /// The largest `|z|`.
+    pub max_abs_z: f64,
 }
 
 /// Where two samplers' variance curves cross.
@@ -226,8 +318,10 @@ pub struct Report {
     pub config: ReportConfig,
     /// The rate study: spectra, predictions, Monte Carlo and rates.
     pub study: Study,
-    /// Per study series, in its order: the closed-form and at-target predictions.
+    /// Per study series, in its order: the polar form rescaled from the reference spectrum.
     pub extras: Vec<SeriesExtras>,
+    /// Every sampler on integrands off the talk's setup.
+    pub closure: ClosureTable,
     /// Crossovers of one sampler's variance curve with another's.
     pub crossovers: Vec<Crossover>,
     /// The 1D illustration numbers.

@@ -255,6 +255,21 @@ impl SamplerKind {
         }
     }
 
+    /// Builds this sampler in dimension `d`, keeping up to `budget_bytes` of the patterns it
+    /// draws when they are worth keeping (a generation cost of a microsecond per point or
+    /// more: dart throwing, CCVT); see [`super::Memoized`].
+    ///
+    /// # Errors
+    /// An unsupported dimension.
+    pub fn build_memoized(self, d: usize, budget_bytes: usize) -> Result<Box<dyn Sampler>> {
+        let sampler = self.build(d)?;
+        Ok(if self.cost_per_point_ns() >= 1_000.0 {
+            Box::new(super::Memoized::new(sampler, budget_bytes))
+        } else {
+            sampler
+        })
+    }
+
     /// Looks a sampler up by its command-line name.
     ///
     /// # Errors

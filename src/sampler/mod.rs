@@ -11,6 +11,7 @@ mod homogenize;
 mod jitter;
 mod kind;
 mod latin;
+mod memo;
 mod poisson;
 mod random;
 mod regular;
@@ -23,6 +24,7 @@ pub use homogenize::{homogenize, homogenizing_shift, Homogenized};
 pub use jitter::Jitter;
 pub use kind::{Pool, SamplerKind, Scaling, MIN_POOL_PATTERNS};
 pub use latin::LatinHypercube;
+pub use memo::Memoized;
 pub use poisson::{
     default_relative_radius, max_packing_radius, PoissonDisk, PoissonMethod, MAX_ATTEMPTS,
 };
