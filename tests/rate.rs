@@ -221,6 +221,8 @@ fn rates_command_library_and_report_give_identical_rows() {
     assert_eq!(cli["rows"], library);
     let mut report = ReportConfig::quick(5);
     report.study = config;
+    report.closure.samplers = vec![SamplerKind::Random];
+    report.closure.ns = vec![16];
     report.ambient.width = 4;
     report.ambient.height = 4;
     report.ambient.samplers = vec![SamplerKind::Random];
