@@ -348,3 +348,38 @@ fn bad_spectrum_requests_are_errors() {
     assert!(estimate(&Random::new(2).unwrap(), 10, &params).is_err());
     assert!(estimate_from_sets(&[], &SpectrumParams::default()).is_err());
 }
+
+/// CCVT's low band is `a ν² + b ν⁴` with the floor `a = π²/(3c²)` set by the discrete density's
+/// capacity c (derived in `Ccvt::floor_coefficient`): fitted at N = 1024 (cN = 128² and 256²,
+/// so no cell is dropped) for c = 16 and 64, each `a` within 4 of its standard errors of the
+/// derivation, and the band `b` positive beyond 4 standard errors. So the estimator finds what
+/// the sampler has, and the sampler's α is 2, not 4.
+#[test]
+fn ccvt_low_band_is_the_discrete_density_floor_under_a_nu4_band() {
+    for capacity in [16usize, 64] {
+        let ccvt = Ccvt::new(2)
+            .unwrap()
+            .with_params(CcvtParams {
+                capacity,
+                ..Default::default()
+            })
+            .unwrap();
+        let params = SpectrumParams {
+            kmax: 16,
+            realizations: 32,
+            seed: 4,
+            ..Default::default()
+        };
+        let est = estimate(&ccvt, 1024, &params).unwrap();
+        let fit = specvar::rate::fit_low_band(&est.radial, 0.3).unwrap();
+        let a = ccvt.floor_coefficient();
+        assert!(
+            (fit.floor - a).abs() < common::Z_LOOSE * fit.floor_stderr,
+            "c={capacity}: {fit:?}, derived {a:e}"
+        );
+        assert!(
+            fit.band > common::Z_LOOSE * fit.band_stderr,
+            "c={capacity}: {fit:?}"
+        );
+    }
+}

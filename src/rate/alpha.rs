@@ -223,3 +223,82 @@ fn invert(a: &[[f64; 3]; 3], n: usize) -> Option<[[f64; 3]; 3]> {
     }
     Some(inv)
 }
+
+/// A two-term fit of a spectrum's low band, `P̆(ν) ≈ a ν² + b ν⁴`, each ring modelled by its own
+/// lattice points' mean of `ν²` and `ν⁴` (weighted least squares with the rings' standard
+/// errors). For CCVT, `a` is the floor its discrete density leaves (`π²/(3c²)` for capacity
+/// `c`) and `b` its optimized band; the band dominates above `ν = √(a/b)`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct LowBandFit {
+    /// `a`.
+    pub floor: f64,
+    /// Its standard error.
+    pub floor_stderr: f64,
+    /// `b`.
+    pub band: f64,
+    /// Its standard error.
+    pub band_stderr: f64,
+    /// Rings used.
+    pub rings: usize,
+}
+
+impl LowBandFit {
+    /// `√(a/b)`: below it the `ν²` floor carries the spectrum, above it the `ν⁴` band.
+    pub fn crossover_nu(&self) -> f64 {
+        (self.floor / self.band).sqrt()
+    }
+}
+
+/// Fits `P̆(ν) ≈ a ν² + b ν⁴` over the rings with `ν ≤ nu_max` (see [`LowBandFit`]).
+///
+/// # Errors
+/// Fewer than three usable rings (positive power, finite standard error), or rings whose
+/// moments do not separate the two terms.
+pub fn fit_low_band(radial: &RadialSpectrum, nu_max: f64) -> Result<LowBandFit> {
+    let used: Vec<usize> = (0..radial.bins.len())
+        .filter(|&i| {
+            let b = &radial.bins[i];
+            b.nu <= nu_max && b.stderr.is_finite() && b.stderr > 0.0
+        })
+        .collect();
+    if used.len() < 3 {
+        return Err(invalid(
+            "low-band fit",
+            format!("{} usable rings with ν ≤ {nu_max}", used.len()),
+            "at least three rings with standard errors (two or more realizations)",
+        ));
+    }
+    let members = ring_members(radial, &used);
+    let mut normal = [[0.0; 3]; 3];
+    let mut rhs = [0.0; 3];
+    for (&i, ring) in used.iter().zip(&members) {
+        let b = &radial.bins[i];
+        let count = ring.len() as f64;
+        let x = [
+            ring.iter().map(|v| v * v).sum::<f64>() / count,
+            ring.iter().map(|v| v.powi(4)).sum::<f64>() / count,
+        ];
+        let w = 1.0 / (b.stderr * b.stderr);
+        for p in 0..2 {
+            rhs[p] += w * x[p] * b.power;
+            for q in 0..2 {
+                normal[p][q] += w * x[p] * x[q];
+            }
+        }
+    }
+    let inverse = invert(&normal, 2).ok_or_else(|| {
+        invalid(
+            "low-band fit",
+            "a singular system",
+            "rings at distinct radii",
+        )
+    })?;
+    let coefficient = |p: usize| (0..2).map(|q| inverse[p][q] * rhs[q]).sum::<f64>();
+    Ok(LowBandFit {
+        floor: coefficient(0),
+        floor_stderr: inverse[0][0].sqrt(),
+        band: coefficient(1),
+        band_stderr: inverse[1][1].sqrt(),
+        rings: used.len(),
+    })
+}

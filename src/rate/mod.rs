@@ -11,7 +11,7 @@
 mod alpha;
 mod study;
 
-pub use alpha::{fit_alpha, AlphaFit};
+pub use alpha::{fit_alpha, fit_low_band, AlphaFit, LowBandFit};
 pub(crate) use study::PATTERN_MEMORY;
 pub use study::{
     rate_ns, run_study, AlphaSource, ReferenceSpectrum, SamplerSpectrum, Study, StudyConfig,

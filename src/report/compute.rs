@@ -13,9 +13,11 @@ use crate::predict::{
     Prediction, Problem, SpectrumSource,
 };
 use crate::progress::Progress;
-use crate::rate::{crossover, run_study, SamplerSpectrum, Study, StudySeries, PATTERN_MEMORY};
+use crate::rate::{
+    crossover, fit_low_band, run_study, SamplerSpectrum, Study, StudySeries, PATTERN_MEMORY,
+};
 use crate::render::{measured_ratio, run_comparison, TALK_MSE};
-use crate::sampler::{Regular, Sampler, SamplerKind};
+use crate::sampler::{Ccvt, Regular, Sampler, SamplerKind};
 use crate::spectrum::{periodogram, Engine};
 use std::time::Instant;
 
@@ -43,6 +45,17 @@ pub fn compute(config: &ReportConfig, progress: &dyn Progress) -> Result<Report>
     let closure = closure(&config.closure, config.seed, progress)?;
     timed("closure table: every sampler off the talk's setup", start);
     let crossovers = crossovers(&study);
+    let ccvt_low_band = study
+        .spectra
+        .iter()
+        .find(|s| s.sampler == SamplerKind::Ccvt)
+        .and_then(|s| fit_low_band(&s.estimate.radial, 0.3).ok())
+        .map(|fit| {
+            (
+                fit,
+                Ccvt::new(2).map_or(f64::NAN, |c| c.floor_coefficient()),
+            )
+        });
     let illustration = illustration()?;
     let start = Instant::now();
     let run = run_comparison(&config.ambient, progress)?;
@@ -67,6 +80,7 @@ pub fn compute(config: &ReportConfig, progress: &dyn Progress) -> Result<Report>
         extras,
         closure,
         crossovers,
+        ccvt_low_band,
         illustration,
         ambient,
         checks,

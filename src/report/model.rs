@@ -3,7 +3,7 @@
 use crate::integrand::IntegrandSpec;
 use crate::montecarlo::McResult;
 use crate::predict::{PredictParams, Prediction};
-use crate::rate::{ReferenceSpectrum, Study, StudyConfig};
+use crate::rate::{LowBandFit, ReferenceSpectrum, Study, StudyConfig};
 use crate::render::{ComparisonConfig, ComparisonRow, PixelPowerParams, Reference, RenderParams};
 use crate::sampler::SamplerKind;
 use serde::Serialize;
@@ -324,6 +324,9 @@ pub struct Report {
     pub closure: ClosureTable,
     /// Crossovers of one sampler's variance curve with another's.
     pub crossovers: Vec<Crossover>,
+    /// CCVT's low band `a ν² + b ν⁴` fitted on its reference spectrum, with the floor the
+    /// capacity predicts (if CCVT is in the study).
+    pub ccvt_low_band: Option<(LowBandFit, f64)>,
     /// The 1D illustration numbers.
     pub illustration: Illustration,
     /// The rendering experiment.

@@ -83,6 +83,16 @@ impl Ccvt {
         Ok(self)
     }
 
+    /// The floor `a` of the sites' spectrum at low frequencies, `P̆ ≈ a ν²` with
+    /// `a = π²/(3c²)` for capacity `c`: each site is the centroid of exactly `c` points of a
+    /// jittered discrete density of `cN` points (whose spectrum is `π²|k|²/(3cN)` near DC),
+    /// and to second order in `k` a site's phase is the mean of its points' phases, so the
+    /// sites' spectrum is the discrete density's divided by `c`. (Exact for `cN = g^d`; with
+    /// cells dropped at random the floor gains a white term.)
+    pub fn floor_coefficient(&self) -> f64 {
+        std::f64::consts::PI.powi(2) / (3.0 * (self.params.capacity as f64).powi(2))
+    }
+
     /// Generates one realization and reports how the optimization went.
     ///
     /// # Errors

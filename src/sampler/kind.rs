@@ -149,12 +149,16 @@ impl SamplerKind {
         }
     }
 
-    /// The low-frequency exponent `α` of `P̆_S(ν) ≈ c ν^α`, where it is known exactly
-    /// (`None`: measure it, as for CCVT, or not meaningful, as for the anisotropic ones).
+    /// The low-frequency exponent `α` of `P̆_S(ν) ≈ c ν^α` as `ν → 0`, where it is known (`None`
+    /// where it is not meaningful: the anisotropic samplers). CCVT's is 2, not the 4 of an
+    /// ideal CCVT: each site is the centroid of exactly `c` points of a jittered discrete
+    /// density, so at low frequencies the sites' spectrum is the discrete density's over `c`,
+    /// a floor `π²ν²/(3c²)` under the optimized `ν⁴` band (`docs/theory.md`; measured by
+    /// [`crate::rate::fit_low_band`]).
     pub fn known_alpha(self) -> Option<f64> {
         match self {
             SamplerKind::Random | SamplerKind::PoissonDisk | SamplerKind::Bridson => Some(0.0),
-            SamplerKind::Jitter => Some(2.0),
+            SamplerKind::Jitter | SamplerKind::Ccvt => Some(2.0),
             _ => None,
         }
     }
