@@ -34,3 +34,161 @@ pub fn default_dir() -> PathBuf {
     }
     std::env::temp_dir().join("specvar-cache")
 }
+
+use crate::error::{Error, Result};
+use crate::pointset::PointSet;
+use crate::sampler::{Sampler, SamplerKind};
+
+/// The format version of cached patterns: a change of a sampler's algorithm bumps it, so that
+/// older patterns are recomputed instead of read.
+pub const PATTERN_FORMAT: u32 = 1;
+
+const MAGIC: &[u8; 4] = b"SPVP";
+
+/// A sampler whose patterns are kept on disk under a cache directory, keyed by the sampler's
+/// kind, dimension, N, seed and realization and by [`PATTERN_FORMAT`]: a costly pattern (CCVT,
+/// dart throwing) is drawn once across runs. A file that is missing, truncated, damaged (its
+/// checksum differs) or of another format is drawn again and rewritten atomically. The
+/// patterns are the inner sampler's, bit for bit.
+///
+/// # Examples
+/// ```
+/// use specvar::cache::DiskCached;
+/// use specvar::sampler::{PoissonDisk, Sampler, SamplerKind};
+/// let dir = std::env::temp_dir().join("specvar-doc-pattern-cache");
+/// let cached = DiskCached::new(SamplerKind::PoissonDisk.build(2)?, dir)?;
+/// let a = cached.sample(64, 7, 0)?; // drawn and stored
+/// let b = cached.sample(64, 7, 0)?; // read back
+/// assert_eq!(a, b);
+/// assert_eq!(a, PoissonDisk::new(2)?.sample(64, 7, 0)?);
+/// # Ok::<(), specvar::Error>(())
+/// ```
+pub struct DiskCached {
+    inner: Box<dyn Sampler>,
+    kind: SamplerKind,
+    dir: PathBuf,
+}
+
+impl DiskCached {
+    /// Caches `inner`'s patterns under `dir`.
+    ///
+    /// # Errors
+    /// A sampler of no [`SamplerKind`] (its patterns cannot be keyed).
+    pub fn new(inner: Box<dyn Sampler>, dir: PathBuf) -> Result<Self> {
+        let kind = inner.kind().ok_or_else(|| {
+            crate::error::invalid(
+                "sampler",
+                inner.name(),
+                "one of specvar's samplers, to key its patterns",
+            )
+        })?;
+        Ok(Self { inner, kind, dir })
+    }
+
+    fn path(&self, n: usize, seed: u64, realization: u64) -> PathBuf {
+        self.dir.join(format!(
+            "patterns-v{PATTERN_FORMAT}/{}-d{}/n{n}-s{seed}/{realization}.bin",
+            self.kind,
+            self.inner.dimension()
+        ))
+    }
+
+    fn load(&self, path: &std::path::Path, n: usize) -> Option<PointSet> {
+        let bytes = std::fs::read(path).ok()?;
+        let d = self.inner.dimension();
+        let header = 4 + 4 + 4 + 8;
+        let payload = n * d * 8;
+        if bytes.len() != header + payload + 8 || &bytes[..4] != MAGIC {
+            return None;
+        }
+        let word = |at: usize| u32::from_le_bytes(bytes[at..at + 4].try_into().unwrap_or([0; 4]));
+        let long = |at: usize| u64::from_le_bytes(bytes[at..at + 8].try_into().unwrap_or([0; 8]));
+        if word(4) != PATTERN_FORMAT || word(8) as usize != d || long(12) as usize != n {
+            return None;
+        }
+        let data = &bytes[header..header + payload];
+        if long(header + payload) != checksum(data) {
+            return None;
+        }
+        let coords = data
+            .chunks_exact(8)
+            .map(|c| f64::from_le_bytes(c.try_into().unwrap_or([0; 8])))
+            .collect();
+        PointSet::new(d, coords).ok()
+    }
+
+    fn store(&self, path: &std::path::Path, points: &PointSet) -> Result<()> {
+        if let Some(parent) = path.parent() {
+            std::fs::create_dir_all(parent).map_err(|e| Error::io(parent, e))?;
+        }
+        let mut bytes = Vec::with_capacity(28 + points.coords().len() * 8);
+        bytes.extend_from_slice(MAGIC);
+        bytes.extend_from_slice(&PATTERN_FORMAT.to_le_bytes());
+        bytes.extend_from_slice(&(points.dimension() as u32).to_le_bytes());
+        bytes.extend_from_slice(&(points.len() as u64).to_le_bytes());
+        let start = bytes.len();
+        for c in points.coords() {
+            bytes.extend_from_slice(&c.to_le_bytes());
+        }
+        let sum = checksum(&bytes[start..]);
+        bytes.extend_from_slice(&sum.to_le_bytes());
+        crate::output::write_atomic(path, &bytes)
+    }
+}
+
+/// FNV-1a, 64 bits.
+fn checksum(data: &[u8]) -> u64 {
+    data.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
+        (h ^ b as u64).wrapping_mul(0x0100_0000_01b3)
+    })
+}
+
+impl Sampler for DiskCached {
+    fn name(&self) -> &'static str {
+        self.inner.name()
+    }
+    fn dimension(&self) -> usize {
+        self.inner.dimension()
+    }
+    fn kind(&self) -> Option<SamplerKind> {
+        Some(self.kind)
+    }
+    fn check_count(&self, n: usize) -> Result<()> {
+        self.inner.check_count(n)
+    }
+    fn sample(&self, n: usize, seed: u64, realization: u64) -> Result<PointSet> {
+        let path = self.path(n, seed, realization);
+        if let Some(points) = self.load(&path, n) {
+            return Ok(points);
+        }
+        let points = self.inner.sample(n, seed, realization)?;
+        // A cache that cannot be written only costs time: the pattern is still right.
+        let _ = self.store(&path, &points);
+        Ok(points)
+    }
+}
+
+/// `kind` in dimension `d`, its costly patterns (a microsecond per point or more) kept on disk
+/// under `dir` if given, and in memory up to `memory_bytes` in any case.
+///
+/// # Errors
+/// An unsupported dimension.
+pub fn cached_sampler(
+    kind: SamplerKind,
+    d: usize,
+    dir: Option<&std::path::Path>,
+    memory_bytes: usize,
+) -> Result<Box<dyn Sampler>> {
+    let inner = kind.build(d)?;
+    if kind.cost_per_point_ns() < 1_000.0 {
+        return Ok(inner);
+    }
+    let on_disk: Box<dyn Sampler> = match dir {
+        Some(dir) => Box::new(DiskCached::new(inner, dir.to_path_buf())?),
+        None => inner,
+    };
+    Ok(Box::new(crate::sampler::Memoized::new(
+        on_disk,
+        memory_bytes,
+    )))
+}

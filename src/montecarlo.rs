@@ -57,6 +57,8 @@ pub struct McParams {
     /// Homogenize (random toroidal shift). Without it the pattern is used as drawn, `shifts`
     /// must be 1, and the variance is the sample variance about the mean error.
     pub homogenize: bool,
+    /// What the run may spend (checked before it starts).
+    pub budget: crate::budget::Budget,
 }
 
 impl McParams {
@@ -86,6 +88,7 @@ impl McParams {
             shifts: pool.shifts,
             seed,
             homogenize,
+            budget: crate::budget::Budget::default(),
         }
     }
 }
@@ -97,6 +100,7 @@ impl Default for McParams {
             shifts: 1,
             seed: 0,
             homogenize: true,
+            budget: crate::budget::Budget::default(),
         }
     }
 }
@@ -209,6 +213,14 @@ pub fn empirical_variances(
         check(sampler.dimension(), *f, params)?;
     }
     sampler.check_count(n)?;
+    let pattern = match sampler.kind() {
+        Some(kind) => kind.pattern_needs(n, sampler.dimension()),
+        None => crate::budget::Needs {
+            memory_bytes: (n * sampler.dimension() * 32) as f64,
+            work_seconds: n as f64 * 1e-6,
+        },
+    };
+    check_budget(params, pattern, n, integrands.len())?;
     run(integrands, n, params, progress, |p| {
         sampler.sample(n, params.seed, p as u64)
     })
@@ -257,9 +269,38 @@ pub fn empirical_variances_of_sets(
     for f in integrands {
         check(first.dimension(), *f, &params)?;
     }
+    check_budget(
+        &params,
+        crate::budget::Needs::default(),
+        first.len(),
+        integrands.len(),
+    )?;
     run(integrands, first.len(), &params, progress, |p| {
         Ok(sets[p].clone())
     })
+}
+
+/// Estimated cost of one integrand evaluation with its shift, in seconds (a Gaussian's `exp`).
+const EVALUATION_SECONDS: f64 = 30e-9;
+
+/// Checks a run's memory (a pattern per thread, a few numbers per pattern) and work (drawing
+/// the patterns, evaluating every integrand at every point of every shifted pattern).
+fn check_budget(
+    params: &McParams,
+    pattern: crate::budget::Needs,
+    n: usize,
+    integrands: usize,
+) -> Result<()> {
+    let threads = rayon::current_num_threads().max(1) as f64;
+    let p = params.patterns as f64;
+    let needs = crate::budget::Needs {
+        memory_bytes: threads * pattern.memory_bytes + p * integrands as f64 * 16.0,
+        work_seconds: p * pattern.work_seconds
+            + p * params.shifts as f64 * n as f64 * integrands as f64 * EVALUATION_SECONDS,
+    };
+    params
+        .budget
+        .check("the Monte Carlo run", needs, "lower the trials or N")
 }
 
 /// The shared core: `params.patterns` patterns from `pattern`, each under `params.shifts`

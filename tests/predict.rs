@@ -117,6 +117,7 @@ fn jitter_with_a_spectrum_estimated_at_4096_is_within_one_percent() {
         seed: 11,
         engine: Engine::fast(),
         bin_width: 1.0,
+        budget: Default::default(),
     };
     let est = estimate(&Jitter::new(2).unwrap(), 4096, &params).unwrap();
     for f in [

@@ -121,6 +121,7 @@ fn alpha_fit_is_unbiased_and_covers_on_closed_forms() {
                     seed,
                     engine: Engine::Direct,
                     bin_width: 1.0,
+                    budget: Default::default(),
                 };
                 let est = estimate(sampler.as_ref(), 4096, &params).unwrap();
                 fit_alpha(&est.radial, 0.0, 0.3).unwrap()
@@ -226,7 +227,7 @@ fn rates_command_library_and_report_give_identical_rows() {
     report.ambient.width = 4;
     report.ambient.height = 4;
     report.ambient.samplers = vec![SamplerKind::Random];
-    report.ambient.cache_dir = std::env::temp_dir().join("specvar-test-rates-report");
+    report.ambient.cache_dir = Some(std::env::temp_dir().join("specvar-test-rates-report"));
     let computed = compute(&report, &Silent).unwrap();
     assert_eq!(serde_json::to_value(&computed.study.rows).unwrap(), library);
 }

@@ -70,11 +70,17 @@ impl GridIntegrand {
                 format!("{width} × {height} = {}", width * height),
             ));
         }
-        if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+        if let Some(i) = values
+            .iter()
+            .position(|v| !(v.is_finite() && v.abs() <= super::MAX_HEIGHT))
+        {
             return Err(invalid(
                 "grid value",
                 format!("{} at cell ({}, {})", values[i], i % width, i / width),
-                "finite",
+                format!(
+                    "finite and at most {:e} in size (energies are squares of it)",
+                    super::MAX_HEIGHT
+                ),
             ));
         }
         let cells = (width * height) as f64;

@@ -85,6 +85,31 @@ pub fn spectrum_plot(path: &Path, label: &str, est: &SpectrumEstimate, radial: b
     )
 }
 
+/// Checks that a plot's file name says what will be written: `.svg`, or `.png` where a bare
+/// image is allowed (a 2D spectrum).
+///
+/// # Errors
+/// Any other extension.
+pub fn check_plot_path(path: &Path, png_allowed: bool) -> Result<()> {
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase())
+        .unwrap_or_default();
+    match ext.as_str() {
+        "svg" => Ok(()),
+        "png" if png_allowed => Ok(()),
+        _ => Err(crate::error::invalid(
+            "plot file",
+            path.display(),
+            if png_allowed {
+                "a name ending in .svg or .png"
+            } else {
+                "a name ending in .svg"
+            },
+        )),
+    }
+}
+
 /// Writes `bytes` to `path`.
 fn write_file(path: &Path, bytes: &[u8]) -> Result<()> {
     crate::output::write_atomic(path, bytes)

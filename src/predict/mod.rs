@@ -363,6 +363,8 @@ pub struct PredictParams {
     pub kmax: Option<usize>,
     /// The polar form's quadrature.
     pub polar: PolarParams,
+    /// The hard limit on memory and work (checked before the work starts).
+    pub budget: crate::budget::Budget,
 }
 
 impl Default for PredictParams {
@@ -377,6 +379,7 @@ impl Default for PredictParams {
             seed: 0,
             kmax: None,
             polar: PolarParams::default(),
+            budget: crate::budget::Budget::default(),
         }
     }
 }

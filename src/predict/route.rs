@@ -336,6 +336,7 @@ fn rescaled_polar(
         seed: params.seed,
         engine: Engine::Auto,
         bin_width: 1.0,
+        budget: params.budget,
     };
     let label = format!("spectrum of {} at N = {n_ref}", sampler.name());
     let est = stage(progress, &label, 0, || estimate(sampler, n_ref, &spectrum))?;
@@ -398,6 +399,7 @@ fn estimated_lattice(
             seed: params.seed,
             engine: Engine::Auto,
             bin_width: 1.0,
+            budget: params.budget,
         },
         symmetric: kind.is_some_and(|k| k.is_symmetric_at(n, d)),
     };

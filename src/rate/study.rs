@@ -46,6 +46,10 @@ pub struct StudyConfig {
     /// The predictions' parameters (their seed is the study's prediction stream).
     #[serde(skip)]
     pub predict: PredictParams,
+    /// Where costly patterns are kept between runs ([`crate::cache::cached_sampler`]); `None`:
+    /// in memory only.
+    #[serde(skip)]
+    pub patterns_cache: Option<std::path::PathBuf>,
 }
 
 /// Memory for keeping costly patterns during a study or a report.
@@ -93,6 +97,7 @@ impl StudyConfig {
                 costly_realizations: 8,
             },
             predict: PredictParams::default(),
+            patterns_cache: None,
         }
     }
 }
@@ -136,10 +141,50 @@ impl StudyConfig {
         for spec in &self.integrands {
             spec.build(d)?;
         }
-        if self.trials < 2 {
-            return Err(invalid("trials", self.trials, "at least 2"));
+        let largest = self
+            .ns
+            .iter()
+            .copied()
+            .max()
+            .unwrap_or(0)
+            .max(self.reference.n);
+        for &kind in &self.samplers {
+            let pool = kind.pool(self.trials);
+            let one = kind.pattern_needs(largest, d);
+            let needs = crate::budget::Needs {
+                memory_bytes: one.memory_bytes * rayon::current_num_threads().max(1) as f64,
+                work_seconds: pool.patterns as f64 * one.work_seconds,
+            };
+            let what = format!("the study's Monte Carlo of {kind} at N = {largest}");
+            self.predict
+                .budget
+                .check(&what, needs, "lower the largest N or the trials")?;
+            if pool.patterns < crate::montecarlo::MIN_UNITS {
+                return Err(invalid(
+                    "trials",
+                    self.trials,
+                    format!(
+                        "enough for {} independent patterns of {kind} ({} shifts each), which a \
+                         99% interval needs",
+                        crate::montecarlo::MIN_UNITS,
+                        pool.shifts
+                    ),
+                ));
+            }
         }
         Ok(())
+    }
+}
+
+impl StudyConfig {
+    /// A sampler of the study, its costly patterns kept in memory (and on disk, with a cache).
+    pub(crate) fn sampler(&self, kind: SamplerKind) -> Result<Box<dyn crate::sampler::Sampler>> {
+        crate::cache::cached_sampler(
+            kind,
+            self.dimension,
+            self.patterns_cache.as_deref(),
+            PATTERN_MEMORY,
+        )
     }
 }
 
@@ -293,7 +338,7 @@ pub fn run_study(config: &StudyConfig, progress: &dyn Progress) -> Result<Study>
     for &kind in &config.samplers {
         let spectrum = reference_spectrum(kind, config, progress)?;
         let measured = monte_carlo(kind, &f_refs, config, progress)?;
-        let sampler = kind.build_memoized(config.dimension, PATTERN_MEMORY)?;
+        let sampler = config.sampler(kind)?;
         let params = PredictParams {
             seed: config.seed ^ PREDICT_STREAM,
             ..config.predict
@@ -337,6 +382,7 @@ fn reference_spectrum(
         seed: config.seed,
         engine: Engine::Auto,
         bin_width: 1.0,
+        budget: config.predict.budget,
     };
     let sampler = kind.build(config.dimension)?;
     let label = format!(
@@ -361,7 +407,7 @@ fn monte_carlo(
     config: &StudyConfig,
     progress: &dyn Progress,
 ) -> Result<Vec<Vec<McResult>>> {
-    let sampler = kind.build(config.dimension)?;
+    let sampler = config.sampler(kind)?;
     let pool = kind.pool(config.trials);
     let total = (pool.patterns * config.ns.len()) as u64;
     stage(progress, &format!("monte carlo: {kind}"), total, || {
@@ -374,6 +420,7 @@ fn monte_carlo(
                     shifts: pool.shifts,
                     seed: config.seed ^ MC_STREAM,
                     homogenize: true,
+                    budget: config.predict.budget,
                 };
                 empirical_variances(sampler.as_ref(), fs, n, &params, progress)
             })

@@ -188,8 +188,9 @@ pub struct ComparisonConfig {
     pub pixel_power: PixelPowerParams,
     /// Realizations of each sampler's spectrum at N.
     pub spectrum_realizations: usize,
-    /// Where the reference is cached ([`crate::cache::default_dir`] by default).
-    pub cache_dir: std::path::PathBuf,
+    /// Where the reference is cached ([`crate::cache::default_dir`] by default; `None`: it is
+    /// rendered every time).
+    pub cache_dir: Option<std::path::PathBuf>,
 }
 
 impl Default for ComparisonConfig {
@@ -202,8 +203,48 @@ impl Default for ComparisonConfig {
             reference_rays: 16384,
             pixel_power: PixelPowerParams::default(),
             spectrum_realizations: 512,
-            cache_dir: crate::cache::default_dir(),
+            cache_dir: Some(crate::cache::default_dir()),
         }
+    }
+}
+
+impl ComparisonConfig {
+    /// Checks every parameter before any work: the render's, the samplers' ray count, the
+    /// prediction's grid, stride, lattice and realizations, and the work the reference and the
+    /// renders imply (about 60 ns a ray) against the default budget.
+    ///
+    /// # Errors
+    /// The first parameter out of range.
+    pub fn check(&self) -> Result<()> {
+        self.render.check()?;
+        for kind in &self.samplers {
+            kind.build(2)?.check_count(self.render.rays)?;
+        }
+        self.pixel_power.check()?;
+        if self.spectrum_realizations < 2 {
+            return Err(crate::error::invalid(
+                "spectrum realizations",
+                self.spectrum_realizations,
+                "at least 2, so that the prediction's noise can be estimated",
+            ));
+        }
+        if self.reference_rays < 2 {
+            return Err(crate::error::invalid(
+                "reference rays",
+                self.reference_rays,
+                "at least 2",
+            ));
+        }
+        let pixels = (self.width * self.height) as f64;
+        let rays = pixels * (self.reference_rays + self.render.rays * self.samplers.len()) as f64;
+        let grids = pixels / (self.pixel_power.stride as f64).powi(2)
+            * (self.pixel_power.resolution as f64).powi(2);
+        let needs = crate::budget::Needs::work((rays + grids) * 60e-9);
+        crate::budget::Budget::default().check(
+            "the render",
+            needs,
+            "lower the image size or the rays",
+        )
     }
 }
 
@@ -233,10 +274,7 @@ pub struct Comparison {
 /// As [`compare`], [`super::cached_reference`] and [`super::pixel_power`].
 pub fn run_comparison(config: &ComparisonConfig, progress: &dyn Progress) -> Result<Comparison> {
     // Every request is checked before the expensive reference.
-    config.render.check()?;
-    for kind in &config.samplers {
-        kind.build(2)?.check_count(config.render.rays)?;
-    }
+    config.check()?;
     let frame = Frame::new(
         super::geometry::Scene::cornell_box(),
         config.width,
@@ -244,14 +282,26 @@ pub fn run_comparison(config: &ComparisonConfig, progress: &dyn Progress) -> Res
     )?;
     let stage = format!("reference ({} rays per pixel)", config.reference_rays);
     progress.begin(&stage, config.height as u64);
-    let (reference, reference_cached) = super::cached_reference(
-        &config.cache_dir,
-        &frame,
-        config.reference_rays,
-        config.render.max_distance,
-        config.render.seed,
-        progress,
-    )?;
+    let (reference, reference_cached) = match &config.cache_dir {
+        Some(dir) => super::cached_reference(
+            dir,
+            &frame,
+            config.reference_rays,
+            config.render.max_distance,
+            config.render.seed,
+            progress,
+        )?,
+        None => (
+            super::render_reference(
+                &frame,
+                config.reference_rays,
+                config.render.max_distance,
+                config.render.seed,
+                progress,
+            )?,
+            false,
+        ),
+    };
     progress.end();
     let stride = config.pixel_power.stride;
     let stage = format!(

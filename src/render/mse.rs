@@ -90,6 +90,46 @@ pub struct PixelPowerParams {
     pub stride: usize,
 }
 
+/// The largest lattice of a pixel's power: `2^22` frequencies (every thread keeps one).
+const PIXEL_LATTICE_BUDGET: usize = 1 << 22;
+
+impl PixelPowerParams {
+    /// Checks the parameters.
+    ///
+    /// # Errors
+    /// A zero resolution, stride or `kmax`, a resolution above 4096, or a lattice above 2^22
+    /// frequencies.
+    pub fn check(&self) -> Result<()> {
+        for (name, v) in [
+            ("grid resolution", self.resolution),
+            ("stride", self.stride),
+            ("kmax", self.kmax),
+        ] {
+            if v == 0 {
+                return Err(invalid(name, 0, "at least 1"));
+            }
+        }
+        if self.resolution > 4096 {
+            return Err(invalid(
+                "grid resolution",
+                self.resolution,
+                "at most 4096 cells per side",
+            ));
+        }
+        if (2 * self.kmax + 1).pow(2) > PIXEL_LATTICE_BUDGET {
+            return Err(invalid(
+                "kmax",
+                self.kmax,
+                format!(
+                    "at most {} (a lattice of 2^22 frequencies)",
+                    (((PIXEL_LATTICE_BUDGET as f64).sqrt() - 1.0) / 2.0) as usize
+                ),
+            ));
+        }
+        Ok(())
+    }
+}
+
 impl Default for PixelPowerParams {
     fn default() -> Self {
         Self {
@@ -113,15 +153,7 @@ pub fn pixel_power(
     params: &PixelPowerParams,
     progress: &dyn Progress,
 ) -> Result<LatticePower> {
-    for (name, v) in [
-        ("grid resolution", params.resolution),
-        ("stride", params.stride),
-        ("kmax", params.kmax),
-    ] {
-        if v == 0 {
-            return Err(invalid(name, 0, "at least 1"));
-        }
-    }
+    params.check()?;
     super::check_max_distance(max_distance)?;
     let lattice = Lattice {
         dimension: 2,
@@ -199,6 +231,7 @@ pub fn predict_mse(
             seed,
             engine: Engine::Auto,
             bin_width: 1.0,
+            budget: crate::budget::Budget::default(),
         },
         symmetric: sampler.kind().is_some_and(|k| k.is_symmetric_at(n, 2)),
     };

@@ -42,7 +42,12 @@ pub fn compute(config: &ReportConfig, progress: &dyn Progress) -> Result<Report>
     timed("rate study: spectra, predictions, Monte Carlo", start);
     let extras = extras(&study)?;
     let start = Instant::now();
-    let closure = closure(&config.closure, config.seed, progress)?;
+    let closure = closure(
+        &config.closure,
+        config.seed,
+        config.cache.as_deref(),
+        progress,
+    )?;
     timed("closure table: every sampler off the talk's setup", start);
     let crossovers = crossovers(&study);
     let ccvt_low_band = study
@@ -161,7 +166,12 @@ fn mc_values(s: &StudySeries) -> Vec<f64> {
 
 /// Every sampler × integrand × N of the closure configuration: the default prediction and one
 /// Monte Carlo run per sampler and N (all integrands on the same patterns), independent seeds.
-fn closure(config: &ClosureConfig, seed: u64, progress: &dyn Progress) -> Result<ClosureTable> {
+fn closure(
+    config: &ClosureConfig,
+    seed: u64,
+    cache: Option<&std::path::Path>,
+    progress: &dyn Progress,
+) -> Result<ClosureTable> {
     let fs: Vec<Box<dyn Integrand>> = config
         .integrands
         .iter()
@@ -174,13 +184,14 @@ fn closure(config: &ClosureConfig, seed: u64, progress: &dyn Progress) -> Result
     };
     let mut rows = Vec::new();
     for &kind in &config.samplers {
-        let sampler = kind.build_memoized(2, PATTERN_MEMORY)?;
+        let sampler = crate::cache::cached_sampler(kind, 2, cache, PATTERN_MEMORY)?;
         for &n in config
             .ns
             .iter()
             .filter(|&&n| sampler.check_count(n).is_ok())
         {
-            let mc = McParams::pooled(kind, config.trials, seed ^ CLOSURE_MC_STREAM, true);
+            let mut mc = McParams::pooled(kind, config.trials, seed ^ CLOSURE_MC_STREAM, true);
+            mc.budget = config.predict.budget;
             progress.begin(
                 &format!("closure: monte carlo of {kind} at N = {n}"),
                 mc.patterns as u64,

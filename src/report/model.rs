@@ -70,6 +70,10 @@ pub struct ReportConfig {
     /// The ambient-occlusion renders.
     #[serde(skip)]
     pub ambient: ComparisonConfig,
+    /// Where costly patterns and the render's reference are kept between runs (`None`: in
+    /// memory only).
+    #[serde(skip)]
+    pub cache: Option<std::path::PathBuf>,
 }
 
 /// The seed of the talk's year, used by the main job.
@@ -106,6 +110,19 @@ pub const TALK_SAMPLERS: [SamplerKind; 4] = [
 ];
 
 impl ReportConfig {
+    /// Keeps costly patterns and the render's reference under `dir` (or nowhere, with `None`).
+    pub fn set_cache(&mut self, dir: Option<std::path::PathBuf>) {
+        self.study.patterns_cache = dir.clone();
+        self.ambient.cache_dir = dir.clone();
+        self.cache = dir;
+    }
+
+    /// Sets the budget of every part.
+    pub fn set_budget(&mut self, budget: crate::budget::Budget) {
+        self.study.predict.budget = budget;
+        self.closure.predict.budget = budget;
+    }
+
     /// The full run with `seed`: N = 16 … 4096, spectra at 4096.
     pub fn full(seed: u64) -> Self {
         Self {
@@ -125,6 +142,7 @@ impl ReportConfig {
                     costly_realizations: 16,
                 },
                 predict: PredictParams::default(),
+                patterns_cache: None,
             },
             closure: ClosureConfig::full(),
             ambient: ComparisonConfig {
@@ -134,6 +152,7 @@ impl ReportConfig {
                 },
                 ..Default::default()
             },
+            cache: None,
         }
     }
 

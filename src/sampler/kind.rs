@@ -4,6 +4,7 @@ use super::{
     Ccvt, CorrelatedMultiJitter, Halton, Jitter, LatinHypercube, PoissonDisk, PoissonMethod,
     Random, Regular, Sampler, Sobol,
 };
+use crate::budget::Needs;
 use crate::error::{Error, Result};
 use crate::spectrum::ClosedForm;
 use serde::Serialize;
@@ -228,6 +229,26 @@ impl SamplerKind {
             SamplerKind::PoissonDisk => 4_500.0,
             SamplerKind::Bridson => 8_400.0,
             SamplerKind::Ccvt => 420_000.0,
+        }
+    }
+
+    /// The memory and time one pattern of `n` points in dimension `d` takes to draw (the time
+    /// from [`cost_per_point_ns`](Self::cost_per_point_ns); the memory from the generators'
+    /// working sets: CCVT holds its `64 n` discrete points and, while assigning them, about
+    /// `5^d` candidate pairs of 24 bytes per discrete point).
+    pub fn pattern_needs(self, n: usize, d: usize) -> Needs {
+        let points = (n * d * 8) as f64;
+        let working = match self {
+            SamplerKind::Ccvt => {
+                n as f64 * 64.0 * (8.0 * d as f64 + 4.0 + 24.0 * 5f64.powi(d as i32))
+            }
+            SamplerKind::PoissonDisk | SamplerKind::Bridson => n as f64 * 64.0,
+            SamplerKind::Halton | SamplerKind::Sobol => 4096.0,
+            _ => (n * 8) as f64,
+        };
+        Needs {
+            memory_bytes: points + working,
+            work_seconds: n as f64 * self.cost_per_point_ns() * 1e-9,
         }
     }
 

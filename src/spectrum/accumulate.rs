@@ -59,6 +59,20 @@ impl PatternSource<'_> {
         }
     }
 
+    /// The memory and time of one pattern (none for given sets).
+    fn pattern_needs(&self) -> crate::budget::Needs {
+        match self {
+            PatternSource::Sampler { sampler, n, .. } => match sampler.kind() {
+                Some(kind) => kind.pattern_needs(*n, sampler.dimension()),
+                None => crate::budget::Needs {
+                    memory_bytes: (*n * sampler.dimension() * 32) as f64,
+                    work_seconds: *n as f64 * 1e-6,
+                },
+            },
+            PatternSource::Sets(_) => crate::budget::Needs::default(),
+        }
+    }
+
     fn realization(&self, r: usize) -> Result<PointSet> {
         match self {
             PatternSource::Sampler { sampler, n, seed } => sampler.sample(*n, *seed, r as u64),
@@ -209,6 +223,10 @@ impl<'a> SpectrumAccumulator<'a> {
             return Err(invalid("bin width", params.bin_width, "a positive number"));
         }
         let (d, n) = (source.dimension(), source.points());
+        let engine = params.engine.resolve(n, d, params.kmax);
+        let what = format!("a spectrum on |k_i| ≤ {} in {d}D", params.kmax);
+        let one = super::transform_needs(d, n, params.kmax, engine, 0).and(source.pattern_needs());
+        params.budget.check(&what, one, "lower kmax or N")?;
         let planned = Planned::new(d, n, params.kmax, params.engine)?;
         let lattice = Lattice {
             dimension: d,
@@ -283,6 +301,17 @@ impl<'a> SpectrumAccumulator<'a> {
                 "a multiple of 4 before an estimate is extended",
             ));
         }
+        let more = target.saturating_sub(self.realizations);
+        let per_pattern = self.source.pattern_needs().work_seconds;
+        let (d, n) = (self.geometry.lattice.dimension, self.source.points());
+        let engine = self.planned.engine();
+        let work = super::transform_needs(d, n, self.params.kmax, engine, more).work_seconds
+            + more as f64 * per_pattern;
+        self.params.budget.check(
+            &format!("{more} more realizations"),
+            crate::budget::Needs::work(work),
+            "lower the realizations, kmax or N",
+        )?;
         let first_chunk = self.realizations / REDUCE_CHUNK;
         let chunk_count = target.div_ceil(REDUCE_CHUNK);
         let g = &self.geometry;

@@ -47,8 +47,16 @@ struct Doc {
 }
 
 /// Computes the bias exactly and as a spectral sum, and prints both.
-pub fn run(args: &Args) -> Result<()> {
+pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
     let f = args.integrand.build(args.dimension)?;
+    let pattern = args.sampler.pattern_needs(args.n, args.dimension);
+    let lattice = (2.0 * args.kmax as f64 + 1.0).powi(args.dimension as i32);
+    let needs = pattern.and(specvar::budget::Needs {
+        memory_bytes: lattice * 32.0,
+        work_seconds: lattice * args.n as f64 * 0.5e-9,
+    });
+    ctx.budget
+        .check("the bias's spectral sum", needs, "lower --kmax or N")?;
     let (b, method) = if args.sampler == SamplerKind::Regular {
         (
             regular_grid_bias(f.as_ref(), args.n)?,

@@ -15,6 +15,8 @@ mod samplers;
 mod spectrum;
 
 use clap::{Parser, Subcommand};
+use specvar::budget::Budget;
+use specvar::sampler::{Sampler, SamplerKind};
 use std::path::Path;
 use std::process::ExitCode;
 
@@ -29,6 +31,32 @@ use std::process::ExitCode;
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
+    /// Memory a computation may use, in GiB (checked before it starts) [default: 8].
+    #[arg(long, global = true)]
+    budget_memory: Option<f64>,
+    /// Work a computation may do, in seconds of one core (estimated before it starts)
+    /// [default: 3600].
+    #[arg(long, global = true)]
+    budget_seconds: Option<f64>,
+    /// Draw every pattern anew instead of reading costly ones (CCVT, Poisson disk) from the
+    /// cache directory ($SPECVAR_CACHE_DIR, else the user's cache directory).
+    #[arg(long, global = true)]
+    no_cache: bool,
+}
+
+/// What every subcommand receives besides its own arguments.
+pub struct Context {
+    /// The budget.
+    pub budget: Budget,
+    /// The cache directory, unless --no-cache.
+    pub cache: Option<std::path::PathBuf>,
+}
+
+impl Context {
+    /// A sampler by kind, its costly patterns cached.
+    pub fn sampler(&self, kind: SamplerKind, d: usize) -> specvar::Result<Box<dyn Sampler>> {
+        specvar::cache::cached_sampler(kind, d, self.cache.as_deref(), 256 << 20)
+    }
 }
 
 #[derive(Subcommand)]
@@ -68,18 +96,18 @@ fn main() -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    let result = match parsed.command {
+    let result = context(&parsed).and_then(|ctx| match parsed.command {
         Some(Command::Samplers(a)) => samplers::run(&a),
-        Some(Command::Sample(a)) => sample::run(&a),
-        Some(Command::Spectrum(a)) => spectrum::run(&a),
-        Some(Command::Predict(a)) => predict::run(&a),
-        Some(Command::Bias(a)) => bias::run(&a),
-        Some(Command::Report(a)) => report::run(&a),
-        Some(Command::Mc(a)) => mc::run(&a),
-        Some(Command::Rates(a)) => rates::run(&a),
-        Some(Command::RenderAo(a)) => render_ao::run(&a),
-        None => report::run(&report::Args::default()),
-    };
+        Some(Command::Sample(a)) => sample::run(&a, &ctx),
+        Some(Command::Spectrum(a)) => spectrum::run(&a, &ctx),
+        Some(Command::Predict(a)) => predict::run(&a, &ctx),
+        Some(Command::Bias(a)) => bias::run(&a, &ctx),
+        Some(Command::Report(a)) => report::run(&a, &ctx),
+        Some(Command::Mc(a)) => mc::run(&a, &ctx),
+        Some(Command::Rates(a)) => rates::run(&a, &ctx),
+        Some(Command::RenderAo(a)) => render_ao::run(&a, &ctx),
+        None => report::run(&report::Args::default(), &ctx),
+    });
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
@@ -87,6 +115,36 @@ fn main() -> ExitCode {
             ExitCode::from(2)
         }
     }
+}
+
+/// The context from the global flags.
+fn context(cli: &Cli) -> specvar::Result<Context> {
+    let defaults = Budget::default();
+    let positive = |name: &'static str, v: f64| {
+        if v.is_finite() && v > 0.0 {
+            Ok(v)
+        } else {
+            Err(specvar::Error::InvalidParameter {
+                name,
+                value: v.to_string(),
+                allowed: "a positive number".into(),
+            })
+        }
+    };
+    let budget = Budget {
+        memory_bytes: match cli.budget_memory {
+            Some(gib) => positive("budget memory", gib)? * (1u64 << 30) as f64,
+            None => defaults.memory_bytes,
+        },
+        work_seconds: match cli.budget_seconds {
+            Some(s) => positive("budget seconds", s)?,
+            None => defaults.work_seconds,
+        },
+    };
+    Ok(Context {
+        budget,
+        cache: (!cli.no_cache).then(specvar::cache::default_dir),
+    })
 }
 
 /// Writes `text` atomically to a file, or to standard output when `path` is `None`.

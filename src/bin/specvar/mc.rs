@@ -28,8 +28,8 @@ pub struct Args {
 }
 
 /// Runs Monte Carlo and prints the variance with its interval.
-pub fn run(args: &Args) -> Result<()> {
-    let (source, f, n) = args.problem.build()?;
+pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
+    let (source, f, n) = args.problem.build(ctx)?;
     let bars = super::bars::Bars::default();
     let stage = format!("monte carlo: {}", source.label());
     let result = match &source {
@@ -39,6 +39,7 @@ pub fn run(args: &Args) -> Result<()> {
                 params.shifts = shifts;
                 params.patterns = args.trials / shifts.max(1);
             }
+            params.budget = ctx.budget;
             specvar::progress::Progress::begin(&bars, &stage, params.patterns as u64);
             empirical_variances(sampler.as_ref(), &[f.as_ref()], n, &params, &bars)
         }
@@ -48,6 +49,7 @@ pub fn run(args: &Args) -> Result<()> {
                 shifts: args.shifts.unwrap_or((args.trials / sets.len()).max(1)),
                 seed: args.seed,
                 homogenize: !args.fixed,
+                budget: ctx.budget,
             };
             specvar::progress::Progress::begin(&bars, &stage, sets.len() as u64);
             empirical_variances_of_sets(sets, &[f.as_ref()], &params, &bars)

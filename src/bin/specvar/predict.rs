@@ -62,7 +62,7 @@ pub enum FormArg {
 }
 
 /// Predicts and prints.
-pub fn run(args: &Args) -> Result<()> {
+pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
     let defaults = PredictParams::default();
     let params = PredictParams {
         spectrum: match args.spectrum {
@@ -82,9 +82,10 @@ pub fn run(args: &Args) -> Result<()> {
         target_noise: args.target_noise.unwrap_or(defaults.target_noise),
         kmax: args.kmax,
         seed: args.seed,
+        budget: ctx.budget,
         ..defaults
     };
-    let (source, f, n) = args.problem.build()?;
+    let (source, f, n) = args.problem.build(ctx)?;
     let problem = match &source {
         Source::Sampler(_, sampler) => Problem::new(sampler.as_ref(), f.as_ref(), n)?,
         Source::Sets(_, sets) => Problem::from_point_sets(sets, f.as_ref())?,

@@ -43,7 +43,7 @@ pub enum Source {
 
 impl ProblemArgs {
     /// Builds the sampler or reads the file, and builds the integrand in its dimension.
-    pub fn build(&self) -> Result<(Source, Box<dyn Integrand>, usize)> {
+    pub fn build(&self, ctx: &super::Context) -> Result<(Source, Box<dyn Integrand>, usize)> {
         match (&self.input, self.sampler) {
             (Some(path), _) => {
                 let sets = read_file(path)?;
@@ -53,7 +53,7 @@ impl ProblemArgs {
             }
             (None, Some(kind)) => {
                 let n = self.n.unwrap_or_default();
-                let sampler = kind.build(self.dimension)?;
+                let sampler = ctx.sampler(kind, self.dimension)?;
                 sampler.check_count(n)?;
                 let f = self.integrand.build(self.dimension)?;
                 Ok((Source::Sampler(kind, sampler), f, n))

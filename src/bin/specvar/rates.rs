@@ -34,7 +34,7 @@ pub struct Args {
 
 impl Args {
     /// The study these arguments ask for: the library's defaults for what is not given.
-    pub fn config(&self) -> StudyConfig {
+    pub fn config(&self, ctx: &super::Context) -> StudyConfig {
         let defaults = StudyConfig::in_dimension(self.dimension);
         StudyConfig {
             samplers: self.samplers.clone().unwrap_or(defaults.samplers),
@@ -45,14 +45,19 @@ impl Args {
             },
             trials: self.trials.unwrap_or(defaults.trials),
             seed: self.seed,
+            predict: specvar::predict::PredictParams {
+                budget: ctx.budget,
+                ..defaults.predict
+            },
+            patterns_cache: ctx.cache.clone(),
             ..defaults
         }
     }
 }
 
 /// Runs the study and prints its rows.
-pub fn run(args: &Args) -> Result<()> {
-    let study = run_study(&args.config(), &super::bars::Bars::default())?;
+pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
+    let study = run_study(&args.config(ctx), &super::bars::Bars::default())?;
     if args.json {
         #[derive(serde::Serialize)]
         struct Doc<'a> {

@@ -30,9 +30,7 @@ pub struct Args {
     /// Output directory: images and table.
     #[arg(long, default_value = "render")]
     pub out: PathBuf,
-    /// Cache directory for the reference [default: specvar's cache directory].
-    #[arg(long)]
-    pub cache_dir: Option<PathBuf>,
+
     /// Maximum occlusion distance (the room's side is 1) [default: 0.5].
     #[arg(long)]
     pub max_distance: Option<f64>,
@@ -71,7 +69,7 @@ fn parse_samplers(text: &str) -> Result<Samplers> {
 }
 
 impl Args {
-    fn config(&self) -> ComparisonConfig {
+    fn config(&self, ctx: &super::Context) -> ComparisonConfig {
         let d = ComparisonConfig::default();
         let mut c = ComparisonConfig {
             width: self.width.unwrap_or(d.width),
@@ -81,7 +79,7 @@ impl Args {
             spectrum_realizations: self
                 .spectrum_realizations
                 .unwrap_or(d.spectrum_realizations),
-            cache_dir: self.cache_dir.clone().unwrap_or(d.cache_dir),
+            cache_dir: ctx.cache.clone(),
             ..d
         };
         c.render.rays = self.rays.unwrap_or(c.render.rays);
@@ -106,10 +104,12 @@ struct Row {
 }
 
 /// Renders, measures, predicts, writes the images and prints the table.
-pub fn run(args: &Args) -> Result<()> {
-    let config = args.config();
+pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
+    let config = args.config(ctx);
     let run = run_comparison(&config, &super::bars::Bars::default())?;
-    write_comparison(&args.out, &run.rows, &run.reference)?;
+    specvar::output::replace_dir(&args.out, |dir| {
+        write_comparison(dir, &run.rows, &run.reference)
+    })?;
     if args.json {
         let rows: Vec<Row> = run
             .rows

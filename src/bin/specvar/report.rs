@@ -29,12 +29,14 @@ impl Default for Args {
 }
 
 /// Computes and writes the report, then prints its rate table and any failed check.
-pub fn run(args: &Args) -> Result<()> {
-    let config = if args.quick {
+pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
+    let mut config = if args.quick {
         ReportConfig::quick(args.seed)
     } else {
         ReportConfig::full(args.seed)
     };
+    config.set_cache(ctx.cache.clone());
+    config.set_budget(ctx.budget);
     let start = std::time::Instant::now();
     let report = compute(&config, &super::bars::Bars::default())?;
     write(&report, &args.out)?;

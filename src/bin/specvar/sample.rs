@@ -34,7 +34,7 @@ pub struct Args {
 }
 
 /// Writes the realizations.
-pub fn run(args: &Args) -> Result<()> {
+pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
     if args.realizations == 0 {
         return Err(specvar::Error::InvalidParameter {
             name: "realizations",
@@ -42,7 +42,16 @@ pub fn run(args: &Args) -> Result<()> {
             allowed: "at least 1".into(),
         });
     }
-    let inner = args.sampler.build(args.dimension)?;
+    // Every realization is held, then formatted at about 25 bytes a coordinate.
+    let one = args.sampler.pattern_needs(args.n, args.dimension);
+    let m = args.realizations as f64;
+    let needs = specvar::budget::Needs {
+        memory_bytes: one.memory_bytes + m * (args.n * args.dimension) as f64 * (8.0 + 25.0),
+        work_seconds: m * one.work_seconds,
+    };
+    ctx.budget
+        .check("sampling", needs, "lower N or the realizations")?;
+    let inner = ctx.sampler(args.sampler, args.dimension)?;
     let sampler: Box<dyn Sampler> = if args.homogenize {
         Box::new(Homogenized::new(inner))
     } else {

@@ -68,7 +68,7 @@ pub struct Args {
 }
 
 /// Estimates the spectrum and writes it.
-pub fn run(args: &Args) -> Result<()> {
+pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
     let engine = match args.method {
         Method::Direct => Engine::Direct,
         Method::Fast => Engine::Fast {
@@ -82,6 +82,7 @@ pub fn run(args: &Args) -> Result<()> {
         seed: args.seed,
         engine,
         bin_width: args.bin_width,
+        budget: ctx.budget,
     };
     let bars = super::bars::Bars::default();
     let (est, label) = match &args.input {
@@ -93,7 +94,7 @@ pub fn run(args: &Args) -> Result<()> {
             )
         }
         None => {
-            let sampler = args.sampler.build(args.dimension)?;
+            let sampler = ctx.sampler(args.sampler, args.dimension)?;
             let stage = format!("spectrum of {} at N = {}", args.sampler, args.n);
             specvar::progress::Progress::begin(&bars, &stage, 0);
             let est = estimate(sampler.as_ref(), args.n, &params)?;
@@ -102,6 +103,7 @@ pub fn run(args: &Args) -> Result<()> {
         }
     };
     if let Some(plot) = &args.plot {
+        specvar::plot::check_plot_path(plot, !args.radial)?;
         specvar::plot::spectrum_plot(plot, &label, &est, args.radial)?;
     }
     let format = match (args.json, args.csv) {

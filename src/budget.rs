@@ -1,0 +1,119 @@
+//! What a computation may spend, checked before it starts: every entry point estimates the
+//! memory and the work its parameters imply and refuses, with an error that says what it would
+//! need and what to lower, above the budget. The default is 8 GiB and one hour of one core's
+//! work; parameters (and the command line's `--budget-memory`, `--budget-seconds`) raise it.
+
+use crate::error::{Error, Result};
+use serde::Serialize;
+
+/// Memory and work a computation may spend.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Budget {
+    /// Bytes.
+    pub memory_bytes: f64,
+    /// Seconds of one core's work, as estimated from measured costs (the estimates are rough:
+    /// they tell an afternoon from a minute, not a minute from two).
+    pub work_seconds: f64,
+}
+
+impl Default for Budget {
+    fn default() -> Self {
+        Self {
+            memory_bytes: 8.0 * GIB,
+            work_seconds: 3600.0,
+        }
+    }
+}
+
+const GIB: f64 = (1u64 << 30) as f64;
+
+/// What a computation is estimated to need.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Needs {
+    /// Bytes held at once.
+    pub memory_bytes: f64,
+    /// Seconds of one core's work.
+    pub work_seconds: f64,
+}
+
+impl Needs {
+    /// Memory only.
+    pub fn memory(bytes: f64) -> Self {
+        Self {
+            memory_bytes: bytes,
+            work_seconds: 0.0,
+        }
+    }
+
+    /// Work only.
+    pub fn work(seconds: f64) -> Self {
+        Self {
+            memory_bytes: 0.0,
+            work_seconds: seconds,
+        }
+    }
+
+    /// Both needs together: memory at its larger, work added.
+    pub fn and(self, other: Needs) -> Self {
+        Self {
+            memory_bytes: self.memory_bytes.max(other.memory_bytes),
+            work_seconds: self.work_seconds + other.work_seconds,
+        }
+    }
+}
+
+impl Budget {
+    /// Checks `needs` for `what`, naming the parameter to lower in the error.
+    ///
+    /// # Errors
+    /// [`Error::TooLarge`] when either need exceeds the budget (or is not a number).
+    ///
+    /// # Examples
+    /// ```
+    /// use specvar::budget::{Budget, Needs};
+    /// let huge = Needs::memory(1e15);
+    /// let err = Budget::default().check("sampling 1e12 points", huge, "lower N").unwrap_err();
+    /// assert!(err.to_string().contains("lower N"));
+    /// ```
+    pub fn check(&self, what: &str, needs: Needs, advice: &str) -> Result<()> {
+        let memory_ok = needs.memory_bytes <= self.memory_bytes;
+        let work_ok = needs.work_seconds <= self.work_seconds;
+        if memory_ok && work_ok {
+            return Ok(());
+        }
+        let (needed, budget) = if !memory_ok {
+            (bytes(needs.memory_bytes), bytes(self.memory_bytes))
+        } else {
+            (seconds(needs.work_seconds), seconds(self.work_seconds))
+        };
+        Err(Error::TooLarge {
+            what: what.to_string(),
+            needed,
+            budget,
+            advice: format!("{advice}, or raise the budget (--budget-memory, --budget-seconds)"),
+        })
+    }
+}
+
+fn bytes(b: f64) -> String {
+    if !b.is_finite() {
+        return "an unbounded amount of memory".into();
+    }
+    if b >= GIB {
+        format!("{:.1} GiB", b / GIB)
+    } else {
+        format!("{:.0} MiB", b / (1u64 << 20) as f64)
+    }
+}
+
+fn seconds(s: f64) -> String {
+    if !s.is_finite() {
+        "unbounded work".into()
+    } else if s >= 7200.0 {
+        format!("about {:.0} hours of work", s / 3600.0)
+    } else if s >= 120.0 {
+        format!("about {:.0} minutes of work", s / 60.0)
+    } else {
+        format!("about {s:.0} s of work")
+    }
+}

@@ -1,0 +1,125 @@
+//! Every command shown in README.md and docs/cli.md runs as written: in a scratch directory that
+//! holds the files the examples name, each succeeds, or fails with exit code 2 where the docs
+//! show the error it prints, within a generous time.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// Time one documented example may take (the longest, a full render with its reference, takes
+/// well under a minute on 2 cores).
+const LIMIT: Duration = Duration::from_secs(300);
+
+struct Example {
+    source: &'static str,
+    line: usize,
+    args: Vec<String>,
+    fails: bool,
+}
+
+/// The runnable `specvar …` lines of a document: not the synopses (which hold `[`, `|` or
+/// placeholders in capitals).
+fn examples(source: &'static str) -> Vec<Example> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(source);
+    let text = std::fs::read_to_string(&path).expect("the document exists");
+    let lines: Vec<&str> = text.lines().collect();
+    let mut out = Vec::new();
+    for (i, line) in lines.iter().enumerate() {
+        let trimmed = line.trim_start().trim_start_matches("$ ");
+        let Some(rest) = trimmed.strip_prefix("specvar ") else {
+            continue;
+        };
+        let command = rest.split('#').next().unwrap_or("").trim();
+        let placeholder = command
+            .split_whitespace()
+            .any(|w| w.len() > 1 && w.chars().all(|c| c.is_ascii_uppercase() || c == '_'));
+        if command.contains('[') || command.contains('|') || command.contains('…') || placeholder
+        {
+            continue;
+        }
+        let fails = lines
+            .get(i + 1)
+            .is_some_and(|next| next.trim_start().starts_with("error:"));
+        out.push(Example {
+            source,
+            line: i + 1,
+            args: command.split_whitespace().map(str::to_string).collect(),
+            fails,
+        });
+    }
+    out
+}
+
+/// The files the examples read.
+fn fixtures(dir: &Path) {
+    let sets: Vec<_> = (0..24)
+        .map(|r| {
+            use specvar::Sampler;
+            specvar::sampler::LatinHypercube::new(2)
+                .unwrap()
+                .sample(256, 3, r)
+                .unwrap()
+        })
+        .collect();
+    std::fs::write(dir.join("my_points.txt"), specvar::io::write_text(&sets)).unwrap();
+    let pixels: Vec<u8> = (0..64 * 64)
+        .map(|i| (((i % 64) * 4) ^ ((i / 64) * 3)) as u8)
+        .collect();
+    let png = specvar::plot::gray_png(&pixels, 64, 64).unwrap();
+    for name in ["my_image.png", "photo.png"] {
+        std::fs::write(dir.join(name), &png).unwrap();
+    }
+}
+
+fn run(example: &Example, dir: &Path, cache: &PathBuf) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_specvar"))
+        .args(&example.args)
+        .current_dir(dir)
+        .env("SPECVAR_CACHE_DIR", cache)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the binary runs");
+    let start = Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().expect("wait") {
+            break status;
+        }
+        if start.elapsed() > LIMIT {
+            let _ = child.kill();
+            panic!(
+                "{}:{} ran past {LIMIT:?}: {:?}",
+                example.source, example.line, example.args
+            );
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    let err =
+        String::from_utf8_lossy(&child.wait_with_output().expect("output").stderr).into_owned();
+    let expected = if example.fails { 2 } else { 0 };
+    assert_eq!(
+        status.code(),
+        Some(expected),
+        "{}:{} {:?}: {err}",
+        example.source,
+        example.line,
+        example.args
+    );
+}
+
+#[test]
+fn every_documented_command_runs_as_written() {
+    let dir = std::env::temp_dir().join("specvar-doc-examples");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    fixtures(&dir);
+    let cache = dir.join("cache");
+    let all: Vec<Example> = examples("README.md")
+        .into_iter()
+        .chain(examples("docs/cli.md"))
+        .collect();
+    assert!(all.len() >= 20, "only {} examples found", all.len());
+    for example in &all {
+        run(example, &dir, &cache);
+    }
+}
