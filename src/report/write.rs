@@ -121,44 +121,121 @@ pub fn write(report: &Report, dir: &Path) -> Result<()> {
 fn variance_plots(dir: &Path, report: &Report) -> Result<()> {
     let study = &report.study;
     let count = study.config.integrands.len();
+    let ns: Vec<f64> = study.config.ns.iter().map(|&n| n as f64).collect();
     for j in 0..count {
         let mut series = Vec::new();
+        let mut ratios = Vec::new();
         let mut title = String::new();
-        for (color, s) in study.series.iter().skip(j).step_by(count).enumerate() {
+        let samplers = study.series.iter().skip(j).step_by(count);
+        let shown = samplers.clone().count() as f64;
+        for (color, s) in samplers.enumerate() {
             title = s.label.clone();
-            let ns = s.ns.iter().map(|&n| n as f64);
+            let predicted: Vec<f64> = s.predicted.iter().map(|p| p.variance).collect();
             series.push(Series {
                 label: format!("{} predicted", s.sampler),
-                points: ns
-                    .clone()
-                    .zip(s.predicted.iter().map(|p| p.variance))
-                    .collect(),
+                points: ns.iter().copied().zip(predicted.iter().copied()).collect(),
                 bars: None,
                 style: Style::Line,
                 color,
             });
             series.push(Series {
                 label: format!("{} Monte Carlo (99%)", s.sampler),
-                points: ns.zip(s.measured.iter().map(|r| r.variance)).collect(),
+                points: ns
+                    .iter()
+                    .copied()
+                    .zip(s.measured.iter().map(|r| r.variance))
+                    .collect(),
                 bars: Some(s.measured.iter().map(|r| (r.ci_low, r.ci_high)).collect()),
                 style: Style::Points,
                 color,
             });
+            // Side by side at each N (a few percent apart), so that no bar hides another.
+            let offset = 1.04f64.powf(color as f64 - (shown - 1.0) / 2.0);
+            ratios.push(Series {
+                label: s.sampler.to_string(),
+                points: ns
+                    .iter()
+                    .zip(&s.measured)
+                    .zip(&predicted)
+                    .map(|((&n, r), p)| (n * offset, r.variance / p))
+                    .collect(),
+                bars: Some(
+                    s.measured
+                        .iter()
+                        .zip(&predicted)
+                        .map(|(r, p)| (r.ci_low / p, r.ci_high / p))
+                        .collect(),
+                ),
+                style: Style::Points,
+                color,
+            });
         }
+        series.extend(reference_slopes(&series, &ns));
         let axes = Axes {
             title: format!("variance of the homogenized estimator, {title}"),
             x_label: "N".into(),
             y_label: "Var".into(),
             log_x: true,
             log_y: true,
+            x_ticks: Some(ns.clone()),
         };
         line_plot(
             &dir.join(format!("variance_{}.svg", stem(study, j))),
             &axes,
             &series,
         )?;
+        ratios.push(Series {
+            label: "prediction".into(),
+            points: vec![(ns[0] / 1.1, 1.0), (ns[ns.len() - 1] * 1.1, 1.0)],
+            bars: None,
+            style: Style::Reference,
+            color: 0,
+        });
+        let axes = Axes {
+            title: format!(
+                "Monte Carlo / predicted (99% intervals), {}",
+                stem(study, j)
+            ),
+            x_label: "N".into(),
+            y_label: "Monte Carlo / predicted".into(),
+            log_x: true,
+            log_y: false,
+            x_ticks: Some(ns.clone()),
+        };
+        line_plot(
+            &dir.join(format!("ratio_{}.svg", stem(study, j))),
+            &axes,
+            &ratios,
+        )?;
     }
     Ok(())
+}
+
+/// Dashed reference slopes `N^-1`, `N^-1.5`, `N^-2`, `N^-3` from above the data at the smallest
+/// N (three times its top, clear of the curves), each stopped where it leaves the data's range.
+fn reference_slopes(series: &[Series], ns: &[f64]) -> Vec<Series> {
+    let ys = series.iter().flat_map(|s| s.points.iter().map(|p| p.1));
+    let (lo, hi) = ys.fold((f64::INFINITY, 0.0f64), |(a, b), y| (a.min(y), b.max(y)));
+    let top = 3.0 * hi;
+    let (first, last) = (ns[0], ns[ns.len() - 1]);
+    [
+        (-1.0, "N^-1"),
+        (-1.5, "N^-1.5"),
+        (-2.0, "N^-2"),
+        (-3.0, "N^-3"),
+    ]
+    .iter()
+    .map(|&(rate, label)| {
+        let end = last.min(first * (lo / top).powf(1.0 / rate));
+        Series {
+            label: label.into(),
+            points: vec![(first, top), (end, top * (end / first).powf(rate))],
+            bars: None,
+            style: Style::Reference,
+            color: 0,
+        }
+    })
+    .collect()
 }
 
 fn spectrum_plots(dir: &Path, report: &Report) -> Result<()> {
@@ -189,6 +266,7 @@ fn spectrum_plots(dir: &Path, report: &Report) -> Result<()> {
         y_label: "power".into(),
         log_x: false,
         log_y: false,
+        x_ticks: None,
     };
     line_plot(&dir.join("radial_spectra.svg"), &axes, &series)?;
     let log_axes = Axes {
@@ -231,6 +309,7 @@ fn illustration_plots(dir: &Path, report: &Report) -> Result<()> {
         y_label: "P_S(k)".into(),
         log_x: false,
         log_y: false,
+        x_ticks: None,
     };
     line_plot(&dir.join("illustration_grid_spectrum.svg"), &axes, &[grid])?;
     let fspec = Series {
@@ -261,6 +340,7 @@ fn illustration_plots(dir: &Path, report: &Report) -> Result<()> {
         y_label: "|f̂(k)|²".into(),
         log_x: false,
         log_y: true,
+        x_ticks: None,
     };
     line_plot(
         &dir.join("illustration_integrand_spectrum.svg"),
@@ -295,6 +375,7 @@ fn illustration_plots(dir: &Path, report: &Report) -> Result<()> {
         y_label: "|error|".into(),
         log_x: true,
         log_y: true,
+        x_ticks: None,
     };
     line_plot(
         &dir.join("illustration_error.svg"),
