@@ -1,12 +1,14 @@
 //! Spectrum engines at N = 4096 in 2D, K = 320 (a 641 × 641 lattice), one realization each:
 //! the fast engine (NUFFT) against the direct engine (phase recurrence), and the direct engine
 //! against a per-term sin/cos DFT (at N = 256: both costs are linear in N, so the ratio holds).
-//! Also the NUFFT's spreading rate. Run: `cargo bench --bench spectrum`.
+//! Also one NUFFT transform with a reused plan at tolerance 1e-9 for the rows of the FINUFFT
+//! comparison (`benches/compare/vs_finufft.py`). Run: `cargo bench --bench spectrum`.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use specvar::sampler::{Random, Sampler};
 use specvar::spectrum::lattice::naive_periodogram;
-use specvar::spectrum::nufft::{NufftPlan, DEFAULT_TOLERANCE};
+use num_complex::Complex64;
+use specvar::spectrum::nufft::NufftPlan;
 use specvar::spectrum::{periodogram, Engine};
 use std::hint::black_box;
 use std::time::Duration;
@@ -30,15 +32,19 @@ fn engines(c: &mut Criterion) {
     });
     g.finish();
 
-    let plan = NufftPlan::new(2, 320, DEFAULT_TOLERANCE).unwrap();
-    let mut grid = vec![0.0; plan.grid_size() * plan.grid_size()];
-    let many = Random::new(2).unwrap().sample(65536, 3, 0).unwrap();
-    let mut g = c.benchmark_group("nufft_spreading");
-    g.throughput(Throughput::Elements(65536));
-    g.sample_size(20);
-    g.bench_function("spread_65536_points_w15", |b| {
-        b.iter(|| plan.spread(black_box(&many), &mut grid))
-    });
+    // One transform with a reused plan and scratch, at the table's rows and tolerance 1e-9.
+    let mut g = c.benchmark_group("nufft_1e-9");
+    g.sample_size(10).measurement_time(Duration::from_secs(10));
+    for (d, n, kmax) in [(2, 4096, 320), (2, 65536, 1280), (3, 32768, 40)] {
+        let points = Random::new(d).unwrap().sample(n, 3, 0).unwrap();
+        let plan = NufftPlan::new(d, kmax, n, 1e-9).unwrap();
+        let mut scratch = plan.make_scratch();
+        let mut sums = vec![Complex64::new(0.0, 0.0); plan.output_len()];
+        g.throughput(Throughput::Elements(n as u64));
+        g.bench_function(format!("{d}d_n{n}_k{kmax}"), |b| {
+            b.iter(|| plan.sums_with_scratch(black_box(&points), &mut scratch, &mut sums))
+        });
+    }
     g.finish();
 }
 

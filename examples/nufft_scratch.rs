@@ -9,7 +9,7 @@ use specvar::spectrum::nufft::NufftPlan;
 
 fn main() -> specvar::Result<()> {
     let (n, kmax, realizations) = (4096, 64, 32);
-    let plan = NufftPlan::new(2, kmax, 1e-10)?;
+    let plan = NufftPlan::new(2, kmax, n, 1e-10)?;
     let mut scratch = plan.make_scratch();
     let mut sums = vec![Complex64::new(0.0, 0.0); plan.output_len()];
     let mut mean = vec![0.0; plan.output_len()];

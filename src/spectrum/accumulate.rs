@@ -223,11 +223,13 @@ impl<'a> SpectrumAccumulator<'a> {
             return Err(invalid("bin width", params.bin_width, "a positive number"));
         }
         let (d, n) = (source.dimension(), source.points());
-        let engine = params.engine.resolve(n, d, params.kmax);
+        let engine = params
+            .engine
+            .resolve(n, d, params.kmax, params.realizations);
         let what = format!("a spectrum on |k_i| ≤ {} in {d}D", params.kmax);
         let one = super::transform_needs(d, n, params.kmax, engine, 0).and(source.pattern_needs());
         params.budget.check(&what, one, "lower kmax or N")?;
-        let planned = Planned::new(d, n, params.kmax, params.engine)?;
+        let planned = Planned::new(d, n, params.kmax, engine)?;
         let lattice = Lattice {
             dimension: d,
             kmax: params.kmax,

@@ -51,20 +51,20 @@ impl Engine {
         }
     }
 
-    /// Resolves `Auto` by comparing operation counts: `N (2K+1)^d / 2` complex multiply-adds
-    /// for the direct engine against `N w^d` spreads plus the FFTs for the fast one.
-    pub fn resolve(self, n: usize, d: usize, kmax: usize) -> Engine {
+    /// Resolves `Auto` for `realizations` patterns of `n` points on `|k_i| ≤ kmax`: the fast
+    /// engine at the [`statistical_tolerance`] if the cost model of
+    /// [`nufft::choice`] predicts it cheaper than the direct sum (`N (2K+1)^d / 2` complex
+    /// multiply-adds at 0.25 ns), else the direct engine. Other engines are returned as they
+    /// are.
+    pub fn resolve(self, n: usize, d: usize, kmax: usize, realizations: usize) -> Engine {
         if self != Engine::Auto {
             return self;
         }
-        let side = (2 * kmax + 1) as f64;
-        let direct = n as f64 * side.powi(d as i32) / 2.0;
-        let grid = (2.0 * side).powi(d as i32);
-        let fast = n as f64 * 15f64.powi(d as i32) + 5.0 * grid * grid.log2();
-        if direct > fast {
-            Engine::fast()
-        } else {
-            Engine::Direct
+        let tolerance = statistical_tolerance(n, realizations);
+        let direct = n as f64 * ((2 * kmax + 1) as f64).powi(d as i32) / 2.0 * DIRECT_MAC_SECONDS;
+        match nufft::choice::Choice::cheapest(d, kmax, n, tolerance) {
+            Ok(c) if c.seconds(d, kmax, n) < direct => Engine::Fast { tolerance },
+            _ => Engine::Direct,
         }
     }
 
@@ -75,6 +75,50 @@ impl Engine {
             Engine::Fast { .. } => "fast",
             Engine::Auto => "auto",
         }
+    }
+}
+
+/// Seconds per complex multiply-add of the direct engine.
+const DIRECT_MAC_SECONDS: f64 = 0.25e-9;
+
+/// The error in `P` the fast engine may add, as a fraction of one standard error of an
+/// `M`-realization mean (whose standard error is about `P / √M`, the periodogram being
+/// roughly exponential), with a floor of [`ENGINE_FLOOR`] absolute.
+pub const ENGINE_SHARE_OF_NOISE: f64 = 0.01;
+
+/// The absolute error in `P` below which the fast engine's error is never a concern.
+pub const ENGINE_FLOOR: f64 = 1e-8;
+
+/// The fast engine's tolerance for an estimate from `realizations` patterns of `n` points: the
+/// largest `ε` with `|δP| ≤ max(ENGINE_FLOOR, ENGINE_SHARE_OF_NOISE · P / √M)` at every `P`.
+///
+/// A guarantee `|δS| ≤ εN` gives `|δP| ≤ 2ε√(NP) + ε²N`. Against the floor this needs
+/// `ε ≤ floor / (2√(NP))`, against the noise share `ε ≤ share √P / (2√(NM))`; the two meet at
+/// `P* = floor √M / share`, where both give `ε = floor / (2 √(N P*))
+/// = √(share · floor) / (2 √N M^{1/4})` (`5·10⁻⁶ / (√N M^{1/4})`); any other `P` is looser.
+/// The `ε²N` term is below `floor / 100` for every `N, M ≥ 1`.
+///
+/// # Examples
+/// ```
+/// use specvar::spectrum::statistical_tolerance;
+/// let eps = statistical_tolerance(4096, 64);
+/// assert!((eps - 5e-6 / (64.0 * 64f64.powf(0.25))).abs() < 1e-15);
+/// ```
+pub fn statistical_tolerance(n: usize, realizations: usize) -> f64 {
+    let scale = (ENGINE_SHARE_OF_NOISE * ENGINE_FLOOR).sqrt() / 2.0;
+    let m = realizations.max(1) as f64;
+    (scale / ((n.max(1) as f64).sqrt() * m.powf(0.25))).max(nufft::MIN_TOLERANCE)
+}
+
+/// The bound on `|δP|` at power `p` for sets of `n` points from the fast engine at `tolerance`
+/// (`2ε√(NP) + ε²N`; zero for the direct engine).
+pub fn engine_error(engine: Engine, n: usize, p: f64) -> f64 {
+    match engine {
+        Engine::Fast { tolerance } => {
+            let n = n as f64;
+            2.0 * tolerance * (n * p.max(0.0)).sqrt() + tolerance * tolerance * n
+        }
+        _ => 0.0,
     }
 }
 
@@ -168,7 +212,8 @@ pub struct SpectrumEstimate {
 /// ```
 pub fn periodogram(points: &PointSet, kmax: usize, engine: Engine) -> Result<Vec<f64>> {
     let (d, n) = (points.dimension(), points.len());
-    let needs = transform_needs(d, n, kmax, engine.resolve(n, d, kmax), 1);
+    let engine = engine.resolve(n, d, kmax, 1);
+    let needs = transform_needs(d, n, kmax, engine, 1);
     crate::budget::Budget::default().check("a periodogram", needs, "lower kmax")?;
     let planned = Planned::new(d, n, kmax, engine)?;
     let mut work = planned.workspace();
@@ -199,9 +244,9 @@ impl Planned {
         if kmax == 0 {
             return Err(invalid("kmax", kmax, "at least 1"));
         }
-        Ok(match engine.resolve(n, d, kmax) {
+        Ok(match engine.resolve(n, d, kmax, 1) {
             Engine::Fast { tolerance } => {
-                Planned::Fast(Box::new(nufft::NufftPlan::new(d, kmax, tolerance)?))
+                Planned::Fast(Box::new(nufft::NufftPlan::new(d, kmax, n, tolerance)?))
             }
             _ => Planned::Direct(Lattice { dimension: d, kmax }),
         })
@@ -255,7 +300,7 @@ impl Planned {
         match self {
             Planned::Direct(_) => Engine::Direct,
             Planned::Fast(plan) => Engine::Fast {
-                tolerance: 10f64.powi(1 - plan.width() as i32),
+                tolerance: plan.tolerance(),
             },
         }
     }
@@ -309,10 +354,10 @@ pub fn estimate_from_sets(sets: &[PointSet], params: &SpectrumParams) -> Result<
 }
 
 /// The memory and time of transforming `realizations` patterns of `n` points on the lattice
-/// `|k_i| ≤ kmax` with `engine`, one workspace per thread: the lattice's sums, powers and
-/// moments (40 bytes a frequency), the NUFFT's grid and buffers (about 40 bytes a cell), and
-/// per pattern `N (2K+1)^d / 2` complex multiply-adds at 0.25 ns (direct) or `N w^d` kernel
-/// updates at 2 ns plus the FFTs at 5 ns per cell and level (fast).
+/// `|k_i| ≤ kmax` with `engine` (resolved), one workspace per thread: the lattice's sums,
+/// powers and moments (40 bytes a frequency), the NUFFT's scratch, and per pattern
+/// `N (2K+1)^d / 2` complex multiply-adds (direct) or the fast engine's cost model
+/// ([`nufft::choice::Choice::seconds`]).
 pub fn transform_needs(
     d: usize,
     n: usize,
@@ -320,22 +365,19 @@ pub fn transform_needs(
     engine: Engine,
     realizations: usize,
 ) -> crate::budget::Needs {
-    let side = (2 * kmax + 1) as f64;
-    let len = side.powi(d as i32);
+    let len = ((2 * kmax + 1) as f64).powi(d as i32);
     let threads = rayon::current_num_threads().max(1) as f64;
-    let (grid, per_pattern) = match engine {
+    let (scratch, per_pattern) = match engine {
         Engine::Fast { tolerance } => {
-            let width = ((1.0 / tolerance).log10().ceil() + 1.0).clamp(2.0, 16.0);
-            let cells = (2.0 * side).powi(d as i32);
-            (
-                cells,
-                n as f64 * width.powi(d as i32) * 2e-9 + cells * cells.log2() * 5e-9,
-            )
+            let choice = nufft::choice::Choice::cheapest(d, kmax, n, tolerance).unwrap_or_else(
+                |_| nufft::choice::Choice::with_width(d, kmax, 2.0, nufft::kernel::MAX_WIDTH),
+            );
+            (choice.scratch_bytes(d, kmax), choice.seconds(d, kmax, n))
         }
-        _ => (0.0, n as f64 * len / 2.0 * 0.25e-9),
+        _ => (0.0, n as f64 * len / 2.0 * DIRECT_MAC_SECONDS),
     };
     crate::budget::Needs {
-        memory_bytes: threads * (len * 40.0 + grid * 40.0) + 2.0 * threads * len * 16.0,
+        memory_bytes: threads * (len * 40.0 + scratch) + 2.0 * threads * len * 16.0,
         work_seconds: realizations as f64 * per_pattern,
     }
 }

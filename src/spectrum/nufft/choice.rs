@@ -1,0 +1,139 @@
+//! Choosing the upsampling and kernel width: the cheapest pair that meets a tolerance.
+//!
+//! A finer grid (upsampling 2) needs a narrower kernel for the same error; a coarser one
+//! (1.25) a wider kernel on a smaller FFT. Which is cheaper depends on the number of points
+//! against the grid: spreading costs `N w^d` cell updates, the FFTs `g^d log g` per axis. The
+//! choice uses a fixed cost model (operation counts weighted by per-operation times measured
+//! once on a 2020s x86-64 core), never timings at run time, so the same inputs give the same
+//! plan, and the same bits, on every machine.
+
+use super::kernel::{tensor_error, EsKernel, MAX_WIDTH};
+use crate::error::{Error, Result};
+
+/// The upsampling factors tried, from the cheapest FFT to the cheapest spreading.
+pub const UPSAMPLINGS: [f64; 3] = [1.25, 1.5, 2.0];
+
+/// Nanoseconds per kernel value (an `exp` and a `sqrt`).
+const KERNEL_VALUE_NS: f64 = 6.0;
+/// Nanoseconds per cell update in the spreading loop.
+const CELL_UPDATE_NS: f64 = 0.6;
+/// Nanoseconds per `n log2 n` of a complex FFT of length `n`.
+const FFT_NS: f64 = 1.2;
+/// Nanoseconds per padded cell to clear and fold the grid.
+const GRID_CELL_NS: f64 = 0.5;
+
+/// A kernel and grid for one transform, with the error it guarantees.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Choice {
+    /// The kernel, including its grid size.
+    pub kernel: EsKernel,
+    /// Upsampling factor asked for (the grid is the next FFT-friendly size above it).
+    pub upsampling: f64,
+    /// `|S_fast(k) - S(k)| ≤ error · N` at every frequency of the band, for any points.
+    pub error: f64,
+}
+
+impl Choice {
+    /// The kernel of `width` cells at upsampling `sigma` for the band `|k| ≤ kmax` in
+    /// `dimension` dimensions, with its measured error.
+    pub fn with_width(dimension: usize, kmax: usize, sigma: f64, width: usize) -> Self {
+        let side = 2 * kmax + 1;
+        let grid = nice_size(((sigma * side as f64).ceil() as usize).max(2 * width));
+        let kernel = EsKernel::for_band(width, grid, kmax);
+        Self {
+            kernel,
+            upsampling: sigma,
+            error: tensor_error(kernel.point_error(kmax), dimension),
+        }
+    }
+
+    /// The narrowest kernel at upsampling `sigma` whose error is at most `tolerance`, if any:
+    /// a bisection over the widths, the error falling with the width.
+    pub fn narrowest(dimension: usize, kmax: usize, sigma: f64, tolerance: f64) -> Option<Self> {
+        let at = |w| Self::with_width(dimension, kmax, sigma, w);
+        let widest = at(MAX_WIDTH);
+        if widest.error > tolerance {
+            return None;
+        }
+        // Invariant: width `hi` meets the tolerance, width `lo` does not (or is below 2).
+        let (mut lo, mut hi, mut best) = (1, MAX_WIDTH, widest);
+        while hi - lo > 1 {
+            let mid = (lo + hi) / 2;
+            let c = at(mid);
+            if c.error <= tolerance {
+                (hi, best) = (mid, c);
+            } else {
+                lo = mid;
+            }
+        }
+        Some(best)
+    }
+
+    /// The cheapest choice for `points` points meeting `tolerance`, by the cost model.
+    ///
+    /// # Errors
+    /// [`Error::OutsideValidity`] when no kernel reaches the tolerance.
+    pub fn cheapest(dimension: usize, kmax: usize, points: usize, tolerance: f64) -> Result<Self> {
+        UPSAMPLINGS
+            .iter()
+            .filter_map(|&s| Self::narrowest(dimension, kmax, s, tolerance))
+            .min_by(|a, b| {
+                let (ca, cb) = (a.seconds(dimension, kmax, points), b.seconds(dimension, kmax, points));
+                ca.total_cmp(&cb)
+            })
+            .ok_or_else(|| {
+                let finest = Self::with_width(dimension, kmax, 2.0, MAX_WIDTH);
+                Error::OutsideValidity {
+                    route: format!("the fast engine at a tolerance of {tolerance:e}"),
+                    reason: format!(
+                        "the widest kernel guarantees {:.1e} on |k_i| ≤ {kmax}; use a looser \
+                         tolerance or the direct engine",
+                        finest.error
+                    ),
+                }
+            })
+    }
+
+    /// Predicted seconds of one transform of `points` points (see the module notes).
+    pub fn seconds(&self, dimension: usize, kmax: usize, points: usize) -> f64 {
+        let (d, w, g) = (dimension as i32, self.kernel.width as f64, self.kernel.grid as f64);
+        let spread = points as f64
+            * (dimension as f64 * w * KERNEL_VALUE_NS + w.powi(d) * CELL_UPDATE_NS);
+        let padded = (g + w + 1.0).powi(d) * GRID_CELL_NS;
+        let fft = fft_lines(dimension, self.kernel.grid, kmax) * FFT_NS * g * g.log2();
+        (spread + padded + fft) * 1e-9
+    }
+
+    /// Bytes of one transform's scratch: the padded grid and the half-spectrum buffers.
+    pub fn scratch_bytes(&self, dimension: usize, kmax: usize) -> f64 {
+        let (d, w, g) = (dimension as i32, self.kernel.width as f64, self.kernel.grid as f64);
+        let rows = g.powi(d - 1);
+        (g + w + 1.0).powi(d) * 8.0 + 2.0 * rows * (kmax + 1) as f64 * 16.0 + 4.0 * g * 16.0
+    }
+}
+
+/// Full complex FFTs of length `g` per transform: the real FFT of each of the `g^{d-1}` rows
+/// counts half, then each remaining axis transforms only the lines the crop keeps.
+fn fft_lines(dimension: usize, grid: usize, kmax: usize) -> f64 {
+    let (g, half, side) = (grid as f64, (kmax + 1) as f64, (2 * kmax + 1) as f64);
+    match dimension {
+        1 => 0.5,
+        2 => 0.5 * g + half,
+        _ => 0.5 * g * g + g * half + side * half,
+    }
+}
+
+/// The smallest `2^a 3^b 5^c` at least `n`: sizes the FFT handles fastest.
+pub fn nice_size(n: usize) -> usize {
+    (n..)
+        .find(|&m| {
+            let mut r = m;
+            for p in [2, 3, 5] {
+                while r % p == 0 {
+                    r /= p;
+                }
+            }
+            r == 1
+        })
+        .unwrap_or(n)
+}
