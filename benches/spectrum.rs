@@ -5,9 +5,9 @@
 //! comparison (`benches/compare/vs_finufft.py`). Run: `cargo bench --bench spectrum`.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use num_complex::Complex64;
 use specvar::sampler::{Random, Sampler};
 use specvar::spectrum::lattice::naive_periodogram;
-use num_complex::Complex64;
 use specvar::spectrum::nufft::NufftPlan;
 use specvar::spectrum::{periodogram, Engine};
 use std::hint::black_box;

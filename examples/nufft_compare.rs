@@ -10,6 +10,7 @@ use num_complex::Complex64;
 use rayon::prelude::*;
 use specvar::spectrum::nufft::NufftPlan;
 use specvar::PointSet;
+use std::sync::Mutex;
 use std::time::Instant;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -17,7 +18,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let [path, d, n, r, k, tolerance, threads, sums_out] = args.as_slice() else {
         return Err("usage: nufft_compare POINTS D N R K TOLERANCE THREADS SUMS_OUT".into());
     };
-    let (d, n, r, k): (usize, usize, usize, usize) = (d.parse()?, n.parse()?, r.parse()?, k.parse()?);
+    let (d, n, r, k): (usize, usize, usize, usize) =
+        (d.parse()?, n.parse()?, r.parse()?, k.parse()?);
     let (tolerance, threads): (f64, usize) = (tolerance.parse()?, threads.parse()?);
     let bytes = std::fs::read(path)?;
     let coords: Vec<f64> = bytes
@@ -31,17 +33,23 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .chunks_exact(n * d)
         .map(|c| PointSet::new(d, c.to_vec()))
         .collect::<specvar::Result<Vec<_>>>()?;
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build()?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()?;
     let plan = NufftPlan::new(d, k, n, tolerance)?;
     let zero = Complex64::new(0.0, 0.0);
+    // One scratch and output per thread, made once: as a spectrum estimate keeps them.
+    let buffers: Vec<Mutex<_>> = (0..threads)
+        .map(|_| Mutex::new((plan.make_scratch(), vec![zero; plan.output_len()])))
+        .collect();
     let run = |sets: &[PointSet]| {
         pool.install(|| {
             let chunk = sets.len().div_ceil(threads);
-            sets.par_chunks(chunk).for_each(|part| {
-                let mut scratch = plan.make_scratch();
-                let mut sums = vec![zero; plan.output_len()];
+            sets.par_chunks(chunk).enumerate().for_each(|(t, part)| {
+                let mut guard = buffers[t].lock().expect("no panics while held");
+                let (scratch, sums) = &mut *guard;
                 for set in part {
-                    plan.sums_with_scratch(set, &mut scratch, &mut sums)
+                    plan.sums_with_scratch(set, scratch, sums)
                         .expect("a plan of this dimension");
                 }
             })

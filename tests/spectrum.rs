@@ -25,7 +25,7 @@ fn direct_engine_matches_the_naive_sum() {
 }
 
 #[test]
-fn fast_engine_matches_direct_within_1e_8() {
+fn fast_engine_at_its_default_matches_direct_within_1e_8() {
     for (d, n, k) in [
         (1, 65536, 300),
         (2, 65536, 24),
@@ -44,13 +44,15 @@ fn fast_engine_matches_direct_within_1e_8() {
 fn fast_engine_error_follows_its_tolerance() {
     let p = Random::new(2).unwrap().sample(2000, 3, 0).unwrap();
     let direct = periodogram(&p, 30, Engine::Direct).unwrap();
-    let loose = periodogram(&p, 30, Engine::Fast { tolerance: 1e-4 }).unwrap();
-    let err = max_abs_diff(&direct, &loose);
-    // Error in S is about ε Σ|c| = ε N; in P = |S|²/N at most about 2 ε N.
-    assert!(
-        err < 2.0 * 1e-4 * 2000.0 && err > common::ROUNDING,
-        "{err:e}"
-    );
+    let engine = Engine::Fast { tolerance: 1e-4 };
+    let loose = periodogram(&p, 30, engine).unwrap();
+    // |δS| ≤ εN gives |δP| ≤ 2ε√(NP) + ε²N at every frequency; a loose tolerance shows.
+    let mut largest: f64 = 0.0;
+    for (f, e) in loose.iter().zip(&direct) {
+        assert!((f - e).abs() <= engine_error(engine, 2000, *e) + common::ROUNDING);
+        largest = largest.max((f - e).abs());
+    }
+    assert!(largest > 1e3 * common::ROUNDING, "{largest:e}");
 }
 
 #[test]

@@ -12,8 +12,8 @@ use crate::integrand::Integrand;
 use crate::progress::Progress;
 use crate::quadrature::CompensatedSum;
 use crate::spectrum::{
-    ClosedForm, ClosedLattice, Lattice, LatticeSpectrum, PatternSource, SpectrumAccumulator,
-    SpectrumParams, TailDeviation, WeightedMean,
+    engine_error, ClosedForm, ClosedLattice, Lattice, LatticeSpectrum, PatternSource,
+    SpectrumAccumulator, SpectrumParams, TailDeviation, WeightedMean,
 };
 use rayon::prelude::*;
 
@@ -451,11 +451,16 @@ pub fn predict_on_patterns(
     } else {
         power.power.clone()
     };
-    let mut acc = SpectrumAccumulator::new(source, &plan.spectrum, vec![weights])?;
     let cap = source
         .available()
         .unwrap_or(usize::MAX)
         .min(plan.max_realizations);
+    // The engine's tolerance follows the most realizations the estimate may reach.
+    let spectrum = SpectrumParams {
+        realizations: cap.min(plan.max_realizations.max(plan.initial)),
+        ..plan.spectrum
+    };
+    let mut acc = SpectrumAccumulator::new(source, &spectrum, vec![weights.clone()])?;
     let mut target = round_up(plan.initial, cap);
     loop {
         progress.begin(
@@ -502,7 +507,7 @@ pub fn predict_on_patterns(
             } else {
                 0.0
             },
-            quadrature: 0.0,
+            quadrature: engine_bound(&weights, &estimate.lattice),
             truncation: power.tail_bound(deviation) / n as f64,
             model: 0.0,
         },
@@ -512,6 +517,21 @@ pub fn predict_on_patterns(
         evaluations: (lattice.len() * realizations) as u64,
         alternatives: Vec::new(),
     })
+}
+
+/// What the spectrum engine's error can add to `(1/N) Σ_k w(k) P(k)`: `(1/N) Σ |w(k)| δP(k)`
+/// with `δP` the engine's bound at the mean power (the bound is concave in `P`, so its mean
+/// over the patterns is at most its value at the mean); zero for the direct engine.
+fn engine_bound(weights: &[f64], spectrum: &LatticeSpectrum) -> f64 {
+    let n = spectrum.n;
+    let sum: f64 = weights
+        .iter()
+        .zip(&spectrum.mean)
+        .enumerate()
+        .filter(|(i, _)| !spectrum.is_dc(*i))
+        .map(|(_, (w, p))| w.abs() * engine_error(spectrum.engine, n, *p))
+        .sum();
+    sum / n as f64
 }
 
 /// `wanted` rounded up to a multiple of 4, at most `cap` (which need not be one).

@@ -141,7 +141,8 @@ impl fmt::Display for Route {
 pub struct ErrorBudget {
     /// One standard error from the noise of an estimated spectrum (0 for closed forms).
     pub spectrum_noise: f64,
-    /// The quadrature's error estimate (polar form) or the rounding of an exact sum.
+    /// The quadrature's error estimate (polar form), the rounding of an exact sum, or the
+    /// spectrum engine's bound on what it adds to a lattice sum (fast engine).
     pub quadrature: f64,
     /// A bound on what the truncation of the sum or integral leaves out.
     pub truncation: f64,

@@ -138,6 +138,8 @@ impl Moments {
         self.weighted.fill((0.0, 0.0));
     }
 
+    /// Adds one realization's periodogram on the half lattice (`0..=dc`, DC last), with the
+    /// rings' assignment and the weights folded onto the same half.
     fn add(&mut self, p: &[f64], geometry: &Geometry, weights: &[Vec<f64>]) {
         self.ring_sum.fill(0.0);
         for (i, &v) in p.iter().enumerate() {
@@ -154,9 +156,9 @@ impl Moments {
                 self.ring[b].1 += mean * mean;
             }
         }
-        let dc = geometry.lattice.dc_index();
         for (w, acc) in weights.iter().zip(self.weighted.iter_mut()) {
-            let value: f64 = w.iter().zip(p).map(|(w, p)| w * p).sum::<f64>() - w[dc] * p[dc];
+            // The folded weights are zero at DC.
+            let value: f64 = w.iter().zip(p).map(|(w, p)| w * p).sum();
             acc.0 += value;
             acc.1 += value * value;
         }
@@ -241,7 +243,11 @@ impl<'a> SpectrumAccumulator<'a> {
                 lattice.len()
             )));
         }
-        let (assign, rings) = radial::ring_assignment(&lattice, params.bin_width);
+        // Everything is kept on the half lattice `0..=dc`: P(-k) = P(k).
+        let half = lattice.dc_index() + 1;
+        let (mut assign, rings) = radial::ring_assignment(&lattice, params.bin_width);
+        assign.truncate(half);
+        assign[half - 1] = None;
         if rings == 0 {
             return Err(invalid(
                 "bin width",
@@ -254,6 +260,7 @@ impl<'a> SpectrumAccumulator<'a> {
             ring_count[*b as usize] += 1.0;
         }
         let weight_count = weights.len();
+        let weights = weights.iter().map(|w| fold_weights(w)).collect();
         Ok(Self {
             source,
             params: *params,
@@ -265,7 +272,7 @@ impl<'a> SpectrumAccumulator<'a> {
                 rings,
             },
             weights,
-            total: Moments::new(lattice.len(), rings, weight_count),
+            total: Moments::new(half, rings, weight_count),
             realizations: 0,
             workspaces: Mutex::new(Vec::new()),
             spare_moments: Mutex::new(Vec::new()),
@@ -330,8 +337,8 @@ impl<'a> SpectrumAccumulator<'a> {
                     let mut moments = self.take_moments();
                     for r in c * REDUCE_CHUNK..((c + 1) * REDUCE_CHUNK).min(target) {
                         self.planned
-                            .periodogram(&self.source.realization(r)?, &mut work)?;
-                        moments.add(&work.power, g, &self.weights);
+                            .half_periodogram(&self.source.realization(r)?, &mut work)?;
+                        moments.add(&work.half_power, g, &self.weights);
                         progress.advance(1);
                     }
                     self.give_back(work);
@@ -359,7 +366,7 @@ impl<'a> SpectrumAccumulator<'a> {
         let spare = self.spare_moments.lock().ok().and_then(|mut s| s.pop());
         let mut moments = spare.unwrap_or_else(|| {
             let g = &self.geometry;
-            Moments::new(g.lattice.len(), g.rings, self.weights.len())
+            Moments::new(g.lattice.dc_index() + 1, g.rings, self.weights.len())
         });
         moments.clear();
         moments
@@ -397,12 +404,12 @@ impl<'a> SpectrumAccumulator<'a> {
     pub fn estimate(&self) -> SpectrumEstimate {
         let m = self.realizations;
         let mf = m as f64;
-        let mean: Vec<f64> = self.total.sum.iter().map(|s| s / mf).collect();
-        let stderr = self
+        let half_mean: Vec<f64> = self.total.sum.iter().map(|s| s / mf).collect();
+        let half_stderr: Vec<f64> = self
             .total
             .sum_sq
             .iter()
-            .zip(&mean)
+            .zip(&half_mean)
             .map(|(s2, mu)| {
                 if m > 1 {
                     ((s2 / mf - mu * mu).max(0.0) / (mf - 1.0)).sqrt()
@@ -412,6 +419,8 @@ impl<'a> SpectrumAccumulator<'a> {
             })
             .collect();
         let lattice = self.geometry.lattice;
+        let mean = super::mirror(&half_mean, lattice.len());
+        let stderr = super::mirror(&half_stderr, lattice.len());
         let n = self.source.points();
         let radial = RadialSpectrum::from_parts(
             &lattice,
@@ -433,4 +442,14 @@ impl<'a> SpectrumAccumulator<'a> {
             radial,
         }
     }
+}
+
+/// Weights folded onto the half lattice `0..=dc`: `w(k) + w(-k)`, and zero at DC, so that
+/// `Σ_half w_folded P = Σ_{k≠0} w P` for a spectrum with `P(-k) = P(k)`.
+fn fold_weights(w: &[f64]) -> Vec<f64> {
+    let len = w.len();
+    let dc = (len - 1) / 2;
+    (0..=dc)
+        .map(|i| if i == dc { 0.0 } else { w[i] + w[len - 1 - i] })
+        .collect()
 }

@@ -217,8 +217,14 @@ pub fn periodogram(points: &PointSet, kmax: usize, engine: Engine) -> Result<Vec
     crate::budget::Budget::default().check("a periodogram", needs, "lower kmax")?;
     let planned = Planned::new(d, n, kmax, engine)?;
     let mut work = planned.workspace();
-    planned.periodogram(points, &mut work)?;
-    Ok(work.power)
+    planned.half_periodogram(points, &mut work)?;
+    Ok(mirror(&work.half_power, planned.lattice().len()))
+}
+
+/// The whole lattice from its half `0..=dc`, with `P(-k) = P(k)` (flat index `i` ↔
+/// `len - 1 - i`).
+pub(crate) fn mirror(half: &[f64], len: usize) -> Vec<f64> {
+    (0..len).map(|i| half[i.min(len - 1 - i)]).collect()
 }
 
 /// An engine with its plan, reusable across realizations.
@@ -227,11 +233,13 @@ pub(crate) enum Planned {
     Fast(Box<nufft::NufftPlan>),
 }
 
-/// One thread's buffers for [`Planned::periodogram`]: sums, power and the engine's scratch.
+/// One thread's buffers for [`Planned::half_periodogram`]: power, and the engine's scratch.
 pub(crate) struct Workspace {
+    /// The last periodogram computed, on the half lattice: flat indices `0..=dc`, which with
+    /// `P(-k) = P(k)` (index `i` ↔ `len - 1 - i`) give the whole.
+    pub half_power: Vec<f64>,
+    /// The direct engine's sums and phase tables (empty for the fast engine).
     sums: Vec<Complex64>,
-    /// The last periodogram computed.
-    pub power: Vec<f64>,
     tables: lattice::PhaseTables,
     nufft: Option<nufft::NufftScratch>,
 }
@@ -264,35 +272,36 @@ impl Planned {
 
     pub(crate) fn workspace(&self) -> Workspace {
         let len = self.lattice().len();
+        let (sums, nufft) = match self {
+            Planned::Fast(plan) => (Vec::new(), Some(plan.make_scratch())),
+            Planned::Direct(_) => (vec![Complex64::new(0.0, 0.0); len], None),
+        };
         Workspace {
-            sums: vec![Complex64::new(0.0, 0.0); len],
-            power: vec![0.0; len],
+            half_power: vec![0.0; len / 2 + 1],
+            sums,
             tables: lattice::PhaseTables::default(),
-            nufft: match self {
-                Planned::Fast(plan) => Some(plan.make_scratch()),
-                Planned::Direct(_) => None,
-            },
+            nufft,
         }
     }
 
-    /// The periodogram of `points` into `work.power`.
-    pub(crate) fn periodogram(&self, points: &PointSet, work: &mut Workspace) -> Result<()> {
+    /// The periodogram of `points` on the half lattice into `work.half_power`, with DC pinned
+    /// to exactly `N` so that rounding in either engine cannot disturb it.
+    pub(crate) fn half_periodogram(&self, points: &PointSet, work: &mut Workspace) -> Result<()> {
         match (self, &mut work.nufft) {
             (Planned::Fast(plan), Some(scratch)) => {
-                plan.sums_with_scratch(points, scratch, &mut work.sums)?
+                plan.half_power_with_scratch(points, scratch, &mut work.half_power)?
             }
             (Planned::Direct(lattice), _) => {
-                lattice::direct_sums_into(points, lattice.kmax, &mut work.tables, &mut work.sums)
+                lattice::direct_sums_into(points, lattice.kmax, &mut work.tables, &mut work.sums);
+                let scale = 1.0 / points.len() as f64;
+                for (p, s) in work.half_power.iter_mut().zip(&work.sums) {
+                    *p = s.norm_sqr() * scale;
+                }
             }
             (Planned::Fast(_), None) => unreachable!("a fast plan's workspace has NUFFT scratch"),
         }
-        let scale = 1.0 / points.len() as f64;
-        for (p, s) in work.power.iter_mut().zip(&work.sums) {
-            *p = s.norm_sqr() * scale;
-        }
-        // DC is exactly N; pin it so rounding in either engine cannot disturb it.
-        let dc = (work.power.len() - 1) / 2;
-        work.power[dc] = points.len() as f64;
+        let dc = work.half_power.len() - 1;
+        work.half_power[dc] = points.len() as f64;
         Ok(())
     }
 
@@ -329,17 +338,12 @@ pub fn estimate(
     n: usize,
     params: &SpectrumParams,
 ) -> Result<SpectrumEstimate> {
-    if params.realizations == 0 {
-        return Err(invalid("realizations", 0, "at least 1"));
-    }
     let source = PatternSource::Sampler {
         sampler,
         n,
         seed: params.seed,
     };
-    let mut acc = SpectrumAccumulator::new(source, params, Vec::new())?;
-    acc.extend_to(params.realizations, &crate::progress::Silent)?;
-    Ok(acc.estimate())
+    estimate_with_progress(source, params, &crate::progress::Silent)
 }
 
 /// Estimates the expected spectrum of given point sets (e.g. read from a file): all must have
@@ -348,8 +352,29 @@ pub fn estimate(
 /// # Errors
 /// Empty input, mixed dimensions or sizes, a dimension above 3, or bad parameters.
 pub fn estimate_from_sets(sets: &[PointSet], params: &SpectrumParams) -> Result<SpectrumEstimate> {
-    let mut acc = SpectrumAccumulator::new(PatternSource::Sets(sets), params, Vec::new())?;
-    acc.extend_to(sets.len(), &crate::progress::Silent)?;
+    estimate_with_progress(PatternSource::Sets(sets), params, &crate::progress::Silent)
+}
+
+/// As [`estimate`] or [`estimate_from_sets`], for either source, advancing `progress` by one
+/// per realization: `params.realizations` of a sampler, or every given set.
+///
+/// # Errors
+/// As [`estimate`] and [`estimate_from_sets`].
+pub fn estimate_with_progress(
+    source: PatternSource<'_>,
+    params: &SpectrumParams,
+    progress: &dyn crate::progress::Progress,
+) -> Result<SpectrumEstimate> {
+    let target = source.available().unwrap_or(params.realizations);
+    if target == 0 {
+        return Err(invalid("realizations", 0, "at least 1"));
+    }
+    let params = SpectrumParams {
+        realizations: target,
+        ..*params
+    };
+    let mut acc = SpectrumAccumulator::new(source, &params, Vec::new())?;
+    acc.extend_to(target, progress)?;
     Ok(acc.estimate())
 }
 
@@ -369,9 +394,10 @@ pub fn transform_needs(
     let threads = rayon::current_num_threads().max(1) as f64;
     let (scratch, per_pattern) = match engine {
         Engine::Fast { tolerance } => {
-            let choice = nufft::choice::Choice::cheapest(d, kmax, n, tolerance).unwrap_or_else(
-                |_| nufft::choice::Choice::with_width(d, kmax, 2.0, nufft::kernel::MAX_WIDTH),
-            );
+            let choice =
+                nufft::choice::Choice::cheapest(d, kmax, n, tolerance).unwrap_or_else(|_| {
+                    nufft::choice::Choice::with_width(d, kmax, 2.0, nufft::kernel::MAX_WIDTH)
+                });
             (choice.scratch_bytes(d, kmax), choice.seconds(d, kmax, n))
         }
         _ => (0.0, n as f64 * len / 2.0 * DIRECT_MAC_SECONDS),

@@ -4,7 +4,7 @@
 //! (1.25) a wider kernel on a smaller FFT. Which is cheaper depends on the number of points
 //! against the grid: spreading costs `N w^d` cell updates, the FFTs `g^d log g` per axis. The
 //! choice uses a fixed cost model (operation counts weighted by per-operation times measured
-//! once on a 2020s x86-64 core), never timings at run time, so the same inputs give the same
+//! once on an x86-64 core with AVX), never timings at run time, so the same inputs give the same
 //! plan, and the same bits, on every machine.
 
 use super::kernel::{tensor_error, EsKernel, MAX_WIDTH};
@@ -13,13 +13,16 @@ use crate::error::{Error, Result};
 /// The upsampling factors tried, from the cheapest FFT to the cheapest spreading.
 pub const UPSAMPLINGS: [f64; 3] = [1.25, 1.5, 2.0];
 
+// Per-operation times, fitted to single-thread transforms of the FINUFFT comparison's rows
+// (2D N = 4096, K = 320; 2D N = 65536, K = 1280; 3D N = 32768, K = 40; 1D N = 10^5, K = 5000)
+// at every upsampling: the model picks the measured fastest in each.
 /// Nanoseconds per kernel value (an `exp` and a `sqrt`).
-const KERNEL_VALUE_NS: f64 = 6.0;
+const KERNEL_VALUE_NS: f64 = 7.0;
 /// Nanoseconds per cell update in the spreading loop.
-const CELL_UPDATE_NS: f64 = 0.6;
+const CELL_UPDATE_NS: f64 = 0.25;
 /// Nanoseconds per `n log2 n` of a complex FFT of length `n`.
-const FFT_NS: f64 = 1.2;
-/// Nanoseconds per padded cell to clear and fold the grid.
+const FFT_NS: f64 = 0.55;
+/// Nanoseconds per padded cell to fold the grid and clear it.
 const GRID_CELL_NS: f64 = 0.5;
 
 /// A kernel and grid for one transform, with the error it guarantees.
@@ -78,7 +81,10 @@ impl Choice {
             .iter()
             .filter_map(|&s| Self::narrowest(dimension, kmax, s, tolerance))
             .min_by(|a, b| {
-                let (ca, cb) = (a.seconds(dimension, kmax, points), b.seconds(dimension, kmax, points));
+                let (ca, cb) = (
+                    a.seconds(dimension, kmax, points),
+                    b.seconds(dimension, kmax, points),
+                );
                 ca.total_cmp(&cb)
             })
             .ok_or_else(|| {
@@ -96,9 +102,13 @@ impl Choice {
 
     /// Predicted seconds of one transform of `points` points (see the module notes).
     pub fn seconds(&self, dimension: usize, kmax: usize, points: usize) -> f64 {
-        let (d, w, g) = (dimension as i32, self.kernel.width as f64, self.kernel.grid as f64);
-        let spread = points as f64
-            * (dimension as f64 * w * KERNEL_VALUE_NS + w.powi(d) * CELL_UPDATE_NS);
+        let (d, w, g) = (
+            dimension as i32,
+            self.kernel.width as f64,
+            self.kernel.grid as f64,
+        );
+        let spread =
+            points as f64 * (dimension as f64 * w * KERNEL_VALUE_NS + w.powi(d) * CELL_UPDATE_NS);
         let padded = (g + w + 1.0).powi(d) * GRID_CELL_NS;
         let fft = fft_lines(dimension, self.kernel.grid, kmax) * FFT_NS * g * g.log2();
         (spread + padded + fft) * 1e-9
@@ -106,7 +116,11 @@ impl Choice {
 
     /// Bytes of one transform's scratch: the padded grid and the half-spectrum buffers.
     pub fn scratch_bytes(&self, dimension: usize, kmax: usize) -> f64 {
-        let (d, w, g) = (dimension as i32, self.kernel.width as f64, self.kernel.grid as f64);
+        let (d, w, g) = (
+            dimension as i32,
+            self.kernel.width as f64,
+            self.kernel.grid as f64,
+        );
         let rows = g.powi(d - 1);
         (g + w + 1.0).powi(d) * 8.0 + 2.0 * rows * (kmax + 1) as f64 * 16.0 + 4.0 * g * 16.0
     }

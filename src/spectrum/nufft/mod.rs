@@ -16,13 +16,13 @@
 pub mod choice;
 pub mod kernel;
 mod spread;
+mod transform;
 
 use crate::error::{invalid, Result};
 use crate::pointset::PointSet;
 use choice::Choice;
-use kernel::EsKernel;
+use kernel::{EsKernel, KernelTable};
 use num_complex::Complex64;
-use realfft::{RealFftPlanner, RealToComplex};
 use rustfft::{Fft, FftPlanner};
 use spread::{Padded, SortScratch};
 use std::sync::Arc;
@@ -43,12 +43,12 @@ pub struct NufftPlan {
     choice: Choice,
     tolerance: f64,
     layout: Padded,
+    /// The kernel's values as polynomials, for the spreading.
+    table: KernelTable,
     /// `1 / (g ψ̂(k))` for `k = -K..=K`: the deconvolution factor per axis.
     correction: Vec<f64>,
-    /// Complex FFT for every axis but the last.
+    /// The FFT of one line of the grid, along any axis.
     fft: Arc<dyn Fft<f64>>,
-    /// Real-to-complex FFT for the last axis: the spread grid is real.
-    rfft: Arc<dyn RealToComplex<f64>>,
 }
 
 impl std::fmt::Debug for NufftPlan {
@@ -88,7 +88,7 @@ impl NufftPlan {
     ///
     /// # Errors
     /// A dimension outside 1 to 3, a `kmax` of 0, an upsampling outside `[1.1, 4]` or a width
-    /// outside 2 to 16.
+    /// outside 2 to [`kernel::MAX_WIDTH`].
     pub fn with_kernel(
         dimension: usize,
         kmax: usize,
@@ -118,9 +118,9 @@ impl NufftPlan {
             choice,
             tolerance,
             layout: Padded::new(dimension, grid, width),
+            table: KernelTable::new(&choice.kernel),
             correction: choice.kernel.correction(kmax),
             fft: FftPlanner::new().plan_fft_forward(grid),
-            rfft: RealFftPlanner::new().plan_fft_forward(grid),
         }
     }
 
@@ -161,22 +161,32 @@ impl NufftPlan {
     }
 
     /// Scratch space for [`sums_with_scratch`](Self::sums_with_scratch): the padded grid,
-    /// the FFTs' buffers and the spreading order, about `8 (g + w + 1)^d` bytes.
+    /// the half spectra of the rows, the FFTs' buffers and the spreading order, about
+    /// `8 (g + w + 1)^d + 16 g^{d-1} (K + 1)` bytes and as much again in 3D.
     pub fn make_scratch(&self) -> NufftScratch {
         let (d, g, k) = (self.dimension, self.grid_size(), self.kmax);
-        let half = k + 1;
         let rows = g.pow(d as u32 - 1);
+        let side = 2 * k + 1;
         let zero = Complex64::new(0.0, 0.0);
+        // The column passes' outputs: (g, side, K+1) then (side, side, K+1) in 3D.
+        let spare = match d {
+            1 => 0,
+            2 => side * (k + 1),
+            _ => g * side * (k + 1),
+        };
         NufftScratch {
+            shape: self.shape(),
             cells: vec![0.0; self.layout.len()],
-            data: vec![zero; rows * half],
-            spare: vec![zero; rows * half],
-            spectrum: self.rfft.make_output_vec(),
-            rfft: self.rfft.make_scratch_vec(),
+            rows: vec![zero; rows * (k + 1)],
+            spare: vec![zero; spare],
             fft: vec![zero; self.fft.get_inplace_scratch_len()],
-            line: vec![zero; g],
+            batch: vec![zero; transform::BATCH * g],
             sort: SortScratch::default(),
         }
+    }
+
+    fn shape(&self) -> [usize; 4] {
+        [self.dimension, self.kmax, self.grid_size(), self.width()]
     }
 
     /// The number of lattice frequencies `(2K+1)^d`: the length of the output of
@@ -214,6 +224,26 @@ impl NufftPlan {
         Ok(out)
     }
 
+    /// The periodogram `P(k) = |S(k)|² / N` on the half lattice, flat indices `0..=dc` of the
+    /// lattice order (the rest follows from `P(-k) = P(k)`), into `out` (length
+    /// `output_len() / 2 + 1`): half the memory traffic of [`sums_with_scratch`] and a square.
+    ///
+    /// [`sums_with_scratch`]: Self::sums_with_scratch
+    ///
+    /// # Errors
+    /// As [`sums_with_scratch`](Self::sums_with_scratch).
+    pub fn half_power_with_scratch(
+        &self,
+        points: &PointSet,
+        scratch: &mut NufftScratch,
+        out: &mut [f64],
+    ) -> Result<()> {
+        self.check_buffers(points, scratch, out.len(), self.output_len() / 2 + 1)?;
+        let half = self.grid_stage(points, scratch);
+        self.unfold_half_power(half, 1.0 / points.len() as f64, out);
+        Ok(())
+    }
+
     /// As [`sums`](Self::sums), into `out` (length [`output_len`](Self::output_len)), using
     /// `scratch` from [`make_scratch`](Self::make_scratch) of this plan: nothing is allocated
     /// once the scratch has seen a set of this size.
@@ -226,6 +256,19 @@ impl NufftPlan {
         scratch: &mut NufftScratch,
         out: &mut [Complex64],
     ) -> Result<()> {
+        self.check_buffers(points, scratch, out.len(), self.output_len())?;
+        let half = self.grid_stage(points, scratch);
+        self.unfold(half, out);
+        Ok(())
+    }
+
+    fn check_buffers(
+        &self,
+        points: &PointSet,
+        scratch: &NufftScratch,
+        out: usize,
+        expected: usize,
+    ) -> Result<()> {
         if points.dimension() != self.dimension {
             return Err(invalid(
                 "point dimension",
@@ -233,102 +276,31 @@ impl NufftPlan {
                 format!("{} (the plan's)", self.dimension),
             ));
         }
-        let (d, g, k) = (self.dimension, self.grid_size(), self.kmax);
-        let len = self.output_len();
-        if out.len() != len || scratch.cells.len() != self.layout.len() {
+        if out != expected || scratch.shape != self.shape() {
             return Err(invalid(
                 "NUFFT buffers",
-                format!("{} outputs, a grid of {}", out.len(), scratch.cells.len()),
+                format!("{out} outputs, a scratch for {:?}", scratch.shape),
                 format!(
-                    "{len} outputs and a grid of {} (make_scratch)",
-                    self.layout.len()
+                    "{expected} outputs and a scratch for {:?} (make_scratch)",
+                    self.shape()
                 ),
             ));
         }
+        Ok(())
+    }
+
+    /// Spreads, folds and transforms: the half lattice `k_last = 0..=K`, not deconvolved.
+    fn grid_stage<'s>(&self, points: &PointSet, scratch: &'s mut NufftScratch) -> &'s [Complex64] {
         spread::spread(
-            &self.choice.kernel,
+            &self.table,
             &self.layout,
             points,
             &mut scratch.cells,
             &mut scratch.sort,
         );
-        spread::fold(&self.layout, &mut scratch.cells);
-        // Last axis: real-to-complex, keeping k_last = 0..=K (the rest follows by symmetry).
-        let half = k + 1;
-        let rows = g.pow(d as u32 - 1);
-        for (row, dst) in scratch.data.chunks_exact_mut(half).enumerate() {
-            let start = self.layout.row_start(row);
-            // The input row is used as scratch by the transform; it is not needed again.
-            let _ = self.rfft.process_with_scratch(
-                &mut scratch.cells[start..start + g],
-                &mut scratch.spectrum,
-                &mut scratch.rfft,
-            );
-            dst.copy_from_slice(&scratch.spectrum[..half]);
-        }
-        let mut shape = [1usize; 3];
-        shape[..d].fill(g);
-        shape[d - 1] = half;
-        let mut used = rows * half;
-        for axis in (0..d - 1).rev() {
-            used = self.fft_axis_and_crop(scratch, used, &mut shape, axis);
-        }
-        self.unfold(&scratch.data[..used], out);
-        Ok(())
-    }
-
-    /// Writes the full lattice from the half `k_last ≥ 0` with `S(-k) = conj S(k)`,
-    /// deconvolving on the way.
-    fn unfold(&self, data: &[Complex64], out: &mut [Complex64]) {
-        let (d, k) = (self.dimension, self.kmax);
-        let (side, half, len) = (2 * k + 1, k + 1, out.len());
-        for o in 0..len / side {
-            let mut factor = 1.0;
-            let mut rest = o;
-            for _ in 0..d - 1 {
-                factor *= self.correction[rest % side];
-                rest /= side;
-            }
-            for t in 0..half {
-                let v = data[o * half + t] * (factor * self.correction[k + t]);
-                out[o * side + k + t] = v;
-                // -k: flat index len - 1 - index(k).
-                out[len - 1 - (o * side + k + t)] = v.conj();
-            }
-        }
-    }
-
-    /// FFT along `axis` of the row-major array `scratch.data[..used]` of `shape`, keeping
-    /// frequencies `-K..=K` in order; the result replaces it. Returns its length.
-    fn fft_axis_and_crop(
-        &self,
-        scratch: &mut NufftScratch,
-        used: usize,
-        shape: &mut [usize; 3],
-        axis: usize,
-    ) -> usize {
-        let (g, k) = (self.grid_size(), self.kmax);
-        let side = 2 * k + 1;
-        let outer: usize = shape[..axis].iter().product();
-        let inner: usize = shape[axis + 1..].iter().product();
-        let data = &scratch.data[..used];
-        let out = &mut scratch.spare[..outer * side * inner];
-        for o in 0..outer {
-            for i in 0..inner {
-                for (t, v) in scratch.line.iter_mut().enumerate() {
-                    *v = data[(o * g + t) * inner + i];
-                }
-                self.fft
-                    .process_with_scratch(&mut scratch.line, &mut scratch.fft);
-                for t in 0..side {
-                    let bin = (t + g - k) % g; // frequency t - K
-                    out[(o * side + t) * inner + i] = scratch.line[bin];
-                }
-            }
-        }
-        shape[axis] = side;
-        std::mem::swap(&mut scratch.data, &mut scratch.spare);
-        outer * side * inner
+        // Fold all but the last axis here; the row pass folds the last.
+        spread::fold(&self.layout, &mut scratch.cells, self.dimension - 1);
+        self.fft_stage(scratch)
     }
 }
 
@@ -336,13 +308,18 @@ impl NufftPlan {
 /// realizations so that a transform allocates nothing.
 #[derive(Debug, Clone)]
 pub struct NufftScratch {
+    /// The plan's dimension, band, grid and width: what the buffers are sized for.
+    shape: [usize; 4],
+    /// The padded grid.
     cells: Vec<f64>,
-    data: Vec<Complex64>,
+    /// The rows' half spectra, `K + 1` per row, and in 3D the second column pass's output.
+    rows: Vec<Complex64>,
+    /// The first column pass's output.
     spare: Vec<Complex64>,
-    spectrum: Vec<Complex64>,
-    rfft: Vec<Complex64>,
+    /// The FFT's own scratch.
     fft: Vec<Complex64>,
-    line: Vec<Complex64>,
+    /// Lines transformed together.
+    batch: Vec<Complex64>,
     sort: SortScratch,
 }
 
