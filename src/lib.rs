@@ -105,7 +105,9 @@ pub mod prelude {
     };
     pub use crate::montecarlo::{empirical_variance, McParams, McResult};
     pub use crate::pointset::PointSet;
-    pub use crate::predict::{predict, PredictParams, Prediction, Problem, SpectrumChoice};
+    pub use crate::predict::{
+        predict, predict_many, PredictParams, Prediction, Problem, SpectrumChoice,
+    };
     pub use crate::progress::{Progress, Silent};
     pub use crate::rate::{run_study, StudyConfig};
     pub use crate::sampler::{

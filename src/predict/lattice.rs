@@ -439,18 +439,46 @@ pub fn predict_on_patterns(
     plan: &PatternPlan,
     progress: &dyn Progress,
 ) -> Result<Prediction> {
-    let lattice = power.lattice;
-    if plan.spectrum.kmax != lattice.kmax {
+    let mut all = predict_on_patterns_many(std::slice::from_ref(power), source, plan, progress)?;
+    all.pop()
+        .ok_or_else(|| Error::Mismatch("no prediction for one power".into()))
+}
+
+/// [`predict_on_patterns`] for several integrands' powers on the same lattice, on the same
+/// patterns: their per-pattern sums are accumulated together, and realizations are added until
+/// every one meets `plan.target_noise` (or the cap).
+///
+/// # Errors
+/// As [`predict_on_patterns`].
+pub fn predict_on_patterns_many(
+    powers: &[LatticePower],
+    source: PatternSource<'_>,
+    plan: &PatternPlan,
+    progress: &dyn Progress,
+) -> Result<Vec<Prediction>> {
+    let Some(first) = powers.first() else {
+        return Ok(Vec::new());
+    };
+    let lattice = first.lattice;
+    if let Some(p) = powers
+        .iter()
+        .find(|p| p.lattice != lattice || plan.spectrum.kmax != p.lattice.kmax)
+    {
         return Err(Error::Mismatch(format!(
             "spectrum on |k_i| ≤ {} for a power on |k_i| ≤ {}",
-            plan.spectrum.kmax, lattice.kmax
+            plan.spectrum.kmax, p.lattice.kmax
         )));
     }
-    let weights = if plan.symmetric {
-        power.symmetrized().power
-    } else {
-        power.power.clone()
-    };
+    let weights: Vec<Vec<f64>> = powers
+        .iter()
+        .map(|p| {
+            if plan.symmetric {
+                p.symmetrized().power
+            } else {
+                p.power.clone()
+            }
+        })
+        .collect();
     let cap = source
         .available()
         .unwrap_or(usize::MAX)
@@ -460,7 +488,7 @@ pub fn predict_on_patterns(
         realizations: cap.min(plan.max_realizations.max(plan.initial)),
         ..plan.spectrum
     };
-    let mut acc = SpectrumAccumulator::new(source, &spectrum, vec![weights.clone()])?;
+    let mut acc = SpectrumAccumulator::new(source, &spectrum, weights.clone())?;
     let mut target = round_up(plan.initial, cap);
     loop {
         progress.begin(
@@ -469,54 +497,64 @@ pub fn predict_on_patterns(
         );
         acc.extend_to(target, progress)?;
         progress.end();
-        let w = acc.weighted()[0];
-        let rel = w.stderr / w.mean;
         // A relative error that is not a number (one realization, a zero mean) cannot improve.
-        let noisy = rel.is_finite() && rel > plan.target_noise;
-        if !noisy || target >= cap {
+        let worst = acc
+            .weighted()
+            .iter()
+            .map(|w| w.stderr / w.mean)
+            .filter(|rel| rel.is_finite())
+            .fold(0.0, f64::max);
+        if worst <= plan.target_noise || target >= cap {
             break;
         }
-        let wanted = (target as f64 * (rel / plan.target_noise).powi(2)).ceil() as usize;
+        let wanted = (target as f64 * (worst / plan.target_noise).powi(2)).ceil() as usize;
         target = round_up(wanted.max(target + 4), cap);
     }
     let estimate = acc.estimate();
-    let WeightedMean {
-        mean,
-        stderr,
-        realizations,
-    } = acc.weighted()[0];
     let n = estimate.lattice.n;
     let deviation = measured_tail_deviation(&estimate.lattice);
-    let variance = finite((mean + power.beyond) / n as f64, || {
-        format!("the lattice form of {} is not finite", power.label)
-    })?;
-    Ok(Prediction {
-        variance,
-        route: Route {
-            form: Form::Lattice,
-            spectrum: SpectrumOrigin::Estimated {
-                n,
+    powers
+        .iter()
+        .zip(&weights)
+        .zip(acc.weighted())
+        .map(|((power, w), sums)| {
+            let WeightedMean {
+                mean,
+                stderr,
                 realizations,
-                kmax: lattice.kmax,
-            },
-        },
-        reason: String::new(),
-        budget: ErrorBudget {
-            spectrum_noise: if stderr.is_finite() {
-                stderr / n as f64
-            } else {
-                0.0
-            },
-            quadrature: engine_bound(&weights, &estimate.lattice),
-            truncation: power.tail_bound(deviation) / n as f64,
-            model: 0.0,
-        },
-        n,
-        dimension: lattice.dimension,
-        dc_term: 0.0,
-        evaluations: (lattice.len() * realizations) as u64,
-        alternatives: Vec::new(),
-    })
+            } = sums;
+            let variance = finite((mean + power.beyond) / n as f64, || {
+                format!("the lattice form of {} is not finite", power.label)
+            })?;
+            Ok(Prediction {
+                variance,
+                route: Route {
+                    form: Form::Lattice,
+                    spectrum: SpectrumOrigin::Estimated {
+                        n,
+                        realizations,
+                        kmax: lattice.kmax,
+                    },
+                },
+                reason: String::new(),
+                budget: ErrorBudget {
+                    spectrum_noise: if stderr.is_finite() {
+                        stderr / n as f64
+                    } else {
+                        0.0
+                    },
+                    quadrature: engine_bound(w, &estimate.lattice),
+                    truncation: power.tail_bound(deviation) / n as f64,
+                    model: 0.0,
+                },
+                n,
+                dimension: lattice.dimension,
+                dc_term: 0.0,
+                evaluations: (lattice.len() * realizations) as u64,
+                alternatives: Vec::new(),
+            })
+        })
+        .collect()
 }
 
 /// What the spectrum engine's error can add to `(1/N) Σ_k w(k) P(k)`: `(1/N) Σ |w(k)| δP(k)`

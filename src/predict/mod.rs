@@ -425,6 +425,43 @@ pub fn predict_with(
     route::predict_routed(problem, params, progress).and_then(finite_prediction)
 }
 
+/// Predicts several integrands on the same patterns (one sampler and N, or the same point
+/// sets): each prediction is what [`predict_with`] gives by the same route, but integrands on
+/// the per-pattern lattice form share one spectrum estimate per lattice size, their weighted
+/// sums accumulated on the same patterns, until every one reaches the target noise. The cost
+/// is about that of the most demanding integrand instead of the sum over all.
+///
+/// # Errors
+/// As [`predict_with`], or problems that do not share their patterns.
+///
+/// # Examples
+/// ```
+/// use specvar::integrand::{Ball, Gaussian, Integrand};
+/// use specvar::predict::{predict_many, PredictParams, Problem};
+/// use specvar::progress::Silent;
+/// use specvar::sampler::PoissonDisk;
+/// let disk = Ball::new(0.25, vec![0.5, 0.5], 1.0)?;
+/// let bump = Gaussian::new(0.1, vec![0.5, 0.5], 1.0)?;
+/// let poisson = PoissonDisk::new(2)?;
+/// let problems = [Problem::new(&poisson, &disk, 64)?, Problem::new(&poisson, &bump, 64)?];
+/// let params = PredictParams { target_noise: 0.1, ..PredictParams::default() };
+/// let both = predict_many(&problems, &params, &Silent)?;
+/// assert_eq!(both.len(), 2);
+/// assert!(both.iter().all(|p| p.variance > 0.0));
+/// # Ok::<(), specvar::Error>(())
+/// ```
+pub fn predict_many(
+    problems: &[Problem<'_>],
+    params: &PredictParams,
+    progress: &dyn Progress,
+) -> Result<Vec<Prediction>> {
+    check_params(params)?;
+    route::predict_routed_many(problems, params, progress)?
+        .into_iter()
+        .map(finite_prediction)
+        .collect()
+}
+
 fn check_params(params: &PredictParams) -> Result<()> {
     if !(params.target_noise > 0.0 && params.target_noise.is_finite()) {
         return Err(invalid(

@@ -1,7 +1,7 @@
 //! Which route [`super::predict`] takes, and why: every decision of substance about a prediction
 //! (closed form or estimate, form, reference N, lattice extent, realizations) is made here.
 
-use super::lattice::{predict_on_patterns, white_noise, LatticePower, PatternPlan};
+use super::lattice::{predict_on_patterns_many, white_noise, LatticePower, PatternPlan};
 use super::space::regular_grid_variance;
 use super::{
     predict_from_power, predict_polar, Alternative, ErrorBudget, Form, FormChoice, Patterns,
@@ -364,9 +364,26 @@ fn estimated_lattice(
     params: &PredictParams,
     progress: &dyn Progress,
 ) -> Result<Prediction> {
-    let f = problem.integrand;
-    let (n, d) = (problem.n, problem.dimension());
-    let (source, what) = match problem.patterns {
+    let mut all = estimated_lattice_many(&[problem], kind, params, progress)?;
+    all.pop()
+        .ok_or_else(|| Error::Mismatch("no prediction for one problem".into()))
+}
+
+/// The lattice form with the spectrum estimated at N, pattern by pattern, for problems that
+/// share their patterns: each lattice size's realizations serve every integrand that needs
+/// that size (their weighted sums accumulated together), and a lattice is doubled only for the
+/// integrands whose tail is still above [`ESTIMATED_TAIL_SHARE`] of their variance.
+fn estimated_lattice_many(
+    problems: &[&Problem<'_>],
+    kind: Option<SamplerKind>,
+    params: &PredictParams,
+    progress: &dyn Progress,
+) -> Result<Vec<Prediction>> {
+    let Some(first) = problems.first() else {
+        return Ok(Vec::new());
+    };
+    let (n, d) = (first.n, first.dimension());
+    let (source, what) = match first.patterns {
         Patterns::Sampler(sampler) => (
             PatternSource::Sampler {
                 sampler,
@@ -384,9 +401,6 @@ fn estimated_lattice(
         PatternSource::Sets(sets) => sets.len(),
         PatternSource::Sampler { .. } => params.realizations.unwrap_or(INITIAL_REALIZATIONS),
     };
-    let mut kmax = params
-        .kmax
-        .unwrap_or_else(|| initial_kmax(n, d, 6.0, ESTIMATED_LATTICE_BUDGET));
     let plan = |kmax| PatternPlan {
         initial,
         target_noise: params.target_noise,
@@ -403,24 +417,58 @@ fn estimated_lattice(
         },
         symmetric: kind.is_some_and(|k| k.is_symmetric_at(n, d)),
     };
-    let mut p = predict_on_patterns(
-        &LatticePower::of(f, lattice(d, kmax))?,
-        source,
-        &plan(kmax),
-        progress,
-    )?;
-    while params.kmax.is_none()
-        && p.budget.truncation > ESTIMATED_TAIL_SHARE * p.variance
-        && lattice(d, 2 * kmax).len() <= ESTIMATED_LATTICE_BUDGET
-    {
-        kmax *= 2;
-        p = predict_on_patterns(
-            &LatticePower::of(f, lattice(d, kmax))?,
-            source,
-            &plan(kmax),
-            progress,
-        )?;
+    let mut done: Vec<Option<Prediction>> = vec![None; problems.len()];
+    // Lattice sizes still to estimate, each with the problems that need it.
+    let mut queue = std::collections::BTreeMap::new();
+    queue.insert(
+        params
+            .kmax
+            .unwrap_or_else(|| initial_kmax(n, d, 6.0, ESTIMATED_LATTICE_BUDGET)),
+        (0..problems.len()).collect::<Vec<usize>>(),
+    );
+    while let Some((kmax, group)) = queue.pop_first() {
+        let powers = group
+            .iter()
+            .map(|&i| LatticePower::of(problems[i].integrand, lattice(d, kmax)))
+            .collect::<Result<Vec<_>>>()?;
+        let predictions = predict_on_patterns_many(&powers, source, &plan(kmax), progress)?;
+        for (&i, p) in group.iter().zip(predictions) {
+            match wider_lattice(&p, kmax, d, params) {
+                Some(wider) => queue.entry(wider).or_insert_with(Vec::new).push(i),
+                None => done[i] = Some(estimated_reason(p, kind, &what, n, kmax)),
+            }
+        }
     }
+    done.into_iter()
+        .map(|p| p.ok_or_else(|| Error::Mismatch("a problem left unpredicted".into())))
+        .collect()
+}
+
+/// The lattice to estimate `p` again on if its tail bound is above [`ESTIMATED_TAIL_SHARE`] of
+/// its variance and a wider lattice fits: the tail of an integrand with a jump falls like
+/// `1/K`, so the factor by which the bound is too large, rounded up to a power of 2, says how
+/// much wider (at least twice, at most what the lattice budget allows).
+fn wider_lattice(p: &Prediction, kmax: usize, d: usize, params: &PredictParams) -> Option<usize> {
+    let excess = p.budget.truncation / (ESTIMATED_TAIL_SHARE * p.variance);
+    let fits = |k: usize| lattice(d, k).len() <= ESTIMATED_LATTICE_BUDGET;
+    let within = excess.is_nan() || excess <= 1.0;
+    if params.kmax.is_some() || within || !fits(2 * kmax) {
+        return None;
+    }
+    let mut wider = kmax << excess.log2().ceil().clamp(1.0, 16.0) as u32;
+    while !fits(wider) {
+        wider /= 2;
+    }
+    Some(wider)
+}
+
+fn estimated_reason(
+    p: Prediction,
+    kind: Option<SamplerKind>,
+    what: &str,
+    n: usize,
+    kmax: usize,
+) -> Prediction {
     let realizations = match p.route.spectrum {
         SpectrumOrigin::Estimated { realizations, .. } => realizations,
         SpectrumOrigin::Closed(_) => 0,
@@ -429,14 +477,56 @@ fn estimated_lattice(
         None => format!("{what}: no closed form is known"),
         Some(k) => format!("{k} has no closed form at N = {n}"),
     };
-    Ok(with_reason(
+    with_reason(
         p,
         format!(
             "{why}: the lattice form with the spectrum of {realizations} patterns at N = {n}, \
              pattern by pattern, on |k_i| ≤ {kmax}; noise from the patterns' spread, tail bounded \
              by the spectrum's deviation from white at the lattice's edge"
         ),
-    ))
+    )
+}
+
+/// Predictions for problems that share their patterns (one sampler and N, or the same point
+/// sets): as [`predict_routed`] for each, except that those on the per-pattern lattice form
+/// share their spectrum estimates ([`estimated_lattice_many`]).
+pub(crate) fn predict_routed_many(
+    problems: &[Problem<'_>],
+    params: &PredictParams,
+    progress: &dyn Progress,
+) -> Result<Vec<Prediction>> {
+    let Some(first) = problems.first() else {
+        return Ok(Vec::new());
+    };
+    let same = |p: &Problem<'_>| {
+        p.n == first.n
+            && match (p.patterns, first.patterns) {
+                (Patterns::Sampler(a), Patterns::Sampler(b)) => std::ptr::addr_eq(a, b),
+                (Patterns::PointSets(a), Patterns::PointSets(b)) => std::ptr::eq(a, b),
+                _ => false,
+            }
+    };
+    if !problems.iter().all(same) {
+        return Err(Error::Mismatch(
+            "problems predicted together must share their sampler and N, or their point sets"
+                .into(),
+        ));
+    }
+    let (n, d) = (first.n, first.dimension());
+    let kind = match first.patterns {
+        Patterns::Sampler(s) => s.kind(),
+        Patterns::PointSets(_) => None,
+    };
+    let closed = params.spectrum != SpectrumChoice::Estimated
+        && kind.and_then(|k| k.closed_form(n, d)).is_some();
+    if closed || params.form == FormChoice::Polar || params.spectrum == SpectrumChoice::Closed {
+        return problems
+            .iter()
+            .map(|p| predict_routed(p, params, progress))
+            .collect();
+    }
+    let refs: Vec<&Problem<'_>> = problems.iter().collect();
+    estimated_lattice_many(&refs, kind, params, progress)
 }
 
 /// How many realizations the work budget pays for: drawing each pattern (the sampler's measured

@@ -12,7 +12,6 @@ mod alpha;
 mod study;
 
 pub use alpha::{fit_alpha, fit_low_band, AlphaFit, LowBandFit};
-pub(crate) use study::PATTERN_MEMORY;
 pub use study::{
     rate_ns, run_study, AlphaSource, ReferenceSpectrum, SamplerSpectrum, Study, StudyConfig,
     StudyRow, StudySeries,

@@ -2,10 +2,11 @@
 //! convergence rates. `specvar rates` and the report both run [`run_study`].
 
 use super::{fit_alpha, loglog_slope, loglog_slope_with_weights, theory_rate, AlphaFit, SlopeFit};
+use crate::cache::PATTERN_MEMORY;
 use crate::error::{invalid, Result};
 use crate::integrand::{Integrand, IntegrandSpec};
 use crate::montecarlo::{empirical_variances, McParams, McResult, Z_99};
-use crate::predict::{predict_with, PredictParams, Prediction, Problem};
+use crate::predict::{predict_many, PredictParams, Prediction, Problem};
 use crate::progress::{stage, Progress};
 use crate::sampler::SamplerKind;
 use crate::spectrum::{estimate, Engine, SpectrumEstimate, SpectrumParams};
@@ -51,9 +52,6 @@ pub struct StudyConfig {
     #[serde(skip)]
     pub patterns_cache: Option<std::path::PathBuf>,
 }
-
-/// Memory for keeping costly patterns during a study or a report.
-pub(crate) const PATTERN_MEMORY: usize = 256 << 20;
 
 impl Default for StudyConfig {
     fn default() -> Self {
@@ -294,7 +292,7 @@ impl Study {
 }
 
 /// Runs the study: per sampler, its spectrum at the reference N and its `α`; per N, one Monte
-/// Carlo run shared by all integrands and the one-call prediction ([`predict_with`], the route
+/// Carlo run shared by all integrands and the one-call prediction ([`predict_many`], the route
 /// valid at that N) for each; and the slopes.
 ///
 /// # Errors
@@ -343,12 +341,20 @@ pub fn run_study(config: &StudyConfig, progress: &dyn Progress) -> Result<Study>
             seed: config.seed ^ PREDICT_STREAM,
             ..config.predict
         };
+        // `[n][integrand]`: the integrands share each N's patterns.
+        let mut by_n = config
+            .ns
+            .iter()
+            .map(|&n| {
+                let problems = f_refs
+                    .iter()
+                    .map(|f| Problem::new(sampler.as_ref(), *f, n))
+                    .collect::<Result<Vec<_>>>()?;
+                predict_many(&problems, &params, progress)
+            })
+            .collect::<Result<Vec<_>>>()?;
         for (j, f) in f_refs.iter().enumerate() {
-            let predicted = config
-                .ns
-                .iter()
-                .map(|&n| predict_with(&Problem::new(sampler.as_ref(), *f, n)?, &params, progress))
-                .collect::<Result<Vec<_>>>()?;
+            let predicted = by_n.iter_mut().map(|row| row[j].clone()).collect();
             let series = StudySeries {
                 sampler: kind,
                 integrand: config.integrands[j].clone(),
@@ -384,7 +390,7 @@ fn reference_spectrum(
         bin_width: 1.0,
         budget: config.predict.budget,
     };
-    let sampler = kind.build(config.dimension)?;
+    let sampler = config.sampler(kind)?;
     let label = format!(
         "spectrum of {kind} at N = {} ({realizations} realizations)",
         r.n

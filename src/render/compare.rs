@@ -41,37 +41,42 @@ pub struct ComparisonRow {
 }
 
 impl ComparisonRow {
-    /// `(predicted - measured) / σ`, with `σ` the measured MSE's and the prediction's spectrum
-    /// noise standard errors combined.
+    /// The gap between prediction and measurement beyond the prediction's systematic bounds
+    /// (quadrature, truncation, model), in units of `σ`, the measured MSE's and the prediction's
+    /// spectrum-noise standard errors combined; 0 when the bounds cover the gap.
     pub fn z_score(&self) -> f64 {
-        let sigma = self
-            .measured
-            .stderr
-            .hypot(self.predicted.budget.spectrum_noise);
-        (self.predicted.variance - self.measured.mse) / sigma
+        let b = &self.predicted.budget;
+        let sigma = self.measured.stderr.hypot(b.spectrum_noise);
+        let gap = self.predicted.variance - self.measured.mse;
+        let systematic = b.quadrature + b.truncation + b.model;
+        gap.signum() * (gap.abs() - systematic).max(0.0) / sigma
     }
 }
 
-/// Renders each sampler of `samplers` with `params`, measures it against `reference`, and
-/// predicts it from `power` with a spectrum of `spectrum_realizations` patterns of seed
-/// `params.seed + 1` (independent of the rendered patterns). `progress` follows the rows.
+/// Renders each sampler of `config.samplers` with `config.render`, measures it against
+/// `reference`, and predicts it from `power` with a spectrum of `config.spectrum_realizations`
+/// patterns of seed `config.render.seed + 1` (independent of the rendered patterns). Costly
+/// patterns are kept in `config.cache_dir` ([`crate::cache::cached_sampler`]). `progress`
+/// follows the rows.
 ///
 /// # Errors
 /// An unknown sampler or one that cannot produce `params.rays` points in 2D, or a reference of
 /// another size.
 pub fn compare(
     frame: &Frame,
-    samplers: &[SamplerKind],
-    params: &RenderParams,
+    config: &ComparisonConfig,
     reference: &Reference,
     power: &LatticePower,
-    spectrum_realizations: usize,
     progress: &dyn Progress,
 ) -> Result<Vec<ComparisonRow>> {
-    samplers
+    let (params, cache) = (&config.render, config.cache_dir.as_deref());
+    let spectrum_realizations = config.spectrum_realizations;
+    config
+        .samplers
         .iter()
         .map(|&kind| {
-            let sampler = kind.build(2)?;
+            let sampler =
+                crate::cache::cached_sampler(kind, 2, cache, crate::cache::PATTERN_MEMORY)?;
             let stage = format!("rendering {kind} at {} rays", params.rays);
             progress.begin(&stage, frame.height() as u64);
             let rendering = render_ao(frame, sampler.as_ref(), params, progress)?;
@@ -107,18 +112,22 @@ pub fn measured_ratio(rows: &[ComparisonRow], a: SamplerKind, b: SamplerKind) ->
 pub fn comparison_table(rows: &[ComparisonRow]) -> String {
     let mut out = String::from(
         "| sampler | rays | measured MSE | ± stderr | predicted MSE | ± spectrum noise | \
-         predicted / measured | z | talk's MSE |\n|---|---|---|---|---|---|---|---|---|\n",
+         ± bounds | predicted / measured | z beyond the bounds | talk's MSE |\n\
+         |---|---|---|---|---|---|---|---|---|---|\n",
     );
     for r in rows {
         let _ = writeln!(
             out,
-            "| {} | {} | {:.4e} | {:.1e} | {:.4e} | {:.1e} | {:.3} | {:+.1} | {} |",
+            "| {} | {} | {:.4e} | {:.1e} | {:.4e} | {:.1e} | {:.1e} | {:.3} | {:+.1} | {} |",
             r.sampler,
             r.rays,
             r.measured.mse,
             r.measured.stderr,
             r.predicted.variance,
             r.predicted.budget.spectrum_noise,
+            r.predicted.budget.quadrature
+                + r.predicted.budget.truncation
+                + r.predicted.budget.model,
             r.predicted.variance / r.measured.mse,
             r.z_score(),
             r.talk.map_or("".into(), |t| format!("{t:.2e}")),
@@ -316,15 +325,7 @@ pub fn run_comparison(config: &ComparisonConfig, progress: &dyn Progress) -> Res
         progress,
     )?;
     progress.end();
-    let rows = compare(
-        &frame,
-        &config.samplers,
-        &config.render,
-        &reference,
-        &power,
-        config.spectrum_realizations,
-        progress,
-    )?;
+    let rows = compare(&frame, config, &reference, &power, progress)?;
     Ok(Comparison {
         rows,
         reference,

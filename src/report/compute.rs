@@ -5,17 +5,16 @@ use super::model::{
     AmbientSection, Check, ClosureConfig, ClosureRow, ClosureTable, Crossover, Illustration,
     PolarComparison, Report, ReportConfig, SeriesExtras, Timing,
 };
+use crate::cache::PATTERN_MEMORY;
 use crate::error::Result;
 use crate::integrand::{Gaussian, Integrand};
 use crate::montecarlo::{empirical_variances, McParams, McResult, Z_99};
 use crate::predict::{
-    polar_validity, predict_polar, predict_with, regular_grid_bias, PolarParams, PredictParams,
+    polar_validity, predict_many, predict_polar, regular_grid_bias, PolarParams, PredictParams,
     Prediction, Problem, SpectrumSource,
 };
 use crate::progress::Progress;
-use crate::rate::{
-    crossover, fit_low_band, run_study, SamplerSpectrum, Study, StudySeries, PATTERN_MEMORY,
-};
+use crate::rate::{crossover, fit_low_band, run_study, SamplerSpectrum, Study, StudySeries};
 use crate::render::{measured_ratio, run_comparison, TALK_MSE};
 use crate::sampler::{Ccvt, Regular, Sampler, SamplerKind};
 use crate::spectrum::{periodogram, Engine};
@@ -198,9 +197,12 @@ fn closure(
             );
             let measured = empirical_variances(sampler.as_ref(), &f_refs, n, &mc, progress)?;
             progress.end();
-            for (f, measured) in f_refs.iter().zip(measured) {
-                let prediction =
-                    predict_with(&Problem::new(sampler.as_ref(), *f, n)?, &params, progress)?;
+            let problems = f_refs
+                .iter()
+                .map(|f| Problem::new(sampler.as_ref(), *f, n))
+                .collect::<Result<Vec<_>>>()?;
+            let predictions = predict_many(&problems, &params, progress)?;
+            for ((f, measured), prediction) in f_refs.iter().zip(measured).zip(predictions) {
                 let z = combined_z(&prediction, &measured);
                 rows.push(ClosureRow {
                     sampler: kind,
@@ -402,9 +404,12 @@ fn ambient_checks(ao: &AmbientSection) -> Vec<Check> {
             ),
             pass: z.abs() <= Z_99,
             detail: format!(
-                "predicted {:.4e}, measured {:.4e} ± {:.1e} (z = {z:+.2}, predicted / measured \
-                 = {:.3})",
+                "predicted {:.4e} (bounds ±{:.1e}), measured {:.4e} ± {:.1e} (z beyond the \
+                 bounds = {z:+.2}, predicted / measured = {:.3})",
                 r.predicted.variance,
+                r.predicted.budget.quadrature
+                    + r.predicted.budget.truncation
+                    + r.predicted.budget.model,
                 r.measured.mse,
                 r.measured.stderr,
                 r.predicted.variance / r.measured.mse

@@ -703,13 +703,15 @@ fn ambient_markdown(ao: &AmbientSection) -> String {
         .collect();
     let _ = writeln!(
         md,
-        "\nPredictions outside the 99% interval: {}. The lattice stops at `|k_i| = {}` and \
-         counts the power beyond as white (`P_S = 1`). A pixel's visibility jumps along the \
-         torus seam `u₀ = 0` (zenith meets horizon), so its power along the `k₀` axis falls only \
-         like `k⁻²`, and a sampler whose spectrum stays far from 1 on that axis beyond the \
-         lattice is mispredicted by the tail: the homogenized regular grid, whose spectrum is 96 \
-         at every `(12a, 8b)` and 0 elsewhere, is underpredicted, and the error shrinks like \
-         `1/K` as `--kmax` (with `--grid` at least as fine) grows.\n",
+        "\nPredictions further from the measurement than their bounds and the 99% interval \
+         allow: {}. The lattice stops at `|k_i| = {}` and counts the power beyond as white \
+         (`P_S = 1`), with a bound on what that leaves out (the \"± bounds\" column). A pixel's \
+         visibility jumps along the torus seam `u₀ = 0` (zenith meets horizon), so its power \
+         along the `k₀` axis falls only like `k⁻²`, and a sampler whose spectrum stays far from \
+         1 on that axis beyond the lattice carries a wide bound: the homogenized regular grid, \
+         whose spectrum is 96 at every `(12a, 8b)` and 0 elsewhere, is underpredicted within \
+         its bound, and the gap shrinks like `1/K` as `--kmax` (with `--grid` at least as fine) \
+         grows.\n",
         if misses.is_empty() {
             "none".to_string()
         } else {

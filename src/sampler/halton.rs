@@ -33,17 +33,33 @@ fn digit_count(b: u64) -> usize {
 }
 
 /// The scrambled radical inverse of `index` in base `b`, one permutation per digit position.
-fn scrambled_radical_inverse(mut index: u64, b: u64, perms: &[Vec<usize>]) -> f64 {
+/// The scrambled radical inverse of `index` in base `b`: digit `j` (least significant first)
+/// mapped through `perms[j]` and weighted by `b^-(j+1)`. Once the index's digits run out,
+/// every further digit is 0, whose scrambled contribution is the precomputed `tails[j]`
+/// (`Σ_{m ≥ j} perms[m][0] b^-(m+1)`), so only `log_b(index)` digits are visited.
+fn scrambled_radical_inverse(mut index: u64, b: u64, perms: &[Vec<usize>], tails: &[f64]) -> f64 {
     let inv = 1.0 / b as f64;
     let mut scale = inv;
     let mut value = 0.0;
-    for perm in perms {
+    let mut j = 0;
+    while index != 0 && j < perms.len() {
         let digit = (index % b) as usize;
         index /= b;
-        value += perm[digit] as f64 * scale;
+        value += perms[j][digit] as f64 * scale;
         scale *= inv;
+        j += 1;
     }
-    value.min(ONE_MINUS_EPS)
+    (value + tails[j]).min(ONE_MINUS_EPS)
+}
+
+/// `tails[j] = Σ_{m ≥ j} perms[m][0] b^-(m+1)`, with `tails[len] = 0`.
+fn zero_digit_tails(b: u64, perms: &[Vec<usize>]) -> Vec<f64> {
+    let inv = 1.0 / b as f64;
+    let mut tails = vec![0.0; perms.len() + 1];
+    for j in (0..perms.len()).rev() {
+        tails[j] = tails[j + 1] + perms[j][0] as f64 * inv.powi(j as i32 + 1);
+    }
+    tails
 }
 
 impl Sampler for Halton {
@@ -68,10 +84,15 @@ impl Sampler for Halton {
                     .collect()
             })
             .collect();
+        let tails: Vec<Vec<f64>> = PRIMES[..d]
+            .iter()
+            .zip(&perms)
+            .map(|(&b, p)| zero_digit_tails(b, p))
+            .collect();
         let mut coords = Vec::with_capacity(n * d);
         for i in 0..n as u64 {
             for (axis, &b) in PRIMES[..d].iter().enumerate() {
-                coords.push(scrambled_radical_inverse(i, b, &perms[axis]));
+                coords.push(scrambled_radical_inverse(i, b, &perms[axis], &tails[axis]));
             }
         }
         Ok(PointSet::from_trusted(d, coords))

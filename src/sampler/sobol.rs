@@ -64,18 +64,31 @@ fn sobol_bits(index: u32, v: &[u32; BITS]) -> u32 {
     x
 }
 
-/// Owen scrambling of a 32-bit fraction: bit `b` (from the top) is flipped by a random bit that
-/// depends on the key and on all the bits above it, i.e. one independent flip per node of the
-/// binary tree of elementary intervals.
-fn owen_scramble(x: u32, key: u64) -> u32 {
-    let mut out = 0u32;
-    for b in 0..BITS {
+/// Owen scrambling of a 32-bit fraction, extended to 53 bits: bit `b` (from the top) is
+/// flipped by a random bit that depends on the key and on all the bits above it, i.e. one
+/// independent flip per node of the binary tree of elementary intervals; the bits below 2^-32
+/// are uniform, as the scrambling of the infinite tail of zeros makes them.
+///
+/// From level `distinct` down, every point of the set has its own prefix (the first `2^L`
+/// points of a Sobol axis have distinct `L`-bit prefixes), so each of its flips there is an
+/// independent uniform bit of its own node: the scrambled bits below that level are independent
+/// uniform bits, drawn from one hash of the point's prefix instead of one hash per level.
+fn owen_scramble(x: u32, key: u64, distinct: usize) -> u64 {
+    let mut out = 0u64;
+    for b in 0..distinct {
         let prefix = if b == 0 { 0 } else { (x >> (BITS - b)) as u64 };
         let node = splitmix64(key ^ splitmix64(((b as u64) << 32) | prefix));
         let bit = ((x >> (BITS - 1 - b)) & 1) ^ (node & 1) as u32;
-        out |= bit << (BITS - 1 - b);
+        out |= (bit as u64) << (53 - 1 - b);
     }
-    out
+    let prefix = if distinct == 0 {
+        0
+    } else {
+        (x >> (BITS - distinct)) as u64
+    };
+    let below = 53 - distinct;
+    let uniform = splitmix64(key ^ 0x5EED ^ splitmix64(((distinct as u64) << 40) | prefix));
+    out | uniform >> (64 - below)
 }
 
 /// The first N points of the Sobol sequence (Joe–Kuo directions, up to 8 axes) with Owen
@@ -122,13 +135,14 @@ impl Sampler for Sobol {
         let axes: Vec<([u32; BITS], u64)> = (0..d)
             .map(|a| (direction_numbers(a), splitmix64(base ^ a as u64)))
             .collect();
+        // Levels at which the N points' prefixes are all distinct: ⌈log2 N⌉ and below.
+        let distinct = (usize::BITS - (n - 1).leading_zeros()) as usize;
         let mut coords = Vec::with_capacity(n * d);
         for i in 0..n as u32 {
             for (v, key) in &axes {
-                let x = owen_scramble(sobol_bits(i, v), *key);
-                let tail = splitmix64(key ^ 0x5EED ^ ((x as u64) << 20) ^ i as u64) >> 43;
-                // 32 scrambled bits plus 21 random low bits: 53 bits, strictly below 1.
-                coords.push(((x as u64) << 21 | tail) as f64 / (1u64 << 53) as f64);
+                // 53 bits, strictly below 1.
+                let bits = owen_scramble(sobol_bits(i, v), *key, distinct.min(BITS));
+                coords.push(bits as f64 / (1u64 << 53) as f64);
             }
         }
         Ok(PointSet::from_trusted(d, coords))
