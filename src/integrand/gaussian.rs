@@ -34,7 +34,7 @@ impl Gaussian {
     /// height `height`.
     ///
     /// # Errors
-    /// A σ that is not positive and finite or above [`MAX_SIGMA`], a height that is not
+    /// A σ that is not positive and finite or above `MAX_SIGMA` (100), a height that is not
     /// finite, or a centre outside the cube.
     ///
     /// # Examples

@@ -1,5 +1,5 @@
 //! The reproduction report that `cargo run --release` writes, in three layers: [`model`] (what
-//! was computed: plain data), [`compute`] (configuration to data through the public API, no
+//! was computed: plain data), [`compute`](mod@compute) (configuration to data through the public API, no
 //! output) and `write` (Markdown, JSON and plots; with the `plot` feature).
 //!
 //! The report reproduces the seed talk's table in 2D from first principles: it estimates the

@@ -101,7 +101,7 @@ impl EsKernel {
     /// The largest error `|fast(k) - e^{-2πikx}|` of the one-point transform in one dimension
     /// over the band `|k| ≤ kmax`, with the values of the [`KernelTable`] the spreading uses:
     /// measured at offsets across a cell, at the band's edge where the error peaks (and, as a
-    /// check, at `0` and `K/2`), times [`PEAK_MARGIN`].
+    /// check, at `0` and `K/2`), times a 10% margin for the peak between samples.
     pub fn point_error(&self, kmax: usize) -> f64 {
         // Plans for the same band recur (an estimate, its budget check, the next estimate);
         // the error is a pure function of the kernel and the band, so it is remembered.
