@@ -346,3 +346,70 @@ fn an_integrand_of_dimension_four_is_an_error_not_a_panic() {
     let points = jitter.sample(16, 0, 0).unwrap();
     assert!(bias_of_pattern(&f, &points, 4).is_err());
 }
+
+#[test]
+fn integrands_predicted_together_get_what_each_gets_alone() {
+    // With the lattice and the realizations fixed, sharing the patterns changes nothing: each
+    // integrand's per-pattern sums are the same numbers.
+    let poisson = PoissonDisk::new(2).unwrap();
+    let wide = Gaussian::new(0.3, vec![0.3, 0.6], 1.0).unwrap();
+    let d = disk();
+    let params = PredictParams {
+        kmax: Some(24),
+        realizations: Some(12),
+        ..PredictParams::default()
+    };
+    let problems = [
+        Problem::new(&poisson, &d, 64).unwrap(),
+        Problem::new(&poisson, &wide, 64).unwrap(),
+    ];
+    let together = predict_many(&problems, &params, &specvar::progress::Silent).unwrap();
+    for (p, alone) in problems.iter().zip(&together) {
+        let single = predict(p, &params).unwrap();
+        assert_eq!(single.variance.to_bits(), alone.variance.to_bits());
+        assert_eq!(single.budget, alone.budget);
+    }
+    // Closed forms go their own way, one by one.
+    let jitter = Jitter::new(2).unwrap();
+    let closed = [
+        Problem::new(&jitter, &d, 64).unwrap(),
+        Problem::new(&jitter, &wide, 64).unwrap(),
+    ];
+    let both = predict_many(
+        &closed,
+        &PredictParams::default(),
+        &specvar::progress::Silent,
+    );
+    for (p, q) in closed.iter().zip(both.unwrap()) {
+        assert_eq!(
+            predict(p, &PredictParams::default()).unwrap().variance,
+            q.variance
+        );
+    }
+}
+
+#[test]
+fn integrands_predicted_together_must_share_their_patterns() {
+    let (a, b) = (PoissonDisk::new(2).unwrap(), PoissonDisk::new(2).unwrap());
+    let d = disk();
+    let mixed = [
+        Problem::new(&a, &d, 64).unwrap(),
+        Problem::new(&b, &d, 64).unwrap(),
+    ];
+    assert!(predict_many(
+        &mixed,
+        &PredictParams::default(),
+        &specvar::progress::Silent
+    )
+    .is_err());
+    let sizes = [
+        Problem::new(&a, &d, 64).unwrap(),
+        Problem::new(&a, &d, 256).unwrap(),
+    ];
+    assert!(predict_many(
+        &sizes,
+        &PredictParams::default(),
+        &specvar::progress::Silent
+    )
+    .is_err());
+}

@@ -127,7 +127,7 @@ impl Moments {
             sum_sq: vec![0.0; len],
             ring: vec![(0.0, 0.0); rings],
             weighted: vec![(0.0, 0.0); weights],
-            ring_sum: vec![0.0; rings],
+            ring_sum: vec![0.0; rings + 1],
         }
     }
 
@@ -142,14 +142,16 @@ impl Moments {
     /// rings' assignment and the weights folded onto the same half.
     fn add(&mut self, p: &[f64], geometry: &Geometry, weights: &[Vec<f64>]) {
         self.ring_sum.fill(0.0);
-        for (i, &v) in p.iter().enumerate() {
-            self.sum[i] += v;
-            self.sum_sq[i] += v * v;
-            if let Some(b) = geometry.assign[i] {
-                self.ring_sum[b as usize] += v;
-            }
+        // Two passes: the first vectorizes, the second scatters into the rings (frequencies in
+        // no ring go to the spare last slot).
+        for ((s, s2), &v) in self.sum.iter_mut().zip(self.sum_sq.iter_mut()).zip(p) {
+            *s += v;
+            *s2 += v * v;
         }
-        for (b, s) in self.ring_sum.iter().enumerate() {
+        for (&b, &v) in geometry.ring_of.iter().zip(p) {
+            self.ring_sum[b as usize] += v;
+        }
+        for (b, s) in self.ring_sum[..geometry.rings].iter().enumerate() {
             if geometry.ring_count[b] > 0.0 {
                 let mean = s / geometry.ring_count[b];
                 self.ring[b].0 += mean;
@@ -185,7 +187,8 @@ impl Moments {
 /// The lattice and its rings.
 struct Geometry {
     lattice: Lattice,
-    assign: Vec<Option<u32>>,
+    /// The ring of each frequency of the half lattice, or `rings` (a spare slot) for none.
+    ring_of: Vec<u32>,
     ring_count: Vec<f64>,
     rings: usize,
 }
@@ -267,7 +270,7 @@ impl<'a> SpectrumAccumulator<'a> {
             planned,
             geometry: Geometry {
                 lattice,
-                assign,
+                ring_of: assign.iter().map(|b| b.unwrap_or(rings as u32)).collect(),
                 ring_count,
                 rings,
             },
