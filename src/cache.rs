@@ -156,6 +156,9 @@ impl Sampler for DiskCached {
     fn check_count(&self, n: usize) -> Result<()> {
         self.inner.check_count(n)
     }
+    fn closed_form(&self, n: usize) -> Option<crate::spectrum::ClosedForm> {
+        self.inner.closed_form(n)
+    }
     fn sample(&self, n: usize, seed: u64, realization: u64) -> Result<PointSet> {
         let path = self.path(n, seed, realization);
         if let Some(points) = self.load(&path, n) {

@@ -79,6 +79,7 @@ pub mod cache;
 pub mod error;
 pub mod integrand;
 pub mod io;
+pub mod metrics;
 pub mod montecarlo;
 pub mod output;
 pub mod plot;

@@ -245,12 +245,13 @@ fn every_sampler_gets_a_valid_route() {
     let f = Gaussian::new(0.1, vec![0.5, 0.5], 1.0).unwrap();
     for kind in SamplerKind::in_dimension(2) {
         let sampler = kind.build(2).unwrap();
-        let p = predict_default(sampler.as_ref(), &f, 64);
+        let n = kind.nearest_count(64, 2);
+        let p = predict_default(sampler.as_ref(), &f, n);
         assert_eq!(p.route.form, Form::Lattice, "{kind}");
         let closed = matches!(p.route.spectrum, SpectrumOrigin::Closed(_));
         assert_eq!(
             closed,
-            kind.closed_form(64, 2).is_some(),
+            kind.closed_form(n, 2).is_some(),
             "{kind}: {}",
             p.route
         );
@@ -289,5 +290,49 @@ fn regular_grid_in_space_equals_its_replica_sum() {
             (space - (s120 + tail / 2.0)).abs() <= allowed,
             "m={m}: {space} vs {s120} + {tail:e}"
         );
+    }
+}
+
+/// The rank-1 lattice's and the Kronecker sequence's sums in space (O(N) by their group and
+/// lag structure) against the pattern's own double sum over all pairs (O(N²)): the same
+/// quantity by two routes, to the rounding of the autocorrelation values they average.
+#[test]
+fn lattice_and_kronecker_sums_in_space_equal_the_pair_sum() {
+    let f = Gaussian::new(0.12, vec![0.45, 0.55], 1.0).unwrap();
+    let disk = Ball::new(0.3, vec![0.5, 0.5], 1.0).unwrap();
+    for integrand in [&f as &dyn Integrand, &disk] {
+        for kind in [
+            SamplerKind::Korobov,
+            SamplerKind::Fibonacci,
+            SamplerKind::Kronecker,
+        ] {
+            let n = kind.nearest_count(300, 2);
+            let sampler = kind.build(2).unwrap();
+            let points = sampler.sample(n, 0, 0).unwrap();
+            let (pairs, r1) = pattern_shift_variance(integrand, &points).unwrap().unwrap();
+            let (fast, r2) = match sampler.closed_form(n).unwrap() {
+                ClosedForm::Rank1Lattice { generator } => {
+                    rank1_lattice_variance(integrand, n, generator)
+                        .unwrap()
+                        .unwrap()
+                }
+                ClosedForm::Kronecker { alpha } => {
+                    kronecker_variance(integrand, n, &alpha).unwrap().unwrap()
+                }
+                other => panic!("{other:?}"),
+            };
+            // Both routes average values of a_f, each good to ROUNDING relative; the
+            // variance is that mean less I², so the error is relative to the mean.
+            let mean = pairs + integrand.integral().powi(2);
+            assert!(
+                (pairs - fast).abs() <= r1 + r2 + common::ROUNDING * mean,
+                "{kind}: {pairs} vs {fast}"
+            );
+            let p = predict_default(sampler.as_ref(), integrand, n);
+            assert_eq!(
+                p.variance, fast,
+                "{kind}: the default route is the sum in space"
+            );
+        }
     }
 }

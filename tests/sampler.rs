@@ -13,11 +13,11 @@ fn all_in_unit_cube(p: &PointSet) -> bool {
 /// A valid N near `target` for a sampler in dimension d.
 fn valid_n(kind: SamplerKind, d: usize, target: usize) -> usize {
     match kind {
-        SamplerKind::Regular | SamplerKind::Jitter => {
+        SamplerKind::Regular | SamplerKind::Jitter | SamplerKind::GaussianJitter => {
             let m = ((target as f64).powf(1.0 / d as f64).round() as usize).max(2);
             m.pow(d as u32)
         }
-        _ => target,
+        _ => kind.nearest_count(target, d),
     }
 }
 
@@ -41,7 +41,7 @@ fn same_seed_same_points_other_realization_other_points() {
         let s = kind.build(2).unwrap();
         let n = valid_n(kind, 2, 49);
         assert_eq!(s.sample(n, 5, 2).unwrap(), s.sample(n, 5, 2).unwrap());
-        if kind != SamplerKind::Regular {
+        if !kind.is_deterministic() {
             assert_ne!(s.sample(n, 5, 2).unwrap(), s.sample(n, 5, 3).unwrap());
             assert_ne!(s.sample(n, 5, 2).unwrap(), s.sample(n, 6, 2).unwrap());
         }
@@ -328,4 +328,123 @@ fn homogenized_points_are_uniform_in_each_coordinate() {
         / r as f64;
     let se = (1.0 / 12.0f64).sqrt() / (r as f64).sqrt();
     assert!((mean - 0.5).abs() < common::Z_LOOSE * se, "mean {mean}");
+}
+
+#[test]
+fn fibonacci_lattice_uses_the_previous_fibonacci_number_and_refuses_other_counts() {
+    let s = Rank1Lattice::new(2, LatticeRule::Fibonacci).unwrap();
+    for (n, a) in [(2, 1), (3, 2), (5, 3), (89, 55), (6765, 4181)] {
+        assert_eq!(s.generator(n).unwrap(), a);
+    }
+    match s.sample(90, 0, 0) {
+        Err(Error::UnsupportedCount { nearest, .. }) => assert_eq!(nearest, "89 or 144"),
+        other => panic!("{other:?}"),
+    }
+    assert!(Rank1Lattice::new(3, LatticeRule::Korobov).is_err());
+}
+
+/// The dual lattice's shortest vector by brute force over a box that must contain it (its
+/// length is at most that of `(n, 0)`).
+fn brute_shortest_dual_sq(n: u64, a: u64) -> u128 {
+    let bound = (n as f64).sqrt().ceil() as i64 + 1;
+    let mut best = (n as u128).pow(2);
+    for k1 in -bound..=bound {
+        for k0 in -(n as i64)..=(n as i64) {
+            if (k0, k1) != (0, 0) && (k0 + a as i64 * k1).rem_euclid(n as i64) == 0 {
+                best = best.min((k0 * k0 + k1 * k1) as u128);
+            }
+        }
+    }
+    best
+}
+
+#[test]
+fn lattice_reduction_finds_the_shortest_dual_vector_and_korobov_maximizes_it() {
+    for n in [7u64, 16, 55, 64, 89, 100] {
+        for a in 1..n {
+            assert_eq!(
+                shortest_dual_vector_sq(n, a),
+                brute_shortest_dual_sq(n, a),
+                "{n} {a}"
+            );
+        }
+        let korobov = Rank1Lattice::new(2, LatticeRule::Korobov).unwrap();
+        let chosen = korobov.generator(n as usize).unwrap();
+        let best = (1..n).map(|a| shortest_dual_vector_sq(n, a)).max().unwrap();
+        assert_eq!(shortest_dual_vector_sq(n, chosen), best, "{n}");
+    }
+}
+
+#[test]
+fn rank1_lattices_are_groups_with_one_point_per_row_and_column() {
+    for kind in [SamplerKind::Korobov, SamplerKind::Fibonacci] {
+        let n = kind.nearest_count(144, 2);
+        let p = kind.build(2).unwrap().sample(n, 3, 1).unwrap();
+        let key = |x: &[f64]| {
+            (
+                (x[0] * n as f64).round() as usize,
+                (x[1] * n as f64).round() as usize,
+            )
+        };
+        let set: std::collections::HashSet<_> = (0..n).map(|i| key(p.point(i))).collect();
+        for i in 0..n {
+            for j in 0..n {
+                let (a, b) = (key(p.point(i)), key(p.point(j)));
+                assert!(set.contains(&((a.0 + b.0) % n, (a.1 + b.1) % n)), "{kind}");
+            }
+        }
+        // x_i = i/N: one point per column; (1, a) with gcd(a, N) = 1 also one per row.
+        let rows: std::collections::HashSet<_> = set.iter().map(|k| k.0).collect();
+        assert_eq!(rows.len(), n);
+    }
+}
+
+#[test]
+fn kronecker_alpha_solves_the_generalized_golden_equation() {
+    for d in 1..=4 {
+        let alpha = Kronecker::new(d).unwrap().alpha();
+        let phi = 1.0 / alpha[0];
+        assert!((phi.powi(d as i32 + 1) - phi - 1.0).abs() < 1e-14, "{d}");
+        for j in 1..d {
+            assert!((alpha[j] - alpha[0].powi(j as i32 + 1)).abs() < 1e-15);
+        }
+    }
+    // The golden ratio conjugate, to two ulps (the root and its 64-bit fraction both round).
+    let golden = (5f64.sqrt() - 1.0) / 2.0;
+    assert!((Kronecker::new(1).unwrap().alpha()[0] - golden).abs() <= 2.0 * f64::EPSILON);
+}
+
+#[test]
+fn gaussian_jitter_offsets_have_the_requested_width() {
+    // 64 strata, 2000 realizations: 256000 offsets. Their mean square estimates w² with a
+    // standard error w² √(2/n) (Gaussian offsets). An offset is recovered exactly by unwrapping
+    // to the nearest copy of the cell: that fails only beyond m/2 = 4 strata, 16σ.
+    let (m, realizations, w) = (8usize, 2000u64, 0.25);
+    let s = GaussianJitter::new(2).unwrap().with_width(w).unwrap();
+    let mut sum_sq = 0.0;
+    let mut count = 0.0;
+    for r in 0..realizations {
+        let p = s.sample(m * m, 4, r).unwrap();
+        for i in 0..m * m {
+            let x = p.point(i);
+            for axis in 0..2 {
+                let cell = [i / m, i % m][axis] as f64;
+                let mut offset = x[axis] * m as f64 - cell - 0.5;
+                offset -= (offset / m as f64).round() * m as f64; // unwrap around the torus
+                sum_sq += offset * offset;
+                count += 1.0;
+            }
+        }
+    }
+    let variance = sum_sq / count;
+    let standard_error = w * w * (2.0 / count).sqrt();
+    assert!(
+        (variance - w * w).abs() < 5.0 * standard_error,
+        "{variance}"
+    );
+    assert!(GaussianJitter::new(2).unwrap().with_width(0.0).is_err());
+    assert!(GaussianJitter::new(2)
+        .unwrap()
+        .with_width(f64::NAN)
+        .is_err());
 }

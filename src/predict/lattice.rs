@@ -223,12 +223,13 @@ pub fn predict_from_power(
             let deviation = closed
                 .tail_deviation()
                 .ok_or_else(|| Error::OutsideValidity {
-                    route: "the lattice form with the regular grid's spectrum on a finite lattice"
+                    route: format!(
+                        "the lattice form with the {}'s spectrum on a finite lattice",
+                        c.name()
+                    ),
+                    reason: "its peaks (power up to N) continue beyond any lattice; predict() \
+                             sums them exactly in space"
                         .into(),
-                    reason:
-                        "its replicas (power N) continue beyond any lattice; predict() sums them \
-                         exactly in space"
-                            .into(),
                 })?;
             (SpectrumAt::Closed(closed), deviation)
         }

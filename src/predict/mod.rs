@@ -33,7 +33,9 @@ pub use lattice::{
 };
 pub use polar::{predict_polar, PolarParams};
 pub use route::{default_kmax, default_reference_n, polar_validity};
-pub use space::{pattern_shift_variance, regular_grid_variance};
+pub use space::{
+    kronecker_variance, pattern_shift_variance, rank1_lattice_variance, regular_grid_variance,
+};
 
 use crate::error::{finite, invalid, Error, Result};
 use crate::integrand::Integrand;

@@ -2,7 +2,7 @@
 //! (closed form or estimate, form, reference N, lattice extent, realizations) is made here.
 
 use super::lattice::{predict_on_patterns_many, white_noise, LatticePower, PatternPlan};
-use super::space::regular_grid_variance;
+use super::space::{kronecker_variance, rank1_lattice_variance, regular_grid_variance};
 use super::{
     predict_from_power, predict_polar, Alternative, ErrorBudget, Form, FormChoice, Patterns,
     PredictParams, Prediction, Problem, Route, SpectrumChoice, SpectrumOrigin, SpectrumSource,
@@ -134,21 +134,22 @@ pub(crate) fn predict_routed(
     params: &PredictParams,
     progress: &dyn Progress,
 ) -> Result<Prediction> {
-    let (n, d) = (problem.n, problem.dimension());
+    let n = problem.n;
     let kind = match problem.patterns {
         Patterns::Sampler(s) => s.kind(),
         Patterns::PointSets(_) => None,
     };
-    let closed = match params.spectrum {
-        SpectrumChoice::Estimated => None,
-        _ => kind.and_then(|k| k.closed_form(n, d)),
+    let closed = match (params.spectrum, problem.patterns) {
+        (SpectrumChoice::Estimated, _) | (_, Patterns::PointSets(_)) => None,
+        (_, Patterns::Sampler(s)) => s.closed_form(n),
     };
     if params.spectrum == SpectrumChoice::Closed && closed.is_none() {
         return Err(invalid(
             "spectrum",
             "closed",
-            "a sampler with a closed form at N (random; jitter and the regular grid with strata \
-             at N; Latin hypercube); use the estimated spectrum",
+            "a sampler with a closed form at N (random; jitter, Gaussian jitter and the regular \
+             grid with strata at N; Latin hypercube; rank-1 lattices; Kronecker); use the \
+             estimated spectrum",
         ));
     }
     match (closed, params.form) {
@@ -179,7 +180,9 @@ fn closed_lattice(
             white_noise(f, n)?,
             format!("{name} is white noise: (∫f² - I²)/N exactly, by Parseval"),
         ),
-        ClosedForm::RegularGrid => regular_grid(f, n, &name)?,
+        ClosedForm::RegularGrid
+        | ClosedForm::Rank1Lattice { .. }
+        | ClosedForm::Kronecker { .. } => summed_in_space(f, n, closed, &name)?,
         _ => {
             let mut kmax = params
                 .kmax
@@ -215,13 +218,46 @@ fn lattice(d: usize, kmax: usize) -> Lattice {
     Lattice { dimension: d, kmax }
 }
 
-/// The homogenized regular grid, summed exactly in space through the autocorrelation.
-fn regular_grid(f: &dyn Integrand, n: usize, name: &str) -> Result<Prediction> {
-    let (value, rounding) = regular_grid_variance(f, n)?.ok_or_else(|| Error::OutsideValidity {
-        route: "the lattice form with the regular grid's spectrum".into(),
+/// The lattice forms whose peaks continue beyond any lattice (the regular grid's replicas, a
+/// rank-1 lattice's dual lattice, a Kronecker sequence's Fejér peaks), summed exactly in space
+/// through the integrand's autocorrelation.
+fn summed_in_space(
+    f: &dyn Integrand,
+    n: usize,
+    closed: ClosedForm,
+    name: &str,
+) -> Result<Prediction> {
+    let (exact, reason) = match closed {
+        ClosedForm::RegularGrid => (
+            regular_grid_variance(f, n)?,
+            format!(
+                "{name} at N = {n} has power N on its replicas m Z^d and 0 elsewhere: the \
+                 lattice form summed exactly in space, (1/N) Σ_g a_f(g) - I² over the grid \
+                 vectors g"
+            ),
+        ),
+        ClosedForm::Rank1Lattice { generator } => (
+            rank1_lattice_variance(f, n, generator)?,
+            format!(
+                "{name} at N = {n} (generating vector (1, {generator})) has power N on its dual \
+                 lattice and 0 elsewhere: the lattice form summed exactly in space, \
+                 (1/N) Σ_i a_f(x_i) - I² over its points"
+            ),
+        ),
+        ClosedForm::Kronecker { alpha } => (
+            kronecker_variance(f, n, &alpha)?,
+            format!(
+                "{name} at N = {n} has the Fejér kernel of k·α as its spectrum: the lattice form \
+                 summed exactly in space, (1/N²) Σ_j (N - |j|) a_f(jα) - I² over its lags"
+            ),
+        ),
+        _ => unreachable!("only the forms without a tail bound are summed in space"),
+    };
+    let (value, rounding) = exact.ok_or_else(|| Error::OutsideValidity {
+        route: format!("the lattice form with the {}'s spectrum", closed.name()),
         reason: format!(
-            "its replicas (power N on m Z^d) continue beyond any lattice, and {} has no \
-             closed-form autocorrelation to sum them in space; estimate the spectrum instead",
+            "its peaks (power up to N) continue beyond any lattice, and {} has no closed-form \
+             autocorrelation to sum them in space; estimate the spectrum instead",
             f.label()
         ),
     })?;
@@ -229,12 +265,9 @@ fn regular_grid(f: &dyn Integrand, n: usize, name: &str) -> Result<Prediction> {
         variance: value,
         route: Route {
             form: Form::Lattice,
-            spectrum: SpectrumOrigin::Closed(ClosedForm::RegularGrid),
+            spectrum: SpectrumOrigin::Closed(closed),
         },
-        reason: format!(
-            "{name} at N = {n} has power N on its replicas m Z^d and 0 elsewhere: the lattice \
-             form summed exactly in space, (1/N) Σ_g a_f(g) - I² over the grid vectors g"
-        ),
+        reason,
         budget: ErrorBudget {
             quadrature: rounding,
             ..Default::default()
@@ -512,13 +545,13 @@ pub(crate) fn predict_routed_many(
                 .into(),
         ));
     }
-    let (n, d) = (first.n, first.dimension());
+    let n = first.n;
     let kind = match first.patterns {
         Patterns::Sampler(s) => s.kind(),
         Patterns::PointSets(_) => None,
     };
     let closed = params.spectrum != SpectrumChoice::Estimated
-        && kind.and_then(|k| k.closed_form(n, d)).is_some();
+        && matches!(first.patterns, Patterns::Sampler(s) if s.closed_form(n).is_some());
     if closed || params.form == FormChoice::Polar || params.spectrum == SpectrumChoice::Closed {
         return problems
             .iter()

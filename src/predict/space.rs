@@ -87,6 +87,83 @@ pub fn regular_grid_variance(f: &dyn Integrand, n: usize) -> Result<Option<(f64,
     Ok(Some(finish(f, &rows, n as f64)))
 }
 
+/// The variance of the homogenized 2D rank-1 lattice `x_i = frac(i (1, a) / N)`: its points
+/// form a group, so every difference of two points is a point, N times each, and the
+/// variance is `(1/N) Σ_i a_f(x_i) - I²`. `None` if `f` has no closed-form autocorrelation.
+/// Returns the value and a bound on its rounding error.
+///
+/// # Errors
+/// An integrand not in 2D, or `n = 0`.
+pub fn rank1_lattice_variance(
+    f: &dyn Integrand,
+    n: usize,
+    generator: u64,
+) -> Result<Option<(f64, f64)>> {
+    check_space_problem(f, n, Some(2))?;
+    if f.autocorrelation(&[0.0, 0.0]).is_none() {
+        return Ok(None);
+    }
+    let rows: Vec<f64> = (0..n as u128)
+        .into_par_iter()
+        .map(|i| {
+            let r = [
+                i as f64 / n as f64,
+                ((i * generator as u128) % n as u128) as f64 / n as f64,
+            ];
+            f.autocorrelation(&r).unwrap_or(0.0)
+        })
+        .collect();
+    Ok(Some(finish(f, &rows, n as f64)))
+}
+
+/// The variance of the homogenized Kronecker sequence `x_i = frac(i α)`, `i < N`, with `α`
+/// given as 64-bit binary fractions: the difference `x_i - x_j` is `frac((i - j) α)`, and a
+/// lag `j` occurs `N - |j|` times, so the variance is
+/// `(1/N²) [N a_f(0) + 2 Σ_{j=1}^{N-1} (N - j) a_f(frac(j α))] - I²` (`a_f` is even). `None`
+/// if `f` has no closed-form autocorrelation. Returns the value and a bound on its rounding
+/// error.
+///
+/// # Errors
+/// A dimension mismatch or `n = 0`.
+pub fn kronecker_variance(
+    f: &dyn Integrand,
+    n: usize,
+    alpha: &[u64],
+) -> Result<Option<(f64, f64)>> {
+    let d = f.dimension();
+    check_space_problem(f, n, None)?;
+    if f.autocorrelation(&vec![0.0; d]).is_none() {
+        return Ok(None);
+    }
+    let scale = 2f64.powi(-64);
+    let rows: Vec<f64> = (0..n as u64)
+        .into_par_iter()
+        .map(|j| {
+            let mut r = [0.0; crate::pointset::MAX_DIMENSION];
+            for (x, &a) in r.iter_mut().zip(&alpha[..d]) {
+                *x = crate::pointset::wrap(j.wrapping_mul(a) as f64 * scale);
+            }
+            let weight = if j == 0 { n } else { 2 * (n - j as usize) };
+            weight as f64 * f.autocorrelation(&r[..d]).unwrap_or(0.0)
+        })
+        .collect();
+    Ok(Some(finish(f, &rows, (n * n) as f64)))
+}
+
+fn check_space_problem(f: &dyn Integrand, n: usize, dimension: Option<usize>) -> Result<()> {
+    if n == 0 {
+        return Err(invalid("N", 0, "at least 1"));
+    }
+    match dimension {
+        Some(d) if f.dimension() != d => Err(invalid(
+            "dimension",
+            f.dimension(),
+            format!("{d} (the lattice's)"),
+        )),
+        _ => Ok(()),
+    }
+}
+
 /// `Σ rows / count - I²`, with the subtraction's rounding bound: a few ulps of the larger term.
 fn finish(f: &dyn Integrand, rows: &[f64], count: f64) -> (f64, f64) {
     let mut total = CompensatedSum::default();

@@ -207,7 +207,7 @@ impl Default for ComparisonConfig {
         Self {
             width: 128,
             height: 128,
-            samplers: all_2d_samplers(),
+            samplers: samplers_for_rays(RenderParams::default().rays),
             render: RenderParams::default(),
             reference_rays: 16384,
             pixel_power: PixelPowerParams::default(),
@@ -260,6 +260,15 @@ impl ComparisonConfig {
 /// Every sampler that works in 2D.
 pub fn all_2d_samplers() -> Vec<SamplerKind> {
     SamplerKind::in_dimension(2)
+}
+
+/// Every 2D sampler that can draw `rays` points (the Fibonacci lattice only at Fibonacci
+/// numbers, strata at their counts): the samplers a render at `rays` compares.
+pub fn samplers_for_rays(rays: usize) -> Vec<SamplerKind> {
+    all_2d_samplers()
+        .into_iter()
+        .filter(|k| k.nearest_count(rays, 2) == rays)
+        .collect()
 }
 
 /// A finished comparison run.

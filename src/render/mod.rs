@@ -20,8 +20,8 @@ mod image;
 mod mse;
 
 pub use compare::{
-    all_2d_samplers, compare, comparison_table, measured_ratio, run_comparison, write_comparison,
-    Comparison, ComparisonConfig, ComparisonRow, TALK_MSE,
+    all_2d_samplers, compare, comparison_table, measured_ratio, run_comparison, samplers_for_rays,
+    write_comparison, Comparison, ComparisonConfig, ComparisonRow, TALK_MSE,
 };
 pub use image::{AoImage, Reference, ReferenceKey};
 pub use mse::{measure_mse, pixel_power, predict_mse, MseEstimate, PixelPowerParams};

@@ -184,11 +184,13 @@ fn closure(
     let mut rows = Vec::new();
     for &kind in &config.samplers {
         let sampler = crate::cache::cached_sampler(kind, 2, cache, PATTERN_MEMORY)?;
-        for &n in config
+        let mut ns: Vec<usize> = config
             .ns
             .iter()
-            .filter(|&&n| sampler.check_count(n).is_ok())
-        {
+            .map(|&n| kind.nearest_count(n, 2))
+            .collect();
+        ns.dedup();
+        for n in ns {
             let mut mc = McParams::pooled(kind, config.trials, seed ^ CLOSURE_MC_STREAM, true);
             mc.budget = config.predict.budget;
             progress.begin(

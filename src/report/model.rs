@@ -28,7 +28,8 @@ pub struct ClosureConfig {
 impl ClosureConfig {
     /// Every 2D sampler on the disk and the Gaussian of the talk, a Gaussian off centre (whose
     /// jumps at the faces Monte Carlo sees), a wide one (σ = 0.3) and a wide disk (r = 0.45,
-    /// whose autocorrelation wraps around the torus), at N = 16, 64, 256, 1024.
+    /// whose autocorrelation wraps around the torus), at N = 16, 64, 256, 1024 (or the valid
+    /// count nearest each, for samplers with a count rule).
     pub fn full() -> Self {
         let gaussian = |sigma: f64, centre: Option<Vec<f64>>| IntegrandSpec::Gaussian {
             sigma,

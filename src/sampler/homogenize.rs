@@ -4,6 +4,7 @@ use super::{uniform, Sampler, SamplerKind};
 use crate::error::Result;
 use crate::pointset::{PointSet, MAX_DIMENSION};
 use crate::rng::{realization_rng, Stream};
+use crate::spectrum::ClosedForm;
 
 /// Adds one uniform random vector to every point, modulo 1, drawn from the shift stream of
 /// `(seed, realization)` ([`homogenizing_shift`]). Any pattern so shifted gives an unbiased
@@ -71,6 +72,10 @@ impl<S: Sampler> Sampler for Homogenized<S> {
     fn kind(&self) -> Option<SamplerKind> {
         self.inner.kind()
     }
+    fn closed_form(&self, n: usize) -> Option<ClosedForm> {
+        // The closed forms are the homogenized spectra already.
+        self.inner.closed_form(n)
+    }
 }
 
 impl Sampler for Box<dyn Sampler> {
@@ -88,5 +93,8 @@ impl Sampler for Box<dyn Sampler> {
     }
     fn kind(&self) -> Option<SamplerKind> {
         (**self).kind()
+    }
+    fn closed_form(&self, n: usize) -> Option<ClosedForm> {
+        (**self).closed_form(n)
     }
 }

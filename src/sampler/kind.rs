@@ -1,8 +1,8 @@
 //! Every sampler this crate provides, and every fact about each one, in one place.
 
 use super::{
-    Ccvt, CorrelatedMultiJitter, Halton, Jitter, LatinHypercube, PoissonDisk, PoissonMethod,
-    Random, Regular, Sampler, Sobol,
+    Ccvt, CorrelatedMultiJitter, GaussianJitter, Halton, Jitter, Kronecker, LatinHypercube,
+    LatticeRule, PoissonDisk, PoissonMethod, Random, Rank1Lattice, Regular, Sampler, Sobol,
 };
 use crate::budget::Needs;
 use crate::error::{Error, Result};
@@ -35,6 +35,14 @@ pub enum SamplerKind {
     Sobol,
     /// Correlated multi-jittered (2D).
     Cmj,
+    /// Gaussian jitter: grid centres moved by Gaussian offsets.
+    GaussianJitter,
+    /// Korobov's rank-1 lattice with the best spectral test (2D).
+    Korobov,
+    /// The Fibonacci lattice (2D).
+    Fibonacci,
+    /// The Kronecker sequence of the generalized golden ratio (R_d).
+    Kronecker,
 }
 
 /// How a sampler's expected spectrum depends on N: whether one spectrum, estimated at a
@@ -74,10 +82,11 @@ const COSTLY_NS: f64 = 10_000.0;
 
 impl SamplerKind {
     /// All kinds, in display order.
-    pub const ALL: [SamplerKind; 10] = [
+    pub const ALL: [SamplerKind; 14] = [
         SamplerKind::Random,
         SamplerKind::Regular,
         SamplerKind::Jitter,
+        SamplerKind::GaussianJitter,
         SamplerKind::PoissonDisk,
         SamplerKind::Bridson,
         SamplerKind::Ccvt,
@@ -85,6 +94,9 @@ impl SamplerKind {
         SamplerKind::Halton,
         SamplerKind::Sobol,
         SamplerKind::Cmj,
+        SamplerKind::Korobov,
+        SamplerKind::Fibonacci,
+        SamplerKind::Kronecker,
     ];
 
     /// The command-line name.
@@ -100,6 +112,10 @@ impl SamplerKind {
             SamplerKind::Halton => "halton",
             SamplerKind::Sobol => "sobol",
             SamplerKind::Cmj => "cmj",
+            SamplerKind::GaussianJitter => "gjitter",
+            SamplerKind::Korobov => "korobov",
+            SamplerKind::Fibonacci => "fibonacci",
+            SamplerKind::Kronecker => "kronecker",
         }
     }
 
@@ -118,6 +134,17 @@ impl SamplerKind {
             SamplerKind::Halton => "Halton with random digit permutations",
             SamplerKind::Sobol => "Sobol (Joe-Kuo directions) with Owen scrambling",
             SamplerKind::Cmj => "correlated multi-jittered (Kensler 2013): jittered and N-rooks",
+            SamplerKind::GaussianJitter => {
+                "Gaussian jitter (Subr and Kautz 2013): grid centres plus Gaussian offsets of 0.25 \
+                 strata"
+            }
+            SamplerKind::Korobov => {
+                "rank-1 lattice frac(i(1,a)/N), a with the best spectral test; deterministic"
+            }
+            SamplerKind::Fibonacci => "Fibonacci lattice frac(i(1,F_{m-1})/F_m); deterministic",
+            SamplerKind::Kronecker => {
+                "Kronecker sequence frac(i alpha), alpha from x^(d+1) = x + 1 (R_d); deterministic"
+            }
         }
     }
 
@@ -125,7 +152,7 @@ impl SamplerKind {
     pub fn dimensions(self) -> RangeInclusive<usize> {
         match self {
             SamplerKind::PoissonDisk | SamplerKind::Bridson | SamplerKind::Ccvt => 1..=3,
-            SamplerKind::Cmj => 2..=2,
+            SamplerKind::Cmj | SamplerKind::Korobov | SamplerKind::Fibonacci => 2..=2,
             _ => 1..=crate::pointset::MAX_DIMENSION,
         }
     }
@@ -133,15 +160,62 @@ impl SamplerKind {
     /// The rule N must follow, in words.
     pub fn count_rule(self) -> &'static str {
         match self {
-            SamplerKind::Regular | SamplerKind::Jitter => "N = m^d; 2D: or a×b, b<a≤2b",
+            SamplerKind::Regular | SamplerKind::Jitter | SamplerKind::GaussianJitter => {
+                "N = m^d; 2D: or a×b, b<a≤2b"
+            }
+            SamplerKind::Fibonacci => "N = F_m: 1, 2, 3, 5, 8, 13, 21, …",
             _ => "any N >= 1",
         }
     }
 
-    /// The sampler's exact expected spectrum at `n` points in dimension `d`, if one is known.
+    /// The valid count nearest `n` (the smaller on ties), at least 1: for samplers with a
+    /// count rule (strata, Fibonacci numbers); `max(n, 1)` for the others.
+    ///
+    /// # Examples
+    /// ```
+    /// use specvar::sampler::SamplerKind;
+    /// assert_eq!(SamplerKind::Fibonacci.nearest_count(64, 2), 55);
+    /// assert_eq!(SamplerKind::Jitter.nearest_count(97, 2), 96);
+    /// assert_eq!(SamplerKind::Sobol.nearest_count(97, 2), 97);
+    /// ```
+    pub fn nearest_count(self, n: usize, d: usize) -> usize {
+        let valid = |c: usize| match self {
+            SamplerKind::Regular | SamplerKind::Jitter | SamplerKind::GaussianJitter => {
+                super::strata(c, d).is_some()
+            }
+            SamplerKind::Fibonacci => {
+                Rank1Lattice::new(2, LatticeRule::Fibonacci).is_ok_and(|s| s.check_count(c).is_ok())
+            }
+            _ => true,
+        };
+        let n = n.max(1);
+        (0..n)
+            .flat_map(|step| [n - step, n + step])
+            .find(|&c| c >= 1 && valid(c))
+            .unwrap_or(1)
+    }
+
+    /// Whether the pattern ignores the seed and the realization: one fixed point set, which
+    /// Monte Carlo homogenizes (the regular grid, rank-1 lattices, the Kronecker sequence).
+    pub fn is_deterministic(self) -> bool {
+        matches!(
+            self,
+            SamplerKind::Regular
+                | SamplerKind::Korobov
+                | SamplerKind::Fibonacci
+                | SamplerKind::Kronecker
+        )
+    }
+
+    /// The sampler's exact expected spectrum at `n` points in dimension `d`, if one is known
+    /// (with default parameters: Gaussian jitter's is its default width's).
     /// Jitter's follows its strata (`96 = 12 × 8`); the closed radial form needs square ones.
     pub fn closed_form(self, n: usize, d: usize) -> Option<ClosedForm> {
         match self {
+            SamplerKind::GaussianJitter
+            | SamplerKind::Korobov
+            | SamplerKind::Fibonacci
+            | SamplerKind::Kronecker => self.build(d).ok()?.closed_form(n),
             SamplerKind::Random => Some(ClosedForm::WhiteNoise),
             SamplerKind::Jitter => super::strata(n, d).map(|_| ClosedForm::Jitter),
             SamplerKind::Regular => super::strata(n, d).map(|_| ClosedForm::RegularGrid),
@@ -159,7 +233,7 @@ impl SamplerKind {
     pub fn known_alpha(self) -> Option<f64> {
         match self {
             SamplerKind::Random | SamplerKind::PoissonDisk | SamplerKind::Bridson => Some(0.0),
-            SamplerKind::Jitter | SamplerKind::Ccvt => Some(2.0),
+            SamplerKind::Jitter | SamplerKind::Ccvt | SamplerKind::GaussianJitter => Some(2.0),
             _ => None,
         }
     }
@@ -176,7 +250,11 @@ impl SamplerKind {
             | SamplerKind::LatinHypercube
             | SamplerKind::Halton
             | SamplerKind::Sobol
-            | SamplerKind::Cmj => Scaling::Never,
+            | SamplerKind::Cmj
+            | SamplerKind::GaussianJitter
+            | SamplerKind::Korobov
+            | SamplerKind::Fibonacci
+            | SamplerKind::Kronecker => Scaling::Never,
         }
     }
 
@@ -212,8 +290,15 @@ impl SamplerKind {
             | SamplerKind::Bridson
             | SamplerKind::Ccvt
             | SamplerKind::LatinHypercube => true,
-            SamplerKind::Jitter | SamplerKind::Regular => super::perfect_root(n, d).is_some(),
-            SamplerKind::Halton | SamplerKind::Sobol | SamplerKind::Cmj => false,
+            SamplerKind::Jitter | SamplerKind::Regular | SamplerKind::GaussianJitter => {
+                super::perfect_root(n, d).is_some()
+            }
+            SamplerKind::Halton
+            | SamplerKind::Sobol
+            | SamplerKind::Cmj
+            | SamplerKind::Korobov
+            | SamplerKind::Fibonacci
+            | SamplerKind::Kronecker => false,
         }
     }
 
@@ -221,8 +306,11 @@ impl SamplerKind {
     /// 4096 by `benches/samplers.rs`; it grows slowly with N for the optimizers).
     pub fn cost_per_point_ns(self) -> f64 {
         match self {
-            SamplerKind::Random | SamplerKind::Regular => 4.0,
+            SamplerKind::Random | SamplerKind::Regular | SamplerKind::Kronecker => 4.0,
             SamplerKind::Jitter => 8.0,
+            SamplerKind::GaussianJitter => 20.0,
+            SamplerKind::Fibonacci => 5.0,
+            SamplerKind::Korobov => 60.0,
             SamplerKind::LatinHypercube | SamplerKind::Cmj => 30.0,
             SamplerKind::Sobol => 80.0,
             SamplerKind::Halton => 35.0,
@@ -344,6 +432,10 @@ impl SamplerKind {
             SamplerKind::Halton => Box::new(Halton::new(d)?),
             SamplerKind::Sobol => Box::new(Sobol::new(d)?),
             SamplerKind::Cmj => Box::new(CorrelatedMultiJitter::new(d)?),
+            SamplerKind::GaussianJitter => Box::new(GaussianJitter::new(d)?),
+            SamplerKind::Korobov => Box::new(Rank1Lattice::new(d, LatticeRule::Korobov)?),
+            SamplerKind::Fibonacci => Box::new(Rank1Lattice::new(d, LatticeRule::Fibonacci)?),
+            SamplerKind::Kronecker => Box::new(Kronecker::new(d)?),
         })
     }
 

@@ -59,6 +59,9 @@ impl<S: Sampler> Sampler for Memoized<S> {
     fn check_count(&self, n: usize) -> Result<()> {
         self.inner.check_count(n)
     }
+    fn closed_form(&self, n: usize) -> Option<crate::spectrum::ClosedForm> {
+        self.inner.closed_form(n)
+    }
     fn sample(&self, n: usize, seed: u64, realization: u64) -> Result<PointSet> {
         let key = (n, seed, realization);
         if let Some(p) = self

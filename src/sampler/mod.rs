@@ -6,34 +6,43 @@
 
 mod ccvt;
 mod cmj;
+mod gaussian_jitter;
 mod halton;
 mod homogenize;
 mod jitter;
 mod kind;
+mod kronecker;
 mod latin;
 mod memo;
 mod poisson;
 mod random;
+mod rank1;
 mod regular;
 mod sobol;
 
 pub use ccvt::{Ccvt, CcvtParams, CcvtStats};
 pub use cmj::CorrelatedMultiJitter;
+pub use gaussian_jitter::{
+    GaussianJitter, DEFAULT_GAUSSIAN_WIDTH, MAX_GAUSSIAN_WIDTH, MIN_GAUSSIAN_WIDTH,
+};
 pub use halton::Halton;
 pub use homogenize::{homogenize, homogenizing_shift, Homogenized};
 pub use jitter::Jitter;
 pub use kind::{Pool, SamplerKind, Scaling, MIN_POOL_PATTERNS};
+pub use kronecker::Kronecker;
 pub use latin::LatinHypercube;
 pub use memo::Memoized;
 pub use poisson::{
     default_relative_radius, max_packing_radius, PoissonDisk, PoissonMethod, MAX_ATTEMPTS,
 };
 pub use random::Random;
+pub use rank1::{shortest_dual_vector_sq, LatticeRule, Rank1Lattice};
 pub use regular::{strata, Regular};
 pub use sobol::Sobol;
 
 use crate::error::{Error, Result};
 use crate::pointset::PointSet;
+use crate::spectrum::ClosedForm;
 use std::ops::RangeInclusive;
 
 /// A generator of point sets on `[0,1)^d` for a fixed dimension `d`.
@@ -63,6 +72,13 @@ pub trait Sampler: Send + Sync {
     /// predictions then treat as anisotropic and not scale invariant, with no closed form.
     fn kind(&self) -> Option<SamplerKind> {
         None
+    }
+
+    /// This sampler's exact expected power spectrum at `n` points, if one is known: by default
+    /// its kind's ([`SamplerKind::closed_form`]); a sampler with parameters that enter the
+    /// spectrum (Gaussian jitter's width) gives its own.
+    fn closed_form(&self, n: usize) -> Option<ClosedForm> {
+        self.kind().and_then(|k| k.closed_form(n, self.dimension()))
     }
 }
 

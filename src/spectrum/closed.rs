@@ -1,5 +1,7 @@
-//! Closed-form expected power spectra: white noise, jitter, Latin hypercube, the regular grid.
+//! Closed-form expected power spectra: white noise, jitter, Gaussian jitter, Latin hypercube,
+//! the regular grid, rank-1 lattices and Kronecker sequences.
 
+use crate::pointset::MAX_DIMENSION;
 use crate::quadrature::GaussLegendre;
 use crate::sampler::strata;
 use std::f64::consts::PI;
@@ -15,7 +17,7 @@ pub fn sinc(x: f64) -> f64 {
 }
 
 /// A sampler whose expected power spectrum (homogenized) is known exactly.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ClosedForm {
     /// `E[P_S(k)] = 1` for every `k ≠ 0`.
@@ -29,6 +31,25 @@ pub enum ClosedForm {
     /// The cell-centred regular grid with strata `m_i`, homogenized: `N` on the replicas
     /// `k ∈ m Z^d`, 0 elsewhere.
     RegularGrid,
+    /// Gaussian jitter of `width` strata (standard deviation) on the grid of strata `m_i`:
+    /// `E[P_S(k)] = 1 - φ² + N φ² [k ∈ m Z^d]` with `φ = Π_i exp(-2π² w² k_i² / m_i²)`.
+    GaussianJitter {
+        /// The offsets' standard deviation, in strata.
+        width: f64,
+    },
+    /// The 2D rank-1 lattice `x_i = frac(i (1, a) / N)`, homogenized: `N` on its dual lattice
+    /// `k_0 + a k_1 ≡ 0 (mod N)`, 0 elsewhere.
+    Rank1Lattice {
+        /// The second component `a` of the generating vector `(1, a)`.
+        generator: u64,
+    },
+    /// The Kronecker sequence `x_i = frac(i α)`, `i < N`, homogenized: with `t = k·α`,
+    /// `E[P_S(k)] = sin²(π N t) / (N sin²(π t))`, the Fejér kernel.
+    Kronecker {
+        /// Each component of `α` as a 64-bit binary fraction, `α_j = alpha[j] / 2^64`
+        /// (components beyond the dimension are 0).
+        alpha: [u64; MAX_DIMENSION],
+    },
 }
 
 /// Bounds on `|E[P_S(k)] - 1|` outside a lattice `|k_i| ≤ K`: on the axis lines and elsewhere.
@@ -74,7 +95,7 @@ impl ClosedForm {
                     })
                     .product::<f64>(),
             ),
-            ClosedForm::LatinHypercube | ClosedForm::RegularGrid => None,
+            _ => None,
         }
     }
 
@@ -113,15 +134,25 @@ impl ClosedForm {
                 .collect()
         };
         let sinc2 = |k: f64, m: f64| sinc(PI * k / m).powi(2);
+        let on_replica = |k: f64, m: f64| (k / m).fract() == 0.0;
+        let mut replicas = Vec::new();
         let axes = match self {
-            ClosedForm::WhiteNoise => Vec::new(),
+            ClosedForm::WhiteNoise
+            | ClosedForm::Rank1Lattice { .. }
+            | ClosedForm::Kronecker { .. } => Vec::new(),
+            ClosedForm::GaussianJitter { width } => {
+                let phi2 =
+                    move |k: f64, m: f64| (-4.0 * PI * PI * width * width * k * k / (m * m)).exp();
+                replicas = table(&|k: f64, m: f64| if on_replica(k, m) { phi2(k, m) } else { 0.0 });
+                table(&phi2)
+            }
             ClosedForm::Jitter => table(&sinc2),
             ClosedForm::LatinHypercube => {
                 let scale = (n as f64 - 1.0).max(1.0);
                 table(&|k: f64, m: f64| if k == 0.0 { 1.0 } else { -sinc2(k, m) / scale })
             }
             ClosedForm::RegularGrid => {
-                table(&|k: f64, m: f64| if (k / m).fract() == 0.0 { 1.0 } else { 0.0 })
+                table(&|k: f64, m: f64| if on_replica(k, m) { 1.0 } else { 0.0 })
             }
         };
         ClosedLattice {
@@ -130,6 +161,7 @@ impl ClosedForm {
             kmax,
             cells,
             axes,
+            replicas,
         }
     }
 
@@ -140,6 +172,9 @@ impl ClosedForm {
             ClosedForm::Jitter => "jitter",
             ClosedForm::LatinHypercube => "Latin hypercube",
             ClosedForm::RegularGrid => "regular grid",
+            ClosedForm::GaussianJitter { .. } => "Gaussian jitter",
+            ClosedForm::Rank1Lattice { .. } => "rank-1 lattice",
+            ClosedForm::Kronecker { .. } => "Kronecker sequence",
         }
     }
 
@@ -174,8 +209,10 @@ pub struct ClosedLattice {
     /// Strata per axis.
     cells: Vec<f64>,
     /// Per axis, for `k = -K..=K`: jitter `sinc²(π k / m)`; Latin hypercube `g(k)`; regular
-    /// grid 1 on the replicas.
+    /// grid 1 on the replicas; Gaussian jitter `φ²`.
     axes: Vec<Vec<f64>>,
+    /// Gaussian jitter only: per axis `φ²` on the replicas, 0 elsewhere.
+    replicas: Vec<Vec<f64>>,
 }
 
 impl ClosedLattice {
@@ -194,26 +231,49 @@ impl ClosedLattice {
             return self.n as f64;
         }
         let offset = self.kmax as i64;
-        let product = || {
+        let product = |tables: &[Vec<f64>]| {
             k.iter()
-                .zip(&self.axes)
+                .zip(tables)
                 .map(|(&c, table)| table[(c + offset) as usize])
                 .product::<f64>()
         };
+        let n = self.n as f64;
         match self.form {
             ClosedForm::WhiteNoise => 1.0,
-            ClosedForm::Jitter => 1.0 - product(),
-            ClosedForm::LatinHypercube => 1.0 + (self.n as f64 - 1.0) * product(),
-            ClosedForm::RegularGrid => self.n as f64 * product(),
+            ClosedForm::Jitter => 1.0 - product(&self.axes),
+            ClosedForm::LatinHypercube => 1.0 + (n - 1.0) * product(&self.axes),
+            ClosedForm::RegularGrid => n * product(&self.axes),
+            ClosedForm::GaussianJitter { .. } => {
+                1.0 - product(&self.axes) + n * product(&self.replicas)
+            }
+            ClosedForm::Rank1Lattice { generator } => {
+                let residue =
+                    (k[0] as i128 + generator as i128 * k[1] as i128).rem_euclid(n as i128);
+                if residue == 0 {
+                    n
+                } else {
+                    0.0
+                }
+            }
+            ClosedForm::Kronecker { alpha } => {
+                let phase = k.iter().zip(alpha).fold(0u64, |t, (&c, a)| {
+                    t.wrapping_add((c as u64).wrapping_mul(a))
+                });
+                fejer(self.n as u64, phase)
+            }
         }
     }
 
-    /// Bounds on `|E[P_S(k)] - 1|` outside the lattice, or `None` for the regular grid, whose
-    /// replicas (power N) continue beyond any lattice.
+    /// Bounds on `|E[P_S(k)] - 1|` outside the lattice, or `None` for the regular grid, rank-1
+    /// lattices and Kronecker sequences, whose peaks (power up to N) continue beyond any
+    /// lattice.
     ///
     /// Jitter: outside the lattice some `|k_i| > K`, so `1 - P = Π sinc² ≤ (m_i/(πK))²`. Latin
     /// hypercube: on an axis `1 - P = sinc²(πk/N) ≤ min(1, (N/(πK))²)`; elsewhere
-    /// `|P - 1| ≤ 1/(N - 1)` (two non-zero components) or `1/(N - 1)²` (three).
+    /// `|P - 1| ≤ 1/(N - 1)` (two non-zero components) or `1/(N - 1)²` (three). Gaussian
+    /// jitter: outside the lattice some `|k_i| ≥ K + 1`, so `φ² ≤ exp(-4π² w² (K+1)² / m²)`
+    /// with `m` the widest strata, and `|P - 1| ≤ max(1, N - 1) φ²` (on a replica
+    /// `P - 1 = (N - 1) φ²`, elsewhere `-φ²`).
     pub fn tail_deviation(&self) -> Option<TailDeviation> {
         let k = self.kmax.max(1) as f64;
         let widest = self.cells.iter().fold(0.0f64, |a, &m| a.max(m));
@@ -233,9 +293,33 @@ impl ClosedLattice {
                 axis: (self.n as f64 / (PI * k)).powi(2).min(1.0),
                 off_axis: 1.0 / (self.n as f64 - 1.0).max(1.0),
             }),
-            ClosedForm::RegularGrid => None,
+            ClosedForm::GaussianJitter { width } => {
+                let phi2 =
+                    (-4.0 * PI * PI * width * width * (k + 1.0).powi(2) / (widest * widest)).exp();
+                let delta = ((self.n as f64 - 1.0).max(1.0) * phi2).min(self.n as f64);
+                Some(TailDeviation {
+                    axis: delta,
+                    off_axis: delta,
+                })
+            }
+            ClosedForm::RegularGrid
+            | ClosedForm::Rank1Lattice { .. }
+            | ClosedForm::Kronecker { .. } => None,
         }
     }
+}
+
+/// The Fejér kernel `sin²(π N t) / (N sin²(π t))` at `t = phase / 2^64`: the power spectrum of
+/// `N` consecutive points of a Kronecker sequence. Both phases are reduced exactly in 64-bit
+/// fixed point (`N t mod 1` by a wrapping product), so the sines see arguments in `[-π/2, π/2)`.
+pub fn fejer(n: u64, phase: u64) -> f64 {
+    if phase == 0 {
+        return n as f64;
+    }
+    let angle = |fraction: u64| PI * (fraction as i64) as f64 / 2f64.powi(64);
+    let numerator = libm::sin(angle(phase.wrapping_mul(n)));
+    let denominator = libm::sin(angle(phase));
+    numerator * numerator / (n as f64 * denominator * denominator)
 }
 
 /// Angular mean of the jitter spectrum. The integrand oscillates about `ν` times per sector,

@@ -19,7 +19,7 @@ pub mod nufft;
 mod radial;
 
 pub use accumulate::{PatternSource, SpectrumAccumulator, WeightedMean};
-pub use closed::{sinc, ClosedForm, ClosedLattice, TailDeviation};
+pub use closed::{fejer, sinc, ClosedForm, ClosedLattice, TailDeviation};
 pub use lattice::Lattice;
 pub use radial::{RadialBin, RadialSpectrum};
 

@@ -2,7 +2,7 @@
 //! and the MSE predicted from spectra.
 
 use specvar::render::{
-    all_2d_samplers, comparison_table, measured_ratio, run_comparison, write_comparison,
+    comparison_table, measured_ratio, run_comparison, samplers_for_rays, write_comparison,
     ComparisonConfig,
 };
 use specvar::sampler::SamplerKind;
@@ -59,13 +59,18 @@ pub struct Args {
 
 /// The samplers to render.
 #[derive(Debug, Clone)]
-pub struct Samplers(Vec<SamplerKind>);
+pub enum Samplers {
+    /// Every 2D sampler that can draw the ray count.
+    All,
+    /// One sampler.
+    One(SamplerKind),
+}
 
 fn parse_samplers(text: &str) -> Result<Samplers> {
-    Ok(Samplers(match text.trim() {
-        "all" => all_2d_samplers(),
-        name => vec![SamplerKind::from_name(name)?],
-    }))
+    Ok(match text.trim() {
+        "all" => Samplers::All,
+        name => Samplers::One(SamplerKind::from_name(name)?),
+    })
 }
 
 impl Args {
@@ -74,7 +79,7 @@ impl Args {
         let mut c = ComparisonConfig {
             width: self.width.unwrap_or(d.width),
             height: self.height.unwrap_or(d.height),
-            samplers: self.sampler.0.clone(),
+            samplers: Vec::new(),
             reference_rays: self.reference_rays.unwrap_or(d.reference_rays),
             spectrum_realizations: self
                 .spectrum_realizations
@@ -83,6 +88,10 @@ impl Args {
             ..d
         };
         c.render.rays = self.rays.unwrap_or(c.render.rays);
+        c.samplers = match self.sampler {
+            Samplers::All => samplers_for_rays(c.render.rays),
+            Samplers::One(kind) => vec![kind],
+        };
         c.render.max_distance = self.max_distance.unwrap_or(c.render.max_distance);
         c.render.patterns = self.patterns.unwrap_or(c.render.patterns);
         c.render.seed = self.seed;

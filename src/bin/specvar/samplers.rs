@@ -43,13 +43,35 @@ pub fn run(args: &Args) -> specvar::Result<()> {
         println!("{}", super::to_json(&rows)?);
         return Ok(());
     }
-    println!("{:<8} {:<11} {:<24} description", "name", "dimensions", "N");
+    // Widths in characters: the rules hold multi-byte symbols (×, ≤, …).
+    let pad = |text: &str, width: usize| {
+        let fill = width.saturating_sub(text.chars().count());
+        format!("{text}{}", " ".repeat(fill))
+    };
+    let rule_width = rows
+        .iter()
+        .map(|r| r.n_rule.chars().count())
+        .max()
+        .unwrap_or(1);
+    let name_width = rows.iter().map(|r| r.name.name().len()).max().unwrap_or(4);
+    let header = [
+        pad("name", name_width),
+        pad("dimensions", 10),
+        pad("N", rule_width),
+    ];
+    println!("{} description", header.join(" "));
     for r in &rows {
-        let dims = format!("{}-{}", r.min_dimension, r.max_dimension);
-        println!(
-            "{:<8} {dims:<11} {:<24} {}",
-            r.name, r.n_rule, r.description
-        );
+        let dims = if r.min_dimension == r.max_dimension {
+            r.min_dimension.to_string()
+        } else {
+            format!("{}-{}", r.min_dimension, r.max_dimension)
+        };
+        let cells = [
+            pad(r.name.name(), name_width),
+            pad(&dims, 10),
+            pad(r.n_rule, rule_width),
+        ];
+        println!("{} {}", cells.join(" "), r.description);
     }
     Ok(())
 }
