@@ -98,6 +98,13 @@ fn meaningless_parameters_are_errors_not_defaults() {
     for args in [
         vec!["bias", "-s", "random", "-n", "16", "--kmax", "0"],
         vec!["rates", "--trials", "0"],
+        vec!["metrics", "-n", "64", "--pcf-sigma", "0"],
+        vec!["metrics", "-n", "64", "--pcf-sigma", "NaN"],
+        vec!["metrics", "-n", "16", "--pcf-rmax", "3"],
+        vec!["metrics", "-n", "64", "-m", "0"],
+        vec!["metrics", "-n", "1", "-m", "1"],
+        vec!["metrics", "-s", "fibonacci", "-n", "64"],
+        vec!["metrics", "-s", "random", "-d", "4", "-n", "64"],
         vec![
             "predict",
             "-s",

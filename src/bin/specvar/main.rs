@@ -5,6 +5,7 @@
 mod bars;
 mod bias;
 mod mc;
+mod metrics;
 mod predict;
 mod problem;
 mod rates;
@@ -75,6 +76,8 @@ enum Command {
     Report(report::Args),
     /// Monte Carlo variance of the estimator, with a 99% interval.
     Mc(mc::Args),
+    /// Discrepancies, distances, effective Nyquist frequency and pair correlation function.
+    Metrics(metrics::Args),
     /// Convergence rates: theory, predicted from spectra, measured by Monte Carlo.
     Rates(rates::Args),
     /// Render ambient occlusion with a sampler (or all): image, MSE, MSE predicted from spectra.
@@ -104,6 +107,7 @@ fn main() -> ExitCode {
         Some(Command::Bias(a)) => bias::run(&a, &ctx),
         Some(Command::Report(a)) => report::run(&a, &ctx),
         Some(Command::Mc(a)) => mc::run(&a, &ctx),
+        Some(Command::Metrics(a)) => metrics::run(&a, &ctx),
         Some(Command::Rates(a)) => rates::run(&a, &ctx),
         Some(Command::RenderAo(a)) => render_ao::run(&a, &ctx),
         None => report::run(&report::Args::default(), &ctx),

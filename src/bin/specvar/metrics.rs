@@ -1,0 +1,218 @@
+//! `specvar metrics`: discrepancies, distances, the effective Nyquist frequency and the pair
+//! correlation function of a sampler or of point sets from a file.
+
+use specvar::metrics::{
+    distances, effective_nyquist, hexagonal_nyquist, pair_correlation, squared_discrepancy,
+    DiscrepancyKind, PcfParams,
+};
+use specvar::plot::{line_plot, Axes, Series, Style};
+use specvar::pointset::PointSet;
+use specvar::sampler::SamplerKind;
+use specvar::spectrum::{estimate_with_progress, PatternSource, SpectrumParams};
+use specvar::Result;
+use std::path::PathBuf;
+
+/// Arguments of `specvar metrics`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Sampler name (ignored with --input).
+    #[arg(long, short = 's', default_value = "random")]
+    pub sampler: SamplerKind,
+    /// Points per pattern (ignored with --input).
+    #[arg(short = 'n', default_value_t = 1024)]
+    pub n: usize,
+    /// Dimension, 1 to 3 (ignored with --input).
+    #[arg(short = 'd', default_value_t = 2)]
+    pub dimension: usize,
+    /// Patterns to average (ignored with --input: every realization in the file is used).
+    #[arg(long, short = 'm', default_value_t = 16)]
+    pub realizations: usize,
+    /// Seed.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Read point sets (UTK text or JSON) instead of sampling.
+    #[arg(long)]
+    pub input: Option<PathBuf>,
+    /// The pair correlation function's kernel width, in mean spacings N^(-1/d).
+    #[arg(long, default_value_t = 0.05)]
+    pub pcf_sigma: f64,
+    /// The pair correlation function's largest radius, in mean spacings.
+    #[arg(long, default_value_t = 3.0)]
+    pub pcf_rmax: f64,
+    /// Write the pair correlation function as CSV (radius in spacings, g, standard error).
+    #[arg(long)]
+    pub pcf: Option<PathBuf>,
+    /// Plot the pair correlation function (SVG).
+    #[arg(long)]
+    pub plot: Option<PathBuf>,
+    /// JSON output.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(serde::Serialize)]
+struct Summary {
+    source: String,
+    n: usize,
+    dimension: usize,
+    patterns: usize,
+    /// Squared discrepancies: mean over the patterns and its standard error.
+    discrepancies: Vec<(DiscrepancyKind, f64, f64)>,
+    min_distance: f64,
+    mean_min_distance: f64,
+    effective_nyquist: Option<f64>,
+    effective_nyquist_over_hexagonal: Option<f64>,
+}
+
+/// Measures the patterns and prints the summary; writes the PCF if asked.
+pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
+    if let Some(path) = &args.plot {
+        specvar::plot::check_plot_path(path, false)?;
+    }
+    let (label, patterns) = patterns(args, ctx)?;
+    let (n, d) = (patterns[0].len(), patterns[0].dimension());
+    let pcf_params = PcfParams {
+        sigma: args.pcf_sigma,
+        r_max: args.pcf_rmax,
+        ..PcfParams::default()
+    };
+    let pcf = pair_correlation(&patterns, &pcf_params)?;
+    let summary = summarize(&label, &patterns, ctx)?;
+    if let Some(path) = &args.pcf {
+        let mut csv = String::from("radius_in_spacings,g,stderr\n");
+        for ((r, g), s) in pcf.radius_in_spacings.iter().zip(&pcf.g).zip(&pcf.stderr) {
+            csv.push_str(&format!("{r},{g},{s}\n"));
+        }
+        specvar::output::write_atomic(path, csv.as_bytes())?;
+    }
+    if let Some(path) = &args.plot {
+        let series = Series {
+            label: label.clone(),
+            points: pcf
+                .radius_in_spacings
+                .iter()
+                .copied()
+                .zip(pcf.g.iter().copied())
+                .collect(),
+            bars: None,
+            style: Style::Line,
+            color: 0,
+        };
+        let axes = Axes {
+            title: format!(
+                "pair correlation function, {label}: N = {n}, {d}D, {} patterns",
+                pcf.patterns
+            ),
+            x_label: "r / N^(-1/d)".into(),
+            y_label: "g(r)".into(),
+            ..Axes::default()
+        };
+        line_plot(path, &axes, &[series])?;
+    }
+    if args.json {
+        println!("{}", super::to_json(&summary)?);
+    } else {
+        print_summary(&summary);
+    }
+    Ok(())
+}
+
+fn patterns(args: &Args, ctx: &super::Context) -> Result<(String, Vec<PointSet>)> {
+    if let Some(path) = &args.input {
+        return Ok((path.display().to_string(), specvar::io::read_file(path)?));
+    }
+    if args.realizations == 0 {
+        return Err(specvar::Error::InvalidParameter {
+            name: "realizations",
+            value: "0".into(),
+            allowed: "at least 1".into(),
+        });
+    }
+    let sampler = ctx.sampler(args.sampler, args.dimension)?;
+    sampler.check_count(args.n)?;
+    let sets = (0..args.realizations as u64)
+        .map(|r| sampler.sample(args.n, args.seed, r))
+        .collect::<Result<Vec<_>>>()?;
+    Ok((args.sampler.to_string(), sets))
+}
+
+fn summarize(label: &str, patterns: &[PointSet], ctx: &super::Context) -> Result<Summary> {
+    let (n, d) = (patterns[0].len(), patterns[0].dimension());
+    let m = patterns.len() as f64;
+    let mean_and_error = |values: &[f64]| {
+        let mean = values.iter().sum::<f64>() / m;
+        let ss: f64 = values.iter().map(|v| (v - mean).powi(2)).sum();
+        let error = if patterns.len() > 1 {
+            (ss / (m - 1.0) / m).sqrt()
+        } else {
+            0.0
+        };
+        (mean, error)
+    };
+    let mut discrepancies = Vec::new();
+    for kind in DiscrepancyKind::ALL {
+        let values = patterns
+            .iter()
+            .map(|p| squared_discrepancy(p, kind))
+            .collect::<Result<Vec<_>>>()?;
+        let (mean, error) = mean_and_error(&values);
+        discrepancies.push((kind, mean, error));
+    }
+    let found = patterns.iter().map(distances).collect::<Result<Vec<_>>>()?;
+    let min_distance = found
+        .iter()
+        .map(|x| x.min_distance)
+        .fold(f64::INFINITY, f64::min);
+    let mean_min_distance = found.iter().map(|x| x.mean_min_distance).sum::<f64>() / m;
+    // The radial spectrum up to ν = 1.5, where every blue-noise peak has passed.
+    let kmax = (1.5 * (n as f64).powf(1.0 / d as f64)).ceil() as usize;
+    let params = SpectrumParams {
+        kmax: kmax.max(4),
+        budget: ctx.budget,
+        ..SpectrumParams::default()
+    };
+    let bars = super::bars::Bars::default();
+    let spectrum = estimate_with_progress(PatternSource::Sets(patterns), &params, &bars)?;
+    let nu = effective_nyquist(&spectrum.radial);
+    Ok(Summary {
+        source: label.to_string(),
+        n,
+        dimension: d,
+        patterns: patterns.len(),
+        discrepancies,
+        min_distance,
+        mean_min_distance,
+        effective_nyquist: nu,
+        effective_nyquist_over_hexagonal: nu.filter(|_| d == 2).map(|v| v / hexagonal_nyquist()),
+    })
+}
+
+fn print_summary(s: &Summary) {
+    println!(
+        "{}: N = {}, {}D, {} patterns",
+        s.source, s.n, s.dimension, s.patterns
+    );
+    for (kind, mean, error) in &s.discrepancies {
+        println!(
+            "  {:<22} {mean:.6e} ± {error:.1e}",
+            format!("{} discrepancy²", kind.name())
+        );
+    }
+    println!(
+        "  {:<22} {:.4} (of the densest packing's)",
+        "min distance", s.min_distance
+    );
+    println!("  {:<22} {:.4}", "mean min distance", s.mean_min_distance);
+    match (s.effective_nyquist, s.effective_nyquist_over_hexagonal) {
+        (Some(nu), Some(rel)) => println!(
+            "  {:<22} ν = {nu:.3} ({:.1}% of the hexagonal lattice's)",
+            "effective Nyquist",
+            100.0 * rel
+        ),
+        (Some(nu), None) => println!("  {:<22} ν = {nu:.3}", "effective Nyquist"),
+        _ => println!(
+            "  {:<22} none (the spectrum is above 0.1 from the first ring)",
+            "effective Nyquist"
+        ),
+    }
+}
