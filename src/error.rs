@@ -54,6 +54,18 @@ pub enum Error {
         /// Minimum distance in use.
         radius: f64,
     },
+    /// A constructive generator found no valid place for its next point.
+    #[error("{generator} found no valid place for point {placed} of {requested}: {reason}")]
+    Stuck {
+        /// Generator name.
+        generator: &'static str,
+        /// Points placed.
+        placed: usize,
+        /// Points requested.
+        requested: usize,
+        /// Which constraint could not be met.
+        reason: String,
+    },
     /// A file or text could not be parsed.
     #[error("line {line}: {message}")]
     Parse {

@@ -1,7 +1,12 @@
-//! Point-set files: UTK's text format and a JSON form.
+//! Point-set files: UTK's text and binary formats and a JSON form.
 //!
 //! **Text (UTK):** one point per line, coordinates separated by white space; a line that begins
 //! with `#` ends the current realization. Blank lines carry nothing and are skipped.
+//!
+//! **Binary (UTK):** a 20-byte little-endian header — the magic number `UTK!`, four bytes of
+//! metadata whose first is the value type (4: `f32`, 5: `f64`; UTK's integer codes 0–3 carry no
+//! scale and are refused), then the realizations M, the points N and the dimension d as `u32`
+//! — followed by `M · N · d` values, point after point.
 //!
 //! **JSON:** `{"dimension": d, "realizations": [[[x, y], [x, y], ...], ...]}`.
 //!
@@ -187,12 +192,140 @@ pub fn write_json(sets: &[PointSet]) -> Result<String> {
     serde_json::to_string(&doc).map_err(|e| Error::format("point sets", e))
 }
 
-/// Reads a point-set file, choosing JSON when the first non-blank character is `{`.
+/// UTK's binary magic number: the bytes `U`, `T`, `K`, `!`.
+pub const UTK_MAGIC: [u8; 4] = *b"UTK!";
+
+/// Parses UTK's binary format (see the module's documentation).
 ///
 /// # Errors
-/// As [`read_text`] and [`read_json`], and [`Error::Io`] if the file cannot be read.
+/// [`Error::Format`] for a wrong magic number, an integer or unknown value type, a count of
+/// zero or a dimension above 8, a length that does not match the header, or a value that is
+/// not in `[0, 1)`.
+///
+/// # Examples
+/// ```
+/// use specvar::io::{read_utk_binary, write_utk_binary};
+/// let sets = specvar::io::read_text("0.1 0.2\n0.3 0.4\n")?;
+/// let bytes = write_utk_binary(&sets)?;
+/// assert_eq!(&bytes[..4], b"UTK!");
+/// assert_eq!(read_utk_binary(&bytes)?, sets);
+/// # Ok::<(), specvar::Error>(())
+/// ```
+pub fn read_utk_binary(bytes: &[u8]) -> Result<Vec<PointSet>> {
+    let bad = |message: String| Error::format("UTK binary point sets", message);
+    if bytes.len() < 20 || bytes[..4] != UTK_MAGIC {
+        return Err(bad(
+            "the file does not start with the 20-byte UTK! header".into()
+        ));
+    }
+    let word =
+        |at: usize| u32::from_le_bytes([bytes[at], bytes[at + 1], bytes[at + 2], bytes[at + 3]]);
+    let width = match bytes[4] {
+        4 => 4usize,
+        5 => 8,
+        code @ 0..=3 => {
+            return Err(bad(format!(
+                "value type {code} is an integer type, which carries no scale to [0, 1); \
+                 write the points as float (4) or double (5)"
+            )))
+        }
+        code => {
+            return Err(bad(format!(
+                "unknown value type {code}; allowed: 4 (float), 5 (double)"
+            )))
+        }
+    };
+    let (m, n, d) = (word(8) as usize, word(12) as usize, word(16) as usize);
+    if m == 0 || n == 0 {
+        return Err(bad(format!(
+            "{m} realizations of {n} points: both must be at least 1"
+        )));
+    }
+    check_dimension(d)?;
+    let values = m.checked_mul(n).and_then(|c| c.checked_mul(d));
+    let expected = values
+        .and_then(|v| v.checked_mul(width))
+        .and_then(|b| b.checked_add(20));
+    if expected != Some(bytes.len()) {
+        return Err(bad(format!(
+            "the header announces {m} × {n} points in {d}D of {width} bytes ({} bytes in all) \
+             but the file has {} bytes",
+            expected.map_or("more than addressable".to_string(), |e| e.to_string()),
+            bytes.len()
+        )));
+    }
+    let data = &bytes[20..];
+    let value = |i: usize| -> f64 {
+        let at = i * width;
+        if width == 4 {
+            f32::from_le_bytes([data[at], data[at + 1], data[at + 2], data[at + 3]]) as f64
+        } else {
+            let mut b = [0u8; 8];
+            b.copy_from_slice(&data[at..at + 8]);
+            f64::from_le_bytes(b)
+        }
+    };
+    (0..m)
+        .map(|r| {
+            let coords: Vec<f64> = (r * n * d..(r + 1) * n * d).map(value).collect();
+            if let Some(i) = coords.iter().position(|v| !(0.0..1.0).contains(v)) {
+                return Err(bad(format!(
+                    "realization {r}, point {}: coordinate {} is not in [0, 1)",
+                    (i / d) % n,
+                    coords[i]
+                )));
+            }
+            PointSet::new(d, coords)
+        })
+        .collect()
+}
+
+/// Writes point sets (all of one N and dimension) in UTK's binary format, as doubles.
+///
+/// # Errors
+/// No sets, sets of different sizes or dimensions, or counts beyond `u32`.
+pub fn write_utk_binary(sets: &[PointSet]) -> Result<Vec<u8>> {
+    let first = sets
+        .first()
+        .ok_or_else(|| Error::Mismatch("no point sets to write".into()))?;
+    let (n, d) = (first.len(), first.dimension());
+    if sets.iter().any(|s| s.len() != n || s.dimension() != d) {
+        return Err(Error::Mismatch(
+            "UTK's binary format holds realizations of one N and dimension".into(),
+        ));
+    }
+    let count = |v: usize, what: &'static str| {
+        u32::try_from(v).map_err(|_| crate::error::invalid(what, v, "at most 2^32 - 1"))
+    };
+    let mut bytes = Vec::with_capacity(20 + sets.len() * n * d * 8);
+    bytes.extend_from_slice(&UTK_MAGIC);
+    bytes.extend_from_slice(&[5, 0, 0, 0]);
+    for v in [
+        count(sets.len(), "realizations")?,
+        count(n, "points")?,
+        count(d, "dimension")?,
+    ] {
+        bytes.extend_from_slice(&v.to_le_bytes());
+    }
+    for s in sets {
+        for &c in s.coords() {
+            bytes.extend_from_slice(&c.to_le_bytes());
+        }
+    }
+    Ok(bytes)
+}
+
+/// Reads a point-set file: UTK binary when it starts with `UTK!`, JSON when the first
+/// non-blank character is `{`, UTK text otherwise.
+///
+/// # Errors
+/// As [`read_utk_binary`], [`read_text`] and [`read_json`], and [`Error::Io`] if the file
+/// cannot be read.
 pub fn read_file(path: &std::path::Path) -> Result<Vec<PointSet>> {
     let bytes = read_bounded(path)?;
+    if bytes.starts_with(&UTK_MAGIC) {
+        return read_utk_binary(&bytes);
+    }
     let text = String::from_utf8(bytes)
         .map_err(|_| Error::format(path.display().to_string(), "not UTF-8 text"))?;
     if text.trim_start().starts_with('{') {

@@ -84,3 +84,50 @@ proptest! {
         let _ = read_json(&text);
     }
 }
+
+/// UTK's binary format: written as doubles and read back bit for bit; a float file typed by
+/// hand (the header's fields at their offsets) reads to the floats' values; malformed headers,
+/// integer types, short files and coordinates outside [0, 1) are refused.
+#[test]
+fn utk_binary_round_trips_and_refuses_malformed_files() {
+    use specvar::io::{read_utk_binary, write_utk_binary};
+    use specvar::sampler::{Sampler, SamplerKind};
+    let s = SamplerKind::Sobol.build(3).unwrap();
+    let sets: Vec<_> = (0..3).map(|r| s.sample(50, 2, r).unwrap()).collect();
+    let bytes = write_utk_binary(&sets).unwrap();
+    assert_eq!(bytes.len(), 20 + 3 * 50 * 3 * 8);
+    assert_eq!(read_utk_binary(&bytes).unwrap(), sets);
+
+    let mut floats = b"UTK!".to_vec();
+    floats.extend_from_slice(&[4, 0, 0, 0]);
+    for v in [1u32, 2, 2] {
+        floats.extend_from_slice(&v.to_le_bytes());
+    }
+    for v in [0.25f32, 0.5, 0.75, 0.125] {
+        floats.extend_from_slice(&v.to_le_bytes());
+    }
+    let read = read_utk_binary(&floats).unwrap();
+    assert_eq!(read[0].coords(), &[0.25, 0.5, 0.75, 0.125]);
+
+    let mut integer = floats.clone();
+    integer[4] = 2;
+    let mut short = floats.clone();
+    short.pop();
+    let mut outside = floats.clone();
+    outside[20..24].copy_from_slice(&1.5f32.to_le_bytes());
+    let mut zero_points = floats.clone();
+    zero_points[12..16].copy_from_slice(&0u32.to_le_bytes());
+    let mut huge = floats.clone();
+    huge[8..12].copy_from_slice(&u32::MAX.to_le_bytes());
+    for bad in [
+        &b"UTK?"[..],
+        &integer,
+        &short,
+        &outside,
+        &zero_points,
+        &huge,
+        &floats[..10],
+    ] {
+        assert!(read_utk_binary(bad).is_err());
+    }
+}

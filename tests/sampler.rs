@@ -448,3 +448,26 @@ fn gaussian_jitter_offsets_have_the_requested_width() {
         .with_width(f64::NAN)
         .is_err());
 }
+
+/// PMJ02's defining property: every prefix of `2^k` points (as one pattern of `2^k` points
+/// or the first `2^k` of a longer one: the sequence is progressive) is a (0,k,2)-net, for
+/// many seeds, and no seed gets stuck.
+#[test]
+fn pmj02_prefixes_of_powers_of_two_are_0k2_nets() {
+    let s = Pmj02::new(2).unwrap();
+    for realization in 0..40 {
+        let long = s.sample(4096, 3, realization).unwrap();
+        for k in 0..=12u32 {
+            let prefix = PointSet::new(2, long.coords()[..2 << k].to_vec()).unwrap();
+            assert!(
+                is_0k2_net(&prefix, 0, 1, k),
+                "realization {realization}, 2^{k}"
+            );
+        }
+        // A shorter request is the prefix of the longer sequence.
+        assert_eq!(
+            s.sample(100, 3, realization).unwrap().coords(),
+            &long.coords()[..200]
+        );
+    }
+}

@@ -79,8 +79,9 @@ fn unit_sphere_surface(d: usize) -> f64 {
 /// use specvar::sampler::{Regular, Sampler};
 /// let grid = Regular::new(2)?.sample(256, 0, 0)?;
 /// let pcf = pair_correlation(&[grid], &PcfParams::default())?;
-/// // No pair of a grid is closer than its spacing.
-/// let inside = pcf.radius_in_spacings.iter().position(|&r| r > 0.7).unwrap();
+/// // No pair of a grid is closer than its spacing: below 1 - 8σ = 0.6 spacings the kernel
+/// // of every pair is cut off, and g is exactly 0.
+/// let inside = pcf.radius_in_spacings.iter().position(|&r| r > 0.59).unwrap();
 /// assert!(pcf.g[..inside].iter().all(|&g| g.abs() < 1e-12));
 /// # Ok::<(), specvar::Error>(())
 /// ```

@@ -2,7 +2,7 @@
 
 use super::{
     Ccvt, CorrelatedMultiJitter, GaussianJitter, Halton, Jitter, Kronecker, LatinHypercube,
-    LatticeRule, PoissonDisk, PoissonMethod, Random, Rank1Lattice, Regular, Sampler, Sobol,
+    LatticeRule, Pmj02, PoissonDisk, PoissonMethod, Random, Rank1Lattice, Regular, Sampler, Sobol,
 };
 use crate::budget::Needs;
 use crate::error::{Error, Result};
@@ -43,6 +43,8 @@ pub enum SamplerKind {
     Fibonacci,
     /// The Kronecker sequence of the generalized golden ratio (R_d).
     Kronecker,
+    /// Progressive multi-jittered (0,2) sequence (2D).
+    Pmj02,
 }
 
 /// How a sampler's expected spectrum depends on N: whether one spectrum, estimated at a
@@ -82,7 +84,7 @@ const COSTLY_NS: f64 = 10_000.0;
 
 impl SamplerKind {
     /// All kinds, in display order.
-    pub const ALL: [SamplerKind; 14] = [
+    pub const ALL: [SamplerKind; 15] = [
         SamplerKind::Random,
         SamplerKind::Regular,
         SamplerKind::Jitter,
@@ -94,6 +96,7 @@ impl SamplerKind {
         SamplerKind::Halton,
         SamplerKind::Sobol,
         SamplerKind::Cmj,
+        SamplerKind::Pmj02,
         SamplerKind::Korobov,
         SamplerKind::Fibonacci,
         SamplerKind::Kronecker,
@@ -116,6 +119,7 @@ impl SamplerKind {
             SamplerKind::Korobov => "korobov",
             SamplerKind::Fibonacci => "fibonacci",
             SamplerKind::Kronecker => "kronecker",
+            SamplerKind::Pmj02 => "pmj02",
         }
     }
 
@@ -145,6 +149,9 @@ impl SamplerKind {
             SamplerKind::Kronecker => {
                 "Kronecker sequence frac(i alpha), alpha from x^(d+1) = x + 1 (R_d); deterministic"
             }
+            SamplerKind::Pmj02 => {
+                "progressive multi-jittered (0,2) (Christensen et al. 2018): every 2^m prefix a net"
+            }
         }
     }
 
@@ -152,7 +159,10 @@ impl SamplerKind {
     pub fn dimensions(self) -> RangeInclusive<usize> {
         match self {
             SamplerKind::PoissonDisk | SamplerKind::Bridson | SamplerKind::Ccvt => 1..=3,
-            SamplerKind::Cmj | SamplerKind::Korobov | SamplerKind::Fibonacci => 2..=2,
+            SamplerKind::Cmj
+            | SamplerKind::Pmj02
+            | SamplerKind::Korobov
+            | SamplerKind::Fibonacci => 2..=2,
             _ => 1..=crate::pointset::MAX_DIMENSION,
         }
     }
@@ -251,6 +261,7 @@ impl SamplerKind {
             | SamplerKind::Halton
             | SamplerKind::Sobol
             | SamplerKind::Cmj
+            | SamplerKind::Pmj02
             | SamplerKind::GaussianJitter
             | SamplerKind::Korobov
             | SamplerKind::Fibonacci
@@ -296,6 +307,7 @@ impl SamplerKind {
             SamplerKind::Halton
             | SamplerKind::Sobol
             | SamplerKind::Cmj
+            | SamplerKind::Pmj02
             | SamplerKind::Korobov
             | SamplerKind::Fibonacci
             | SamplerKind::Kronecker => false,
@@ -306,11 +318,13 @@ impl SamplerKind {
     /// 4096 by `benches/samplers.rs`; it grows slowly with N for the optimizers).
     pub fn cost_per_point_ns(self) -> f64 {
         match self {
-            SamplerKind::Random | SamplerKind::Regular | SamplerKind::Kronecker => 4.0,
+            SamplerKind::Random | SamplerKind::Regular => 4.0,
+            SamplerKind::Kronecker => 8.0,
             SamplerKind::Jitter => 8.0,
-            SamplerKind::GaussianJitter => 20.0,
+            SamplerKind::GaussianJitter => 55.0,
             SamplerKind::Fibonacci => 5.0,
-            SamplerKind::Korobov => 60.0,
+            SamplerKind::Korobov => 40.0,
+            SamplerKind::Pmj02 => 330.0,
             SamplerKind::LatinHypercube | SamplerKind::Cmj => 30.0,
             SamplerKind::Sobol => 80.0,
             SamplerKind::Halton => 35.0,
@@ -436,6 +450,7 @@ impl SamplerKind {
             SamplerKind::Korobov => Box::new(Rank1Lattice::new(d, LatticeRule::Korobov)?),
             SamplerKind::Fibonacci => Box::new(Rank1Lattice::new(d, LatticeRule::Fibonacci)?),
             SamplerKind::Kronecker => Box::new(Kronecker::new(d)?),
+            SamplerKind::Pmj02 => Box::new(Pmj02::new(d)?),
         })
     }
 

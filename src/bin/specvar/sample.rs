@@ -1,4 +1,4 @@
-//! `specvar sample`: point sets as UTK text or JSON.
+//! `specvar sample`: point sets as UTK text, UTK binary or JSON.
 
 use specvar::sampler::{Homogenized, Sampler, SamplerKind};
 use specvar::Result;
@@ -29,8 +29,11 @@ pub struct Args {
     #[arg(long, short = 'o')]
     pub output: Option<PathBuf>,
     /// Write JSON instead of UTK text.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "binary")]
     pub json: bool,
+    /// Write UTK's binary format (doubles, "UTK!" header) to the output file.
+    #[arg(long, requires = "output")]
+    pub binary: bool,
 }
 
 /// Writes the realizations.
@@ -60,6 +63,14 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
     let sets = (0..args.realizations)
         .map(|r| sampler.sample(args.n, args.seed, r))
         .collect::<Result<Vec<_>>>()?;
+    if args.binary {
+        let bytes = specvar::io::write_utk_binary(&sets)?;
+        let path = args
+            .output
+            .as_deref()
+            .unwrap_or(std::path::Path::new("points.bin"));
+        return specvar::output::write_atomic(path, &bytes);
+    }
     let text = if args.json {
         specvar::io::write_json(&sets)? + "\n"
     } else {
