@@ -270,12 +270,16 @@ fn halton_axes_are_stratified_in_their_base() {
 }
 
 #[test]
-fn cmj_is_both_jittered_and_n_rooks() {
-    for n in [96usize, 64, 35] {
-        let p = CorrelatedMultiJitter::new(2)
-            .unwrap()
-            .sample(n, 5, 0)
-            .unwrap();
+fn cmj_and_mj_are_both_jittered_and_n_rooks() {
+    let samplers: [Box<dyn Sampler>; 2] = [
+        Box::new(CorrelatedMultiJitter::new(2).unwrap()),
+        Box::new(MultiJitter::new(2).unwrap()),
+    ];
+    for (s, n) in samplers
+        .iter()
+        .flat_map(|s| [96usize, 64, 35].map(|n| (s, n)))
+    {
+        let p = s.sample(n, 5, 0).unwrap();
         for axis in 0..2 {
             let mut rows: Vec<usize> = p.points().map(|x| (x[axis] * n as f64) as usize).collect();
             rows.sort_unstable();

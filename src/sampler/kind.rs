@@ -2,7 +2,8 @@
 
 use super::{
     Ccvt, CorrelatedMultiJitter, GaussianJitter, Halton, Jitter, Kronecker, LatinHypercube,
-    LatticeRule, Pmj02, PoissonDisk, PoissonMethod, Random, Rank1Lattice, Regular, Sampler, Sobol,
+    LatticeRule, MultiJitter, Pmj02, PoissonDisk, PoissonMethod, Random, Rank1Lattice, Regular,
+    Sampler, Sobol,
 };
 use crate::budget::Needs;
 use crate::error::{Error, Result};
@@ -45,6 +46,8 @@ pub enum SamplerKind {
     Kronecker,
     /// Progressive multi-jittered (0,2) sequence (2D).
     Pmj02,
+    /// Multi-jittered (2D), independent shuffles.
+    MultiJitter,
 }
 
 /// How a sampler's expected spectrum depends on N: whether one spectrum, estimated at a
@@ -84,7 +87,7 @@ const COSTLY_NS: f64 = 10_000.0;
 
 impl SamplerKind {
     /// All kinds, in display order.
-    pub const ALL: [SamplerKind; 15] = [
+    pub const ALL: [SamplerKind; 16] = [
         SamplerKind::Random,
         SamplerKind::Regular,
         SamplerKind::Jitter,
@@ -95,6 +98,7 @@ impl SamplerKind {
         SamplerKind::LatinHypercube,
         SamplerKind::Halton,
         SamplerKind::Sobol,
+        SamplerKind::MultiJitter,
         SamplerKind::Cmj,
         SamplerKind::Pmj02,
         SamplerKind::Korobov,
@@ -120,6 +124,7 @@ impl SamplerKind {
             SamplerKind::Fibonacci => "fibonacci",
             SamplerKind::Kronecker => "kronecker",
             SamplerKind::Pmj02 => "pmj02",
+            SamplerKind::MultiJitter => "mj",
         }
     }
 
@@ -152,6 +157,9 @@ impl SamplerKind {
             SamplerKind::Pmj02 => {
                 "progressive multi-jittered (0,2) (Christensen et al. 2018): every 2^m prefix a net"
             }
+            SamplerKind::MultiJitter => {
+                "multi-jittered (Chiu et al. 1994): jittered and N-rooks, independent shuffles"
+            }
         }
     }
 
@@ -160,6 +168,7 @@ impl SamplerKind {
         match self {
             SamplerKind::PoissonDisk | SamplerKind::Bridson | SamplerKind::Ccvt => 1..=3,
             SamplerKind::Cmj
+            | SamplerKind::MultiJitter
             | SamplerKind::Pmj02
             | SamplerKind::Korobov
             | SamplerKind::Fibonacci => 2..=2,
@@ -261,6 +270,7 @@ impl SamplerKind {
             | SamplerKind::Halton
             | SamplerKind::Sobol
             | SamplerKind::Cmj
+            | SamplerKind::MultiJitter
             | SamplerKind::Pmj02
             | SamplerKind::GaussianJitter
             | SamplerKind::Korobov
@@ -307,6 +317,7 @@ impl SamplerKind {
             SamplerKind::Halton
             | SamplerKind::Sobol
             | SamplerKind::Cmj
+            | SamplerKind::MultiJitter
             | SamplerKind::Pmj02
             | SamplerKind::Korobov
             | SamplerKind::Fibonacci
@@ -325,7 +336,7 @@ impl SamplerKind {
             SamplerKind::Fibonacci => 5.0,
             SamplerKind::Korobov => 40.0,
             SamplerKind::Pmj02 => 330.0,
-            SamplerKind::LatinHypercube | SamplerKind::Cmj => 30.0,
+            SamplerKind::LatinHypercube | SamplerKind::Cmj | SamplerKind::MultiJitter => 30.0,
             SamplerKind::Sobol => 80.0,
             SamplerKind::Halton => 35.0,
             SamplerKind::PoissonDisk => 4_500.0,
@@ -451,6 +462,7 @@ impl SamplerKind {
             SamplerKind::Fibonacci => Box::new(Rank1Lattice::new(d, LatticeRule::Fibonacci)?),
             SamplerKind::Kronecker => Box::new(Kronecker::new(d)?),
             SamplerKind::Pmj02 => Box::new(Pmj02::new(d)?),
+            SamplerKind::MultiJitter => Box::new(MultiJitter::new(d)?),
         })
     }
 

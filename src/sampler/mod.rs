@@ -14,6 +14,7 @@ mod kind;
 mod kronecker;
 mod latin;
 mod memo;
+mod multi_jitter;
 mod pmj02;
 mod poisson;
 mod random;
@@ -33,6 +34,7 @@ pub use kind::{Pool, SamplerKind, Scaling, MIN_POOL_PATTERNS};
 pub use kronecker::Kronecker;
 pub use latin::LatinHypercube;
 pub use memo::Memoized;
+pub use multi_jitter::MultiJitter;
 pub use pmj02::{Pmj02, MAX_PMJ02_POINTS};
 pub use poisson::{
     default_relative_radius, max_packing_radius, PoissonDisk, PoissonMethod, MAX_ATTEMPTS,

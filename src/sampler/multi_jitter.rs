@@ -1,0 +1,66 @@
+//! Multi-jittered sampling (Chiu, Shirley and Wang 1994).
+
+use super::cmj::near_square_factors;
+use super::{check_supported, in_cell, random_permutation, uniform, Sampler, SamplerKind};
+use crate::error::Result;
+use crate::pointset::PointSet;
+use crate::rng::{realization_rng, Stream};
+
+/// `N = m × n` samples, one in each cell of the `m × n` grid (jittered) and one in each of the
+/// `N` columns and `N` rows of width `1/N` (N-rooks). It starts from the canonical arrangement
+/// (cell `(i, j)` takes sub-column `j` and sub-row `i`) and shuffles the sub-columns among the
+/// cells of each column and the sub-rows among the cells of each row, every one by its own
+/// permutation: the independent shuffles of Chiu et al., where correlated multi-jitter
+/// ([`super::CorrelatedMultiJitter`]) shares one permutation.
+///
+/// # Examples
+/// ```
+/// use specvar::sampler::{MultiJitter, Sampler};
+/// let p = MultiJitter::new(2)?.sample(24, 1, 0)?; // 4 × 6 cells
+/// let mut columns: Vec<usize> = p.points().map(|x| (x[0] * 24.0) as usize).collect();
+/// columns.sort_unstable();
+/// assert_eq!(columns, (0..24).collect::<Vec<_>>());
+/// # Ok::<(), specvar::Error>(())
+/// ```
+#[derive(Debug, Clone, Copy)]
+pub struct MultiJitter;
+
+impl MultiJitter {
+    /// Multi-jittered sampling; only d = 2 exists.
+    ///
+    /// # Errors
+    /// Any dimension other than 2.
+    pub fn new(d: usize) -> Result<Self> {
+        check_supported("mj", d, 2..=2)?;
+        Ok(Self)
+    }
+}
+
+impl Sampler for MultiJitter {
+    fn name(&self) -> &'static str {
+        "mj"
+    }
+    fn dimension(&self) -> usize {
+        2
+    }
+    fn kind(&self) -> Option<SamplerKind> {
+        Some(SamplerKind::MultiJitter)
+    }
+    fn sample(&self, n: usize, seed: u64, realization: u64) -> Result<PointSet> {
+        self.check_count(n)?;
+        // m columns (x cells) of r rows (y cells); column i holds r sub-columns, row j holds m
+        // sub-rows.
+        let (m, r) = near_square_factors(n);
+        let mut rng = realization_rng(seed, realization, Stream::Points);
+        let sub_x: Vec<Vec<usize>> = (0..m).map(|_| random_permutation(&mut rng, r)).collect();
+        let sub_y: Vec<Vec<usize>> = (0..r).map(|_| random_permutation(&mut rng, m)).collect();
+        let mut coords = Vec::with_capacity(2 * n);
+        for j in 0..r {
+            for i in 0..m {
+                coords.push(in_cell(i * r + sub_x[i][j], uniform(&mut rng), n));
+                coords.push(in_cell(j * m + sub_y[j][i], uniform(&mut rng), n));
+            }
+        }
+        Ok(PointSet::from_trusted(2, coords))
+    }
+}
