@@ -199,6 +199,19 @@ impl Prediction {
     pub fn covers(&self, value: f64, z: f64) -> bool {
         (value - self.variance).abs() <= self.budget.half_width(z)
     }
+
+    /// The gap between this prediction and a Monte Carlo measurement beyond the prediction's
+    /// bounds (quadrature, truncation, model), in units of their combined standard errors
+    /// (the spectrum noise and the measurement's, read from its 99% interval): 0 when the
+    /// bounds cover the gap, signed like `predicted - measured`.
+    pub fn z_beyond_bounds(&self, measured: &crate::montecarlo::McResult) -> f64 {
+        let mc_se = (measured.ci_high - measured.ci_low) / (2.0 * crate::montecarlo::Z_99);
+        let b = &self.budget;
+        let bounds = b.quadrature + b.truncation + b.model;
+        let diff = self.variance - measured.variance;
+        let sigma = b.spectrum_noise.hypot(mc_se);
+        (diff.abs() - bounds).max(0.0) / sigma * diff.signum()
+    }
 }
 
 pub(crate) fn check_n(n: usize) -> Result<()> {

@@ -33,6 +33,10 @@ pub struct AlphaFit {
     pub nu_range: (f64, f64),
 }
 
+/// A ring's relative standard error below this is the rounding of identical realizations (a
+/// deterministic pattern), not sampling noise: such rings carry no weight a fit could use.
+const MIN_RELATIVE_STDERR: f64 = 1e-9;
+
 /// Rings below which the curvature term is not fitted.
 const MIN_RINGS_FOR_CURVATURE: usize = 4;
 /// Gauss–Newton stops when no parameter moves by more than this.
@@ -65,14 +69,15 @@ pub fn fit_alpha(radial: &RadialSpectrum, nu_min: f64, nu_max: f64) -> Result<Al
                 && b.nu <= nu_max
                 && b.power > 0.0
                 && b.stderr.is_finite()
-                && b.stderr > 0.0
+                && b.stderr > MIN_RELATIVE_STDERR * b.power
         })
         .collect();
     if used.len() < 2 {
         return Err(invalid(
             "α fit",
             format!("{} usable rings in ν ∈ [{nu_min}, {nu_max}]", used.len()),
-            "at least two rings with positive power and a standard error (two or more realizations)",
+            "at least two rings with positive power and a standard error from realization noise \
+             (two or more realizations of a random pattern)",
         ));
     }
     let rings = ring_members(radial, &used);

@@ -205,7 +205,7 @@ fn closure(
                 .collect::<Result<Vec<_>>>()?;
             let predictions = predict_many(&problems, &params, progress)?;
             for ((f, measured), prediction) in f_refs.iter().zip(measured).zip(predictions) {
-                let z = combined_z(&prediction, &measured);
+                let z = prediction.z_beyond_bounds(&measured);
                 rows.push(ClosureRow {
                     sampler: kind,
                     integrand: f.label(),
@@ -226,17 +226,6 @@ fn closure(
         misses,
         rows,
     })
-}
-
-/// The difference between a prediction and Monte Carlo beyond the prediction's bounds, in
-/// their combined standard errors (0 when the bounds cover it).
-fn combined_z(p: &Prediction, r: &McResult) -> f64 {
-    let mc_se = (r.ci_high - r.ci_low) / (2.0 * Z_99);
-    let b = &p.budget;
-    let bounds = b.quadrature + b.truncation + b.model;
-    let diff = p.variance - r.variance;
-    let sigma = b.spectrum_noise.hypot(mc_se);
-    (diff.abs() - bounds).max(0.0) / sigma * diff.signum()
 }
 
 /// `P(X ≥ k)` for `X ~ Binomial(n, p)`.
@@ -337,7 +326,7 @@ fn closure_checks(table: &ClosureTable) -> Vec<Check> {
 /// prediction's bounds plus 2.576 combined standard errors (the prediction's noise and Monte
 /// Carlo's).
 fn prediction_check(series: &StudySeries, p: &Prediction, r: &McResult) -> Check {
-    let z = combined_z(p, r);
+    let z = p.z_beyond_bounds(r);
     Check {
         what: format!(
             "{}, {}, N = {}: prediction ({}) agrees with Monte Carlo at 99%",

@@ -2,6 +2,7 @@
 //! prints the result. Every decision of substance (routes, reference N, lattice extents,
 //! pools) is the library's.
 
+mod atlas;
 mod bars;
 mod bias;
 mod mc;
@@ -78,6 +79,9 @@ enum Command {
     Mc(mc::Args),
     /// Discrepancies, distances, effective Nyquist frequency and pair correlation function.
     Metrics(metrics::Args),
+    /// Every 2D sampler on one page: points, spectra, α, ν_eff, PCF, discrepancies, predicted
+    /// variance beside Monte Carlo.
+    Atlas(atlas::Args),
     /// Convergence rates: theory, predicted from spectra, measured by Monte Carlo.
     Rates(rates::Args),
     /// Render ambient occlusion with a sampler (or all): image, MSE, MSE predicted from spectra.
@@ -108,6 +112,7 @@ fn main() -> ExitCode {
         Some(Command::Report(a)) => report::run(&a, &ctx),
         Some(Command::Mc(a)) => mc::run(&a, &ctx),
         Some(Command::Metrics(a)) => metrics::run(&a, &ctx),
+        Some(Command::Atlas(a)) => atlas::run(&a, &ctx),
         Some(Command::Rates(a)) => rates::run(&a, &ctx),
         Some(Command::RenderAo(a)) => render_ao::run(&a, &ctx),
         None => report::run(&report::Args::default(), &ctx),

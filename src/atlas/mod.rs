@@ -1,0 +1,346 @@
+//! The sampler atlas: for every 2D sampler, its points, spectrum, low-frequency exponent,
+//! effective Nyquist frequency, pair correlation function and discrepancies, and its predicted
+//! variance on the disk and the Gaussian beside Monte Carlo: the page a researcher sends to a
+//! colleague.
+
+mod write;
+
+pub use write::{atlas_markdown, write_atlas};
+
+use crate::error::Result;
+use crate::integrand::{Integrand, IntegrandSpec};
+use crate::metrics::{
+    distances, effective_nyquist, pair_correlation, squared_discrepancy, DiscrepancyKind, Pcf,
+    PcfParams,
+};
+use crate::montecarlo::{empirical_variances, McParams, McResult, Z_99};
+use crate::pointset::PointSet;
+use crate::predict::{predict_many, PredictParams, Prediction, Problem};
+use crate::progress::Progress;
+use crate::rate::{fit_alpha, theory_rate, AlphaFit};
+use crate::sampler::{Sampler, SamplerKind};
+use crate::spectrum::{estimate_with_progress, PatternSource, SpectrumEstimate, SpectrumParams};
+use serde::Serialize;
+
+/// What the atlas computes.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct AtlasConfig {
+    /// Samplers (2D).
+    pub samplers: Vec<SamplerKind>,
+    /// Points per pattern for the pictures, metrics, predictions and Monte Carlo (the nearest
+    /// valid count for samplers with a count rule).
+    pub n: usize,
+    /// Patterns for the spectrum and the metrics (costly samplers: a quarter).
+    pub realizations: usize,
+    /// Points per pattern for the fit of `α` (many rings below `ν = 0.3`).
+    pub alpha_n: usize,
+    /// Monte Carlo evaluations per sampler.
+    pub trials: usize,
+    /// Seed of every stream.
+    pub seed: u64,
+    /// Where costly patterns are cached.
+    #[serde(skip)]
+    pub cache: Option<std::path::PathBuf>,
+    /// What predictions and Monte Carlo may spend.
+    #[serde(skip)]
+    pub budget: crate::budget::Budget,
+}
+
+impl AtlasConfig {
+    /// Every 2D sampler at N = 256, 64 patterns, α fitted at N = 4096, 20 000 trials.
+    pub fn full(seed: u64) -> Self {
+        Self {
+            samplers: SamplerKind::in_dimension(2),
+            n: 256,
+            realizations: 64,
+            alpha_n: 4096,
+            trials: 20_000,
+            seed,
+            cache: None,
+            budget: crate::budget::Budget::default(),
+        }
+    }
+
+    /// A short run: 16 patterns, α at N = 1024, 4000 trials.
+    pub fn quick(seed: u64) -> Self {
+        Self {
+            realizations: 16,
+            alpha_n: 1024,
+            trials: 4000,
+            ..Self::full(seed)
+        }
+    }
+}
+
+/// The upper end of the band where `α` is fitted.
+pub const ALPHA_BAND: f64 = 0.3;
+
+/// One integrand's prediction beside Monte Carlo.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct AtlasRow {
+    /// The integrand.
+    pub integrand: String,
+    /// The default prediction.
+    pub predicted: Prediction,
+    /// Monte Carlo.
+    pub measured: McResult,
+    /// The gap beyond the prediction's bounds, in combined standard errors.
+    pub z: f64,
+    /// The asymptotic rate from `α` (known, else fitted) and the integrand's decay, with
+    /// whether a `log N` factor multiplies it.
+    pub rate: Option<(f64, bool)>,
+}
+
+/// One sampler's page.
+#[derive(Debug, Clone, Serialize)]
+pub struct AtlasEntry {
+    /// The sampler.
+    pub sampler: SamplerKind,
+    /// Points per pattern.
+    pub n: usize,
+    /// Realization 0, for the picture.
+    #[serde(skip)]
+    pub points: PointSet,
+    /// The expected spectrum at `n`.
+    #[serde(skip)]
+    pub spectrum: SpectrumEstimate,
+    /// `α` fitted on `ν ≤ 0.3` at `alpha_n` points, or why it could not be.
+    pub alpha_fit: std::result::Result<AlphaFit, String>,
+    /// `α` as the sampler's facts give it, if known.
+    pub known_alpha: Option<f64>,
+    /// The effective Nyquist frequency.
+    pub effective_nyquist: Option<f64>,
+    /// The pair correlation function.
+    pub pcf: Pcf,
+    /// Squared discrepancies: mean over the patterns and standard error.
+    pub discrepancies: Vec<(DiscrepancyKind, f64, f64)>,
+    /// The smallest distance over the patterns and the mean nearest-neighbour distance,
+    /// relative to the densest packing's.
+    pub distances: (f64, f64),
+    /// Predictions beside Monte Carlo.
+    pub rows: Vec<AtlasRow>,
+}
+
+/// The atlas.
+#[derive(Debug, Clone, Serialize)]
+pub struct Atlas {
+    /// What was computed.
+    pub config: AtlasConfig,
+    /// One entry per sampler.
+    pub entries: Vec<AtlasEntry>,
+}
+
+/// The atlas's two integrands: the talk's disk and Gaussian.
+fn integrands() -> Result<Vec<Box<dyn Integrand>>> {
+    [
+        IntegrandSpec::Ball {
+            radius: 0.25,
+            height: 1.0,
+            centre: None,
+        },
+        IntegrandSpec::Gaussian {
+            sigma: 0.1,
+            height: 1.0,
+            centre: None,
+        },
+    ]
+    .iter()
+    .map(|s| s.build(2))
+    .collect()
+}
+
+/// Computes every sampler's entry.
+///
+/// # Errors
+/// A sampler that cannot be drawn, or any computation's error (budgets, validity).
+pub fn compute_atlas(config: &AtlasConfig, progress: &dyn Progress) -> Result<Atlas> {
+    let fs = integrands()?;
+    let entries = config
+        .samplers
+        .iter()
+        .map(|&kind| entry(kind, config, &fs, progress))
+        .collect::<Result<_>>()?;
+    Ok(Atlas {
+        config: config.clone(),
+        entries,
+    })
+}
+
+fn entry(
+    kind: SamplerKind,
+    config: &AtlasConfig,
+    fs: &[Box<dyn Integrand>],
+    progress: &dyn Progress,
+) -> Result<AtlasEntry> {
+    let sampler = crate::cache::cached_sampler(
+        kind,
+        2,
+        config.cache.as_deref(),
+        crate::cache::PATTERN_MEMORY,
+    )?;
+    let n = kind.nearest_count(config.n, 2);
+    let realizations = if kind.is_costly() {
+        (config.realizations / 4).max(4)
+    } else {
+        config.realizations
+    };
+    progress.begin(&format!("atlas: {kind}, patterns"), realizations as u64);
+    let patterns = (0..realizations as u64)
+        .map(|r| {
+            let p = sampler.sample(n, config.seed, r);
+            progress.advance(1);
+            p
+        })
+        .collect::<Result<Vec<_>>>()?;
+    progress.end();
+    let spectrum = spectrum_of(&patterns, n, progress)?;
+    let alpha_fit = alpha_at(sampler.as_ref(), kind, config, progress);
+    let known_alpha = kind.known_alpha();
+    let alpha = known_alpha.or(alpha_fit.as_ref().ok().map(|f| f.alpha));
+    Ok(AtlasEntry {
+        sampler: kind,
+        n,
+        effective_nyquist: effective_nyquist(&spectrum.radial),
+        pcf: pair_correlation(&patterns, &PcfParams::default())?,
+        discrepancies: discrepancies(&patterns)?,
+        distances: nearest(&patterns)?,
+        rows: rows(sampler.as_ref(), kind, n, alpha, config, fs, progress)?,
+        points: patterns[0].clone(),
+        spectrum,
+        alpha_fit,
+        known_alpha,
+    })
+}
+
+/// The spectrum at N up to `ν = 3`.
+fn spectrum_of(
+    patterns: &[PointSet],
+    n: usize,
+    progress: &dyn Progress,
+) -> Result<SpectrumEstimate> {
+    let params = SpectrumParams {
+        kmax: (3.0 * (n as f64).sqrt()).ceil() as usize,
+        ..SpectrumParams::default()
+    };
+    estimate_with_progress(PatternSource::Sets(patterns), &params, progress)
+}
+
+/// `α` fitted on the rings below [`ALPHA_BAND`] at `alpha_n` points, or the reason it cannot be
+/// (a spectrum that is zero near DC, as a lattice's, has no power law to fit).
+fn alpha_at(
+    sampler: &dyn Sampler,
+    kind: SamplerKind,
+    config: &AtlasConfig,
+    progress: &dyn Progress,
+) -> std::result::Result<AlphaFit, String> {
+    if kind.is_deterministic() {
+        return Err(
+            "a fixed pattern: every realization has the same spectrum (no sampling \
+                    noise to weigh a fit), made of peaks (its lattice's or the Fejér kernel's), \
+                    not a power law near DC"
+                .into(),
+        );
+    }
+    let n = kind.nearest_count(config.alpha_n, 2);
+    let realizations = if kind.is_costly() {
+        (config.realizations / 4).max(4)
+    } else {
+        config.realizations
+    };
+    let params = SpectrumParams {
+        kmax: (2.0 * ALPHA_BAND * (n as f64).sqrt()).ceil() as usize,
+        realizations,
+        seed: config.seed,
+        budget: config.budget,
+        ..SpectrumParams::default()
+    };
+    let source = PatternSource::Sampler {
+        sampler,
+        n,
+        seed: config.seed,
+    };
+    let estimate = estimate_with_progress(source, &params, progress).map_err(|e| e.to_string())?;
+    fit_alpha(&estimate.radial, 0.0, ALPHA_BAND).map_err(|e| e.to_string())
+}
+
+fn discrepancies(patterns: &[PointSet]) -> Result<Vec<(DiscrepancyKind, f64, f64)>> {
+    let m = patterns.len() as f64;
+    DiscrepancyKind::ALL
+        .iter()
+        .map(|&kind| {
+            let values = patterns
+                .iter()
+                .map(|p| squared_discrepancy(p, kind))
+                .collect::<Result<Vec<_>>>()?;
+            let mean = values.iter().sum::<f64>() / m;
+            let ss: f64 = values.iter().map(|v| (v - mean).powi(2)).sum();
+            let stderr = if patterns.len() > 1 {
+                (ss / (m - 1.0) / m).sqrt()
+            } else {
+                0.0
+            };
+            Ok((kind, mean, stderr))
+        })
+        .collect()
+}
+
+fn nearest(patterns: &[PointSet]) -> Result<(f64, f64)> {
+    let found = patterns.iter().map(distances).collect::<Result<Vec<_>>>()?;
+    let min = found
+        .iter()
+        .map(|d| d.min_distance)
+        .fold(f64::INFINITY, f64::min);
+    let mean = found.iter().map(|d| d.mean_min_distance).sum::<f64>() / found.len() as f64;
+    Ok((min, mean))
+}
+
+#[allow(clippy::too_many_arguments)]
+fn rows(
+    sampler: &dyn Sampler,
+    kind: SamplerKind,
+    n: usize,
+    alpha: Option<f64>,
+    config: &AtlasConfig,
+    fs: &[Box<dyn Integrand>],
+    progress: &dyn Progress,
+) -> Result<Vec<AtlasRow>> {
+    let f_refs: Vec<&dyn Integrand> = fs.iter().map(|f| f.as_ref()).collect();
+    let mut mc = McParams::pooled(kind, config.trials, config.seed ^ ATLAS_MC_STREAM, true);
+    mc.budget = config.budget;
+    progress.begin(&format!("atlas: monte carlo of {kind}"), mc.patterns as u64);
+    let measured = empirical_variances(sampler, &f_refs, n, &mc, progress)?;
+    progress.end();
+    let problems = f_refs
+        .iter()
+        .map(|f| Problem::new(sampler, *f, n))
+        .collect::<Result<Vec<_>>>()?;
+    let params = PredictParams {
+        seed: config.seed ^ ATLAS_PREDICT_STREAM,
+        budget: config.budget,
+        ..PredictParams::default()
+    };
+    let predictions = predict_many(&problems, &params, progress)?;
+    Ok(f_refs
+        .iter()
+        .zip(measured)
+        .zip(predictions)
+        .map(|((f, measured), predicted)| AtlasRow {
+            integrand: f.label(),
+            z: predicted.z_beyond_bounds(&measured),
+            rate: alpha.map(|a| theory_rate(a, f.decay_exponent(), 2)),
+            predicted,
+            measured,
+        })
+        .collect())
+}
+
+/// The atlas's Monte Carlo and prediction streams, independent of the report's.
+const ATLAS_MC_STREAM: u64 = 0xA71A_5000_0000_0001;
+const ATLAS_PREDICT_STREAM: u64 = 0xA71A_5000_0000_0002;
+
+impl AtlasRow {
+    /// Whether the prediction agrees with Monte Carlo at 99%.
+    pub fn agrees(&self) -> bool {
+        self.z.abs() <= Z_99
+    }
+}
