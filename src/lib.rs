@@ -74,6 +74,7 @@
 
 #![warn(missing_docs)]
 
+pub mod anisotropy;
 pub mod atlas;
 pub mod budget;
 pub mod cache;

@@ -1,5 +1,5 @@
-//! Integrands with closed-form Fourier transforms: balls, Gaussians, and functions tabulated
-//! on a grid ([`GridIntegrand`], whose coefficients come from an FFT).
+//! Integrands with closed-form Fourier transforms: balls, Gaussians, polygons and edges, and
+//! functions tabulated on a grid ([`GridIntegrand`], whose coefficients come from an FFT).
 //!
 //! An [`Integrand`] lives on the unit torus `[0,1)^d`: Monte Carlo integrates what
 //! [`Integrand::eval`] gives there, so its exact integral ([`Integrand::integral`]) is the
@@ -15,12 +15,14 @@ mod ball;
 mod gaussian;
 mod grid;
 mod grid_io;
+mod polygon;
 mod spec;
 
 pub use ball::Ball;
 pub use gaussian::Gaussian;
 pub use grid::GridIntegrand;
 pub use grid_io::{read_grid_file, read_grid_png, read_grid_text};
+pub use polygon::{Polygon, MAX_VERTICES};
 pub use spec::{parse_integrand, IntegrandKind, IntegrandSpec};
 
 use crate::error::{invalid, Result};

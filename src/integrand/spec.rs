@@ -1,13 +1,14 @@
-//! Integrand specifications as text: `disk`, `ball`, `gaussian` with overrides, and `grid:FILE`
+//! Integrand specifications as text: `disk`, `ball`, `gaussian` with overrides, `grid:FILE`
 //! (also `image:FILE`) for a function tabulated in a text or PNG file (2D; see
-//! [`super::read_grid_file`]).
+//! [`super::read_grid_file`]), `polygon:x,y;x,y;…` (or `polygon:@FILE`, one vertex `x y` per
+//! line) and `edge:theta=DEGREES,offset=FRACTION,a=HEIGHT` (2D; see [`super::Polygon`]).
 //!
 //! `disk:r=0.2,a=2.2568`, `gaussian:sigma=0.0705,a=8`, `gaussian:c=0.3;0.5`. Keys: `r` (ball
 //! radius), `sigma` (Gaussian width), `a` (height), `c` (centre: one value for every axis, or
 //! `d` values separated by `;`). Defaults: ball `r = 0.25`, Gaussian `sigma = 0.1`, centre 0.5
 //! in every coordinate, `a = 1`. A key may appear once.
 
-use super::{read_grid_file, Ball, Gaussian, Integrand};
+use super::{read_grid_file, Ball, Gaussian, Integrand, Polygon};
 use crate::error::{invalid, Error, Result};
 use serde::Serialize;
 use std::fmt;
@@ -25,6 +26,8 @@ pub enum IntegrandKind {
     Gaussian,
     /// A function tabulated on a grid of cells (an image, a text grid).
     Grid,
+    /// A polygon's indicator, or an edge (a half-plane clipped to the square).
+    Polygon,
 }
 
 impl IntegrandKind {
@@ -34,6 +37,7 @@ impl IntegrandKind {
             IntegrandKind::Ball => "ball",
             IntegrandKind::Gaussian => "gaussian",
             IntegrandKind::Grid => "grid",
+            IntegrandKind::Polygon => "polygon",
         }
     }
 }
@@ -71,13 +75,29 @@ pub enum IntegrandSpec {
         /// The text or PNG file.
         path: PathBuf,
     },
+    /// A polygon of height 1 on these vertices (2D).
+    Polygon {
+        /// The vertices, in either orientation.
+        vertices: Vec<[f64; 2]>,
+    },
+    /// An edge: the half-plane `n·x ≤ t` clipped to the square (2D; see
+    /// [`super::Polygon::edge`]).
+    Edge {
+        /// The normal's angle `θ`, in degrees.
+        theta: f64,
+        /// The line's place, as a fraction of the square's extent along the normal.
+        offset: f64,
+        /// Height `a`.
+        height: f64,
+    },
 }
 
 const KEYS: &str = "accepted keys: r (ball radius), sigma (Gaussian width), a (height), \
                     c (centre, one value or d values separated by ';'), each once";
 
 const KINDS: &str = "disk, ball or gaussian, with optional overrides such as disk:r=0.2,a=2, \
-                     or grid:FILE for a text or PNG grid";
+                     grid:FILE for a text or PNG grid, polygon:x,y;x,y;x,y or polygon:@FILE, or \
+                     edge:theta=30,offset=0.5";
 
 /// Parses an integrand specification.
 ///
@@ -102,6 +122,8 @@ pub fn parse_integrand(text: &str) -> Result<IntegrandSpec> {
         "disk" | "ball" => IntegrandKind::Ball,
         "gaussian" => IntegrandKind::Gaussian,
         "grid" | "image" => IntegrandKind::Grid,
+        "polygon" => return parse_polygon(rest),
+        "edge" => return parse_edge(rest),
         other => return Err(invalid("integrand", other, KINDS)),
     };
     if kind == IntegrandKind::Grid {
@@ -158,6 +180,81 @@ pub fn parse_integrand(text: &str) -> Result<IntegrandSpec> {
     })
 }
 
+/// `x,y;x,y;…`, or `@FILE` with one vertex `x y` (or `x,y`) per line.
+fn parse_polygon(rest: &str) -> Result<IntegrandSpec> {
+    let rest = rest.trim();
+    let (text, separator) = match rest.strip_prefix('@') {
+        Some(path) => {
+            let bytes = crate::io::read_bounded(std::path::Path::new(path.trim()))?;
+            let text = String::from_utf8(bytes)
+                .map_err(|_| Error::format(path.trim().to_string(), "not UTF-8 text"))?;
+            (text, '\n')
+        }
+        None => (rest.to_string(), ';'),
+    };
+    let vertices = text
+        .split(separator)
+        .enumerate()
+        .filter(|(_, v)| !v.trim().is_empty() && !v.trim_start().starts_with('#'))
+        .map(|(i, v)| {
+            let values: Vec<&str> = v
+                .split([',', ' ', '\t'])
+                .filter(|s| !s.is_empty())
+                .collect();
+            let parse = |s: &str| s.trim().parse::<f64>().ok();
+            match values.as_slice() {
+                [x, y] => parse(x).zip(parse(y)).map(|(x, y)| [x, y]),
+                _ => None,
+            }
+            .ok_or_else(|| Error::Parse {
+                line: i + 1,
+                message: format!("vertex '{}': expected two numbers x, y", v.trim()),
+            })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok(IntegrandSpec::Polygon { vertices })
+}
+
+/// `theta=DEGREES,offset=FRACTION,a=HEIGHT`, each optional (0°, 0.5, 1).
+fn parse_edge(rest: &str) -> Result<IntegrandSpec> {
+    const EDGE_KEYS: &str = "accepted keys: theta (degrees), offset (fraction in (0, 1)), a \
+                             (height), each once";
+    let (mut theta, mut offset, mut height) = (None, None, None);
+    for pair in rest.split(',').filter(|p| !p.trim().is_empty()) {
+        let (key, value) = pair
+            .split_once('=')
+            .ok_or_else(|| invalid("integrand override", pair, EDGE_KEYS))?;
+        let number = value
+            .trim()
+            .parse::<f64>()
+            .map_err(|_| invalid("integrand value", format!("{key}={value}"), "a number"))?;
+        let slot = match key.trim() {
+            "theta" => &mut theta,
+            "offset" => &mut offset,
+            "a" => &mut height,
+            other => {
+                return Err(invalid(
+                    "integrand key",
+                    format!("{other} (for edge)"),
+                    EDGE_KEYS,
+                ))
+            }
+        };
+        if slot.replace(number).is_some() {
+            return Err(invalid(
+                "integrand key",
+                format!("{key} given twice"),
+                EDGE_KEYS,
+            ));
+        }
+    }
+    Ok(IntegrandSpec::Edge {
+        theta: theta.unwrap_or(0.0),
+        offset: offset.unwrap_or(0.5),
+        height: height.unwrap_or(1.0),
+    })
+}
+
 impl IntegrandSpec {
     /// The kind.
     pub fn kind(&self) -> IntegrandKind {
@@ -165,6 +262,7 @@ impl IntegrandSpec {
             IntegrandSpec::Ball { .. } => IntegrandKind::Ball,
             IntegrandSpec::Gaussian { .. } => IntegrandKind::Gaussian,
             IntegrandSpec::Grid { .. } => IntegrandKind::Grid,
+            IntegrandSpec::Polygon { .. } | IntegrandSpec::Edge { .. } => IntegrandKind::Polygon,
         }
     }
 
@@ -193,6 +291,15 @@ impl IntegrandSpec {
                 }
                 Box::new(read_grid_file(path)?)
             }
+            IntegrandSpec::Polygon { .. } | IntegrandSpec::Edge { .. } if d != 2 => {
+                return Err(invalid("dimension", d, "2 for a polygon or an edge"));
+            }
+            IntegrandSpec::Polygon { vertices } => Box::new(Polygon::new(vertices.clone(), 1.0)?),
+            IntegrandSpec::Edge {
+                theta,
+                offset,
+                height,
+            } => Box::new(Polygon::edge(*theta, *offset, *height)?),
             IntegrandSpec::Ball {
                 radius,
                 height,
@@ -239,6 +346,18 @@ impl fmt::Display for IntegrandSpec {
                 centre: c,
             } => write!(f, "gaussian:sigma={sigma},a={height}{}", centre(c)),
             IntegrandSpec::Grid { path } => write!(f, "grid:{}", path.display()),
+            IntegrandSpec::Polygon { vertices } => {
+                let list: Vec<String> = vertices
+                    .iter()
+                    .map(|v| format!("{},{}", v[0], v[1]))
+                    .collect();
+                write!(f, "polygon:{}", list.join(";"))
+            }
+            IntegrandSpec::Edge {
+                theta,
+                offset,
+                height,
+            } => write!(f, "edge:theta={theta},offset={offset},a={height}"),
         }
     }
 }

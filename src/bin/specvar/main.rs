@@ -2,6 +2,7 @@
 //! prints the result. Every decision of substance (routes, reference N, lattice extents,
 //! pools) is the library's.
 
+mod anisotropy;
 mod atlas;
 mod bars;
 mod bias;
@@ -82,6 +83,9 @@ enum Command {
     /// Every 2D sampler on one page: points, spectra, α, ν_eff, PCF, discrepancies, predicted
     /// variance beside Monte Carlo.
     Atlas(atlas::Args),
+    /// The variance of an edge against its angle: predicted from the sampler's 2D spectrum and
+    /// measured by Monte Carlo.
+    Anisotropy(anisotropy::Args),
     /// Convergence rates: theory, predicted from spectra, measured by Monte Carlo.
     Rates(rates::Args),
     /// Render ambient occlusion with a sampler (or all): image, MSE, MSE predicted from spectra.
@@ -113,6 +117,7 @@ fn main() -> ExitCode {
         Some(Command::Mc(a)) => mc::run(&a, &ctx),
         Some(Command::Metrics(a)) => metrics::run(&a, &ctx),
         Some(Command::Atlas(a)) => atlas::run(&a, &ctx),
+        Some(Command::Anisotropy(a)) => anisotropy::run(&a, &ctx),
         Some(Command::Rates(a)) => rates::run(&a, &ctx),
         Some(Command::RenderAo(a)) => render_ao::run(&a, &ctx),
         None => report::run(&report::Args::default(), &ctx),
