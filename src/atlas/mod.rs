@@ -10,8 +10,8 @@ pub use write::{atlas_markdown, write_atlas};
 use crate::error::Result;
 use crate::integrand::{Integrand, IntegrandSpec};
 use crate::metrics::{
-    distances, effective_nyquist, pair_correlation, squared_discrepancy, DiscrepancyKind, Pcf,
-    PcfParams,
+    discrepancy_means, distance_summary, effective_nyquist, pair_correlation, DiscrepancyKind,
+    Distances, Mean, Pcf, PcfParams,
 };
 use crate::montecarlo::{empirical_variances, McParams, McResult, Z_99};
 use crate::pointset::PointSet;
@@ -113,10 +113,10 @@ pub struct AtlasEntry {
     /// The pair correlation function.
     pub pcf: Pcf,
     /// Squared discrepancies: mean over the patterns and standard error.
-    pub discrepancies: Vec<(DiscrepancyKind, f64, f64)>,
+    pub discrepancies: Vec<(DiscrepancyKind, Mean)>,
     /// The smallest distance over the patterns and the mean nearest-neighbour distance,
     /// relative to the densest packing's.
-    pub distances: (f64, f64),
+    pub distances: Distances,
     /// Predictions beside Monte Carlo.
     pub rows: Vec<AtlasRow>,
 }
@@ -130,31 +130,15 @@ pub struct Atlas {
     pub entries: Vec<AtlasEntry>,
 }
 
-/// The atlas's two integrands: the talk's disk and Gaussian.
-fn integrands() -> Result<Vec<Box<dyn Integrand>>> {
-    [
-        IntegrandSpec::Ball {
-            radius: 0.25,
-            height: 1.0,
-            centre: None,
-        },
-        IntegrandSpec::Gaussian {
-            sigma: 0.1,
-            height: 1.0,
-            centre: None,
-        },
-    ]
-    .iter()
-    .map(|s| s.build(2))
-    .collect()
-}
-
 /// Computes every sampler's entry.
 ///
 /// # Errors
 /// A sampler that cannot be drawn, or any computation's error (budgets, validity).
 pub fn compute_atlas(config: &AtlasConfig, progress: &dyn Progress) -> Result<Atlas> {
-    let fs = integrands()?;
+    let fs: Vec<Box<dyn Integrand>> = IntegrandSpec::talk_pair()
+        .iter()
+        .map(|s| s.build(2))
+        .collect::<Result<_>>()?;
     let entries = config
         .samplers
         .iter()
@@ -202,8 +186,8 @@ fn entry(
         n,
         effective_nyquist: effective_nyquist(&spectrum.radial),
         pcf: pair_correlation(&patterns, &PcfParams::default())?,
-        discrepancies: discrepancies(&patterns)?,
-        distances: nearest(&patterns)?,
+        discrepancies: discrepancy_means(&patterns)?,
+        distances: distance_summary(&patterns)?,
         rows: rows(sampler.as_ref(), kind, n, alpha, config, fs, progress)?,
         points: patterns[0].clone(),
         spectrum,
@@ -261,37 +245,6 @@ fn alpha_at(
     };
     let estimate = estimate_with_progress(source, &params, progress).map_err(|e| e.to_string())?;
     fit_alpha(&estimate.radial, 0.0, ALPHA_BAND).map_err(|e| e.to_string())
-}
-
-fn discrepancies(patterns: &[PointSet]) -> Result<Vec<(DiscrepancyKind, f64, f64)>> {
-    let m = patterns.len() as f64;
-    DiscrepancyKind::ALL
-        .iter()
-        .map(|&kind| {
-            let values = patterns
-                .iter()
-                .map(|p| squared_discrepancy(p, kind))
-                .collect::<Result<Vec<_>>>()?;
-            let mean = values.iter().sum::<f64>() / m;
-            let ss: f64 = values.iter().map(|v| (v - mean).powi(2)).sum();
-            let stderr = if patterns.len() > 1 {
-                (ss / (m - 1.0) / m).sqrt()
-            } else {
-                0.0
-            };
-            Ok((kind, mean, stderr))
-        })
-        .collect()
-}
-
-fn nearest(patterns: &[PointSet]) -> Result<(f64, f64)> {
-    let found = patterns.iter().map(distances).collect::<Result<Vec<_>>>()?;
-    let min = found
-        .iter()
-        .map(|d| d.min_distance)
-        .fold(f64::INFINITY, f64::min);
-    let mean = found.iter().map(|d| d.mean_min_distance).sum::<f64>() / found.len() as f64;
-    Ok((min, mean))
 }
 
 #[allow(clippy::too_many_arguments)]

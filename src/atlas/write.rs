@@ -202,9 +202,9 @@ pub fn atlas_markdown(atlas: &Atlas) -> String {
             e.sampler,
             e.n,
             alpha_text(e),
-            e.distances.0,
-            e.distances.1,
-            cd.map_or("—".into(), |d| format!("{:.3e}", d.1)),
+            e.distances.min_distance,
+            e.distances.mean_min_distance,
+            cd.map_or("—".into(), |d| format!("{:.3e}", d.1.mean)),
         );
         for r in &e.rows {
             let _ = write!(
@@ -251,13 +251,15 @@ fn entry_markdown(e: &AtlasEntry) -> String {
     let _ = writeln!(
         md,
         "- nearest distances (of the densest packing's): smallest {:.3}, mean {:.3}",
-        e.distances.0, e.distances.1
+        e.distances.min_distance, e.distances.mean_min_distance
     );
-    for (kind, mean, stderr) in &e.discrepancies {
+    for (kind, m) in &e.discrepancies {
         let _ = writeln!(
             md,
-            "- {} discrepancy²: {mean:.4e} ± {stderr:.1e}",
-            kind.name()
+            "- {} discrepancy²: {:.4e} ± {:.1e}",
+            kind.name(),
+            m.mean,
+            m.stderr
         );
     }
     for r in &e.rows {

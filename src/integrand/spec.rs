@@ -256,6 +256,23 @@ fn parse_edge(rest: &str) -> Result<IntegrandSpec> {
 }
 
 impl IntegrandSpec {
+    /// The seed talk's two integrands: the disk of radius 1/4 and the Gaussian σ = 0.1, both
+    /// centred, of height 1.
+    pub fn talk_pair() -> Vec<IntegrandSpec> {
+        vec![
+            IntegrandSpec::Ball {
+                radius: 0.25,
+                height: 1.0,
+                centre: None,
+            },
+            IntegrandSpec::Gaussian {
+                sigma: 0.1,
+                height: 1.0,
+                centre: None,
+            },
+        ]
+    }
+
     /// The kind.
     pub fn kind(&self) -> IntegrandKind {
         match self {

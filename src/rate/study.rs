@@ -73,18 +73,7 @@ impl StudyConfig {
                 SamplerKind::PoissonDisk,
                 SamplerKind::Ccvt,
             ],
-            integrands: vec![
-                IntegrandSpec::Ball {
-                    radius: 0.25,
-                    height: 1.0,
-                    centre: None,
-                },
-                IntegrandSpec::Gaussian {
-                    sigma: 0.1,
-                    height: 1.0,
-                    centre: None,
-                },
-            ],
+            integrands: IntegrandSpec::talk_pair(),
             ns: rate_ns(16, 1024, d),
             trials: 4000,
             seed: 0,

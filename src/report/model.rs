@@ -86,22 +86,6 @@ impl Default for ReportConfig {
     }
 }
 
-/// The report's two integrands: the disk of radius 1/4 and the Gaussian σ = 0.1, centred.
-fn talk_integrands() -> Vec<IntegrandSpec> {
-    vec![
-        IntegrandSpec::Ball {
-            radius: 0.25,
-            height: 1.0,
-            centre: None,
-        },
-        IntegrandSpec::Gaussian {
-            sigma: 0.1,
-            height: 1.0,
-            centre: None,
-        },
-    ]
-}
-
 /// The samplers of the talk's table.
 pub const TALK_SAMPLERS: [SamplerKind; 4] = [
     SamplerKind::Random,
@@ -132,7 +116,7 @@ impl ReportConfig {
             study: StudyConfig {
                 dimension: 2,
                 samplers: TALK_SAMPLERS.to_vec(),
-                integrands: talk_integrands(),
+                integrands: IntegrandSpec::talk_pair(),
                 ns: vec![16, 36, 64, 144, 256, 576, 1024, 2304, 4096],
                 trials: 20_000,
                 seed,

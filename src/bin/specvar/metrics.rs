@@ -2,8 +2,8 @@
 //! correlation function of a sampler or of point sets from a file.
 
 use specvar::metrics::{
-    distances, effective_nyquist, hexagonal_nyquist, pair_correlation, squared_discrepancy,
-    DiscrepancyKind, PcfParams,
+    discrepancy_means, distance_summary, effective_nyquist, hexagonal_nyquist, pair_correlation,
+    DiscrepancyKind, Mean, PcfParams,
 };
 use specvar::plot::{line_plot, Axes, Series, Style};
 use specvar::pointset::PointSet;
@@ -57,7 +57,7 @@ struct Summary {
     dimension: usize,
     patterns: usize,
     /// Squared discrepancies: mean over the patterns and its standard error.
-    discrepancies: Vec<(DiscrepancyKind, f64, f64)>,
+    discrepancies: Vec<(DiscrepancyKind, Mean)>,
     min_distance: f64,
     mean_min_distance: f64,
     effective_nyquist: Option<f64>,
@@ -138,32 +138,8 @@ fn patterns(args: &Args, ctx: &super::Context) -> Result<(String, Vec<PointSet>)
 
 fn summarize(label: &str, patterns: &[PointSet], ctx: &super::Context) -> Result<Summary> {
     let (n, d) = (patterns[0].len(), patterns[0].dimension());
-    let m = patterns.len() as f64;
-    let mean_and_error = |values: &[f64]| {
-        let mean = values.iter().sum::<f64>() / m;
-        let ss: f64 = values.iter().map(|v| (v - mean).powi(2)).sum();
-        let error = if patterns.len() > 1 {
-            (ss / (m - 1.0) / m).sqrt()
-        } else {
-            0.0
-        };
-        (mean, error)
-    };
-    let mut discrepancies = Vec::new();
-    for kind in DiscrepancyKind::ALL {
-        let values = patterns
-            .iter()
-            .map(|p| squared_discrepancy(p, kind))
-            .collect::<Result<Vec<_>>>()?;
-        let (mean, error) = mean_and_error(&values);
-        discrepancies.push((kind, mean, error));
-    }
-    let found = patterns.iter().map(distances).collect::<Result<Vec<_>>>()?;
-    let min_distance = found
-        .iter()
-        .map(|x| x.min_distance)
-        .fold(f64::INFINITY, f64::min);
-    let mean_min_distance = found.iter().map(|x| x.mean_min_distance).sum::<f64>() / m;
+    let discrepancies = discrepancy_means(patterns)?;
+    let near = distance_summary(patterns)?;
     // The radial spectrum up to ν = 1.5, where every blue-noise peak has passed.
     let kmax = (1.5 * (n as f64).powf(1.0 / d as f64)).ceil() as usize;
     let params = SpectrumParams {
@@ -180,8 +156,8 @@ fn summarize(label: &str, patterns: &[PointSet], ctx: &super::Context) -> Result
         dimension: d,
         patterns: patterns.len(),
         discrepancies,
-        min_distance,
-        mean_min_distance,
+        min_distance: near.min_distance,
+        mean_min_distance: near.mean_min_distance,
         effective_nyquist: nu,
         effective_nyquist_over_hexagonal: nu.filter(|_| d == 2).map(|v| v / hexagonal_nyquist()),
     })
@@ -192,7 +168,14 @@ fn print_summary(s: &Summary) {
         "{}: N = {}, {}D, {} patterns",
         s.source, s.n, s.dimension, s.patterns
     );
-    for (kind, mean, error) in &s.discrepancies {
+    for (
+        kind,
+        Mean {
+            mean,
+            stderr: error,
+        },
+    ) in &s.discrepancies
+    {
         println!(
             "  {:<22} {mean:.6e} ± {error:.1e}",
             format!("{} discrepancy²", kind.name())
