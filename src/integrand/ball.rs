@@ -107,10 +107,35 @@ impl Ball {
         }
         match self.d() {
             1 => 2.0 * r - s,
-            2 => 2.0 * r * r * (s / (2.0 * r)).acos() - s / 2.0 * (4.0 * r * r - s * s).sqrt(),
+            2 => r * r * lens_2d_shape(s / (2.0 * r), (2.0 * r - s) / (2.0 * r)),
             _ => PI / 12.0 * (4.0 * r + s) * (2.0 * r - s).powi(2),
         }
     }
+}
+
+/// `2θ − sin 2θ` with `θ = acos(x)`, given `x` and `1 − x` (the lens of two unit disks whose
+/// centres are `2x` apart has area `2θ − sin 2θ`). The textbook form
+/// `2 acos(x) − 2x√(1 − x²)` cancels catastrophically as `x → 1` (both terms `O(√(1−x))`, their
+/// difference `O((1−x)^{3/2})`): `θ = 2 asin(√((1−x)/2))` is exact to rounding there, and below
+/// `2θ = 1` the series `Σ_{k≥1} (−1)^{k+1} (2θ)^{2k+1}/(2k+1)!` replaces `2θ − sin 2θ`.
+fn lens_2d_shape(x: f64, one_minus_x: f64) -> f64 {
+    let theta = if x > 0.5 {
+        2.0 * libm::asin((0.5 * one_minus_x).sqrt())
+    } else {
+        libm::acos(x)
+    };
+    let t = 2.0 * theta;
+    if t >= 1.0 {
+        return t - libm::sin(t);
+    }
+    // Terms fall by t²/((2k+2)(2k+3)) ≤ 1/20 each: 12 terms reach 1e-17 of the first.
+    let mut term = t * t * t / 6.0;
+    let mut sum = 0.0;
+    for k in 1..=12 {
+        sum += term;
+        term *= -t * t / ((2 * k + 2) as f64 * (2 * k + 3) as f64);
+    }
+    sum
 }
 
 impl Integrand for Ball {
