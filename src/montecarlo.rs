@@ -330,7 +330,10 @@ fn run(
                 } else {
                     [0.0; MAX_DIMENSION]
                 };
-                for (x, c) in shifted.chunks_exact_mut(d).zip(base.coords().chunks_exact(d)) {
+                for (x, c) in shifted
+                    .chunks_exact_mut(d)
+                    .zip(base.coords().chunks_exact(d))
+                {
                     for a in 0..d {
                         x[a] = wrap(c[a] + u[a]);
                     }

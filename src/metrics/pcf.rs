@@ -50,6 +50,9 @@ pub struct Pcf {
     pub stderr: Vec<f64>,
     /// The kernel's standard deviation (absolute).
     pub sigma: f64,
+    /// Each pattern's own estimate, radius by radius (the units of `stderr`).
+    #[serde(skip)]
+    pub per_pattern: Vec<Vec<f64>>,
 }
 
 /// The surface of the unit sphere in dimension `d` (1 to 3): 2, 2π, 4π.
@@ -133,6 +136,7 @@ pub fn pair_correlation(patterns: &[PointSet], params: &PcfParams) -> Result<Pcf
         g,
         stderr,
         sigma,
+        per_pattern,
     })
 }
 

@@ -23,6 +23,7 @@
 
 mod bias;
 mod lattice;
+mod pair;
 mod polar;
 mod route;
 mod space;
@@ -31,6 +32,7 @@ pub use bias::{bias_of_pattern, regular_grid_bias, SpectralBias};
 pub use lattice::{
     predict_from_power, predict_lattice, predict_on_patterns, LatticePower, PatternPlan,
 };
+pub use pair::{pair_correlation_variance, PcfVariance};
 pub use polar::{predict_polar, PolarParams};
 pub use route::{default_kmax, default_reference_n, polar_validity};
 pub use space::{
