@@ -453,3 +453,53 @@ fn gaussian_jitter_mean_spectrum_is_its_closed_form() {
         }
     }
 }
+
+/// Sector spectra of an exactly known spectrum (Latin hypercube's closed form at N = 64): each
+/// sector's mean is the brute-force mean of the closed form over the lattice points of the half
+/// plane in that ring and direction, and the axis sectors hold 1D jitter's deep notch.
+#[test]
+fn sector_spectra_average_the_right_frequencies() {
+    let (n, kmax, sectors, width) = (64usize, 24usize, 6usize, 3.0);
+    let lattice = Lattice { dimension: 2, kmax };
+    let closed = ClosedForm::LatinHypercube.on_lattice(n, 2, kmax);
+    let mean: Vec<f64> = (0..lattice.len())
+        .map(|i| closed.power(&lattice.frequency(i)[..2]))
+        .collect();
+    let spectrum = LatticeSpectrum {
+        lattice,
+        n,
+        realizations: 1,
+        engine: Engine::Direct,
+        stderr: vec![0.0; mean.len()],
+        mean,
+    };
+    let s = sector_spectrum(&spectrum, sectors, width).unwrap();
+    for (b, ring) in s.rings.iter().enumerate() {
+        for sector in 0..sectors {
+            let (mut sum, mut count) = (0.0, 0usize);
+            for k1 in 0..=kmax as i64 {
+                for k0 in -(kmax as i64)..=kmax as i64 {
+                    if k1 == 0 && k0 <= 0 {
+                        continue;
+                    }
+                    let r = ((k0 * k0 + k1 * k1) as f64).sqrt();
+                    let angle = (k1 as f64).atan2(k0 as f64).to_degrees();
+                    let inside = (r / width).floor() as usize == b
+                        && ((angle / 180.0 * sectors as f64) as usize).min(sectors - 1) == sector;
+                    if inside {
+                        sum += closed.power(&[k0, k1]);
+                        count += 1;
+                    }
+                }
+            }
+            assert_eq!(ring.count[sector], count);
+            if count > 0 {
+                assert!((ring.power[sector] - sum / count as f64).abs() < 1e-12);
+            }
+        }
+    }
+    // The first ring's 0° sector holds only points near the k_0 axis, where N-rooks is
+    // 1D jitter of 64 strata: far below white.
+    assert!(s.rings[1].power[0] < s.rings[1].power[1]);
+    assert!(sector_spectrum(&spectrum, 0, 1.0).is_err());
+}

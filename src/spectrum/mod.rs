@@ -17,11 +17,13 @@ pub mod export;
 pub mod lattice;
 pub mod nufft;
 mod radial;
+mod sector;
 
 pub use accumulate::{PatternSource, SpectrumAccumulator, WeightedMean};
 pub use closed::{fejer, sinc, ClosedForm, ClosedLattice, TailDeviation};
 pub use lattice::Lattice;
 pub use radial::{RadialBin, RadialSpectrum};
+pub use sector::{sector_spectrum, SectorRing, SectorSpectrum, MAX_SECTORS};
 
 use crate::error::{invalid, Result};
 use crate::pointset::PointSet;

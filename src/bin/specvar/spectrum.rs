@@ -53,8 +53,12 @@ pub struct Args {
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// Output the radial spectrum instead of the lattice.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "sectors")]
     pub radial: bool,
+    /// Output the power in this many angular sectors of the half plane (2D), ring by ring:
+    /// the directional spectrum of anisotropic samplers.
+    #[arg(long)]
+    pub sectors: Option<usize>,
     /// Read point sets (UTK text or JSON) instead of sampling.
     #[arg(long)]
     pub input: Option<PathBuf>,
@@ -122,6 +126,14 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
     bars.begin(&stage, realizations as u64);
     let est = estimate_with_progress(source, &params, &bars)?;
     bars.end();
+    if let Some(sectors) = args.sectors {
+        let s = specvar::spectrum::sector_spectrum(&est.lattice, sectors, args.bin_width)?;
+        if let Some(plot) = &args.plot {
+            specvar::plot::check_plot_path(plot, false)?;
+            sector_plot(plot, &label, &s)?;
+        }
+        return super::write_output(args.output.as_deref(), &sector_table(&s, args.json)?);
+    }
     if let Some(plot) = &args.plot {
         specvar::plot::check_plot_path(plot, !args.radial)?;
         specvar::plot::spectrum_plot(plot, &label, &est, args.radial)?;
@@ -137,4 +149,54 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
         lattice_table(&est.lattice, format)?
     };
     super::write_output(args.output.as_deref(), &text)
+}
+
+/// The sector spectrum as JSON or CSV (`nu`, then one column per sector's direction).
+fn sector_table(s: &specvar::spectrum::SectorSpectrum, json: bool) -> Result<String> {
+    if json {
+        return Ok(super::to_json(s)? + "\n");
+    }
+    let mut out = String::from("nu");
+    for d in &s.directions {
+        out.push_str(&format!(",power_{d:.1}deg"));
+    }
+    out.push('\n');
+    for ring in &s.rings {
+        out.push_str(&format!("{}", ring.nu));
+        for p in &ring.power {
+            out.push_str(&format!(",{p}"));
+        }
+        out.push('\n');
+    }
+    Ok(out)
+}
+
+/// One curve per sector (at most eight, evenly chosen, so that the legend stays readable).
+fn sector_plot(
+    path: &std::path::Path,
+    label: &str,
+    s: &specvar::spectrum::SectorSpectrum,
+) -> Result<()> {
+    use specvar::plot::{line_plot, Axes, Series, Style};
+    let count = s.directions.len();
+    let shown = count.min(8);
+    let series: Vec<Series> = (0..shown)
+        .map(|j| {
+            let sector = j * count / shown;
+            Series {
+                label: format!("{:.1}°", s.directions[sector]),
+                points: s.rings.iter().map(|r| (r.nu, r.power[sector])).collect(),
+                bars: None,
+                style: Style::Line,
+                color: j,
+            }
+        })
+        .collect();
+    let axes = Axes {
+        title: format!("power by direction, {label}: N = {}", s.n),
+        x_label: "ν = |k| / √N".into(),
+        y_label: "mean power in the sector".into(),
+        ..Axes::default()
+    };
+    line_plot(path, &axes, &series)
 }
