@@ -24,11 +24,11 @@ pub const MAX_VERTICES: usize = 10_000;
 /// # Examples
 /// ```
 /// use specvar::integrand::{Integrand, Polygon};
-/// // The left half of the square: ∫f = 1/2, and f̂(1, 0) = i/π.
+/// // The left half of the square: ∫f = 1/2, and f̂(1, 0) = ∫_0^½ e^{-2πix} dx = −i/π.
 /// let half = Polygon::new(vec![[0.0, 0.0], [0.5, 0.0], [0.5, 1.0], [0.0, 1.0]], 1.0)?;
 /// assert!((half.integral() - 0.5).abs() < 1e-15);
 /// let c = half.coefficient(&[1, 0]);
-/// assert!(c.re.abs() < 1e-15 && (c.im - 1.0 / std::f64::consts::PI).abs() < 1e-15);
+/// assert!(c.re.abs() < 1e-15 && (c.im + 1.0 / std::f64::consts::PI).abs() < 1e-15);
 /// # Ok::<(), specvar::Error>(())
 /// ```
 #[derive(Debug, Clone, PartialEq)]
