@@ -163,3 +163,51 @@ fn edge_variance_against_angle_is_predicted_for_four_samplers() {
     }
     assert!(misses.len() <= 3, "{misses:?}");
 }
+
+/// Rates of edges: jitter's edge variance falls like N^{-1.5} at any angle (Mitchell 1996),
+/// Latin hypercube's like N^{-2} for an axis-aligned edge (1D stratification of a step) and
+/// like white noise's N^{-1} at 45°; each predicted slope lies in Monte Carlo's 99% interval
+/// widened by the prediction's own standard error.
+#[test]
+fn edge_rates_follow_the_angle() {
+    use specvar::anisotropy::edge_rates;
+    for (kind, expected) in [
+        (SamplerKind::Jitter, [-1.5, -1.5]),
+        (SamplerKind::LatinHypercube, [-2.0, -1.0]),
+    ] {
+        let config = OrientationConfig {
+            n: 0,
+            angles: vec![0.0, 45.0],
+            offset: 0.5,
+            trials: 4000,
+            seed: 5,
+            predict: Default::default(),
+        };
+        let sampler = kind.build(2).unwrap();
+        let rates = edge_rates(
+            sampler.as_ref(),
+            kind,
+            &[64, 256, 1024, 4096],
+            &config,
+            &Silent,
+        )
+        .unwrap();
+        for (r, want) in rates.iter().zip(expected) {
+            assert!(
+                (r.predicted.slope - want).abs() < 0.06,
+                "{kind} {}: {:?}",
+                r.angle,
+                r.predicted
+            );
+            let slack = 2.58 * r.predicted.stderr;
+            assert!(
+                r.predicted.slope + slack >= r.measured.ci.0
+                    && r.predicted.slope - slack <= r.measured.ci.1,
+                "{kind} {}: predicted {:?}, measured {:?}",
+                r.angle,
+                r.predicted,
+                r.measured
+            );
+        }
+    }
+}

@@ -1,6 +1,8 @@
 //! `specvar anisotropy`: the variance of an edge against its angle, predicted and measured.
 
-use specvar::anisotropy::{variance_against_orientation, OrientationConfig, MAX_ANGLES};
+use specvar::anisotropy::{
+    edge_rates, variance_against_orientation, OrientationConfig, MAX_ANGLES,
+};
 use specvar::plot::{line_plot, Axes, Series, Style};
 use specvar::predict::PredictParams;
 use specvar::sampler::SamplerKind;
@@ -28,6 +30,10 @@ pub struct Args {
     /// Seed.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
+    /// Rates instead: the predicted and measured variance at each of these N (comma list),
+    /// and the log-log slopes for each angle.
+    #[arg(long, value_delimiter = ',')]
+    pub rates: Vec<usize>,
     /// Plot the variance against the angle (SVG).
     #[arg(long)]
     pub plot: Option<PathBuf>,
@@ -94,6 +100,9 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
             ..PredictParams::default()
         },
     };
+    if !args.rates.is_empty() {
+        return rates(args, sampler.as_ref(), &config);
+    }
     let rows = variance_against_orientation(
         sampler.as_ref(),
         args.sampler,
@@ -154,6 +163,36 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
             r.measured.ci_high,
             r.z,
             if r.agrees() { "" } else { "  miss" }
+        );
+    }
+    Ok(())
+}
+
+/// The rate table: per angle, the predicted and measured slopes over `--rates`.
+fn rates(args: &Args, sampler: &dyn specvar::Sampler, config: &OrientationConfig) -> Result<()> {
+    let rates = edge_rates(
+        sampler,
+        args.sampler,
+        &args.rates,
+        config,
+        &super::bars::Bars::default(),
+    )?;
+    if args.json {
+        return super::write_output(None, &(super::to_json(&rates)? + "\n"));
+    }
+    println!(
+        "{:>7} {:>22} {:>32}",
+        "angle", "predicted slope", "Monte Carlo slope [99%]"
+    );
+    for r in &rates {
+        println!(
+            "{:>7.1} {:>13.3} ± {:<6.3} {:>10.3} [{:.3}, {:.3}]",
+            r.angle,
+            r.predicted.slope,
+            r.predicted.stderr,
+            r.measured.slope,
+            r.measured.ci.0,
+            r.measured.ci.1
         );
     }
     Ok(())
