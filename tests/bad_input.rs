@@ -103,6 +103,8 @@ fn meaningless_parameters_are_errors_not_defaults() {
         vec!["anisotropy", "-s", "jitter", "--angles", "0:1000000:0.001"],
         vec!["anisotropy", "-s", "jitter", "--angles", "a,b"],
         vec!["anisotropy", "-s", "jitter", "--offset", "1.5"],
+        vec!["anisotropy", "-s", "jitter", "--polar", "plot.png"],
+        vec!["anisotropy", "-s", "jitter", "--rates", "64"],
         vec!["anisotropy", "-s", "poisson", "-n", "64", "--trials", "0"],
         vec![
             "predict",

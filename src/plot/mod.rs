@@ -4,9 +4,11 @@
 
 #[cfg(feature = "plot")]
 mod lines;
+mod polar;
 
 #[cfg(feature = "plot")]
 pub use lines::{line_plot, Axes, Series, Style};
+pub use polar::{polar_plot, PolarSeries};
 
 use crate::error::{Error, Result};
 #[cfg(feature = "plot")]

@@ -37,6 +37,9 @@ pub struct Args {
     /// Plot the variance against the angle (SVG).
     #[arg(long)]
     pub plot: Option<PathBuf>,
+    /// Plot the variance against the angle in polar form (SVG): radius the variance.
+    #[arg(long)]
+    pub polar: Option<PathBuf>,
     /// JSON output.
     #[arg(long)]
     pub json: bool,
@@ -83,7 +86,7 @@ fn parse_angles(text: &str) -> Result<Vec<f64>> {
 
 /// Predicts and measures every angle, prints the table, writes the plot.
 pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
-    if let Some(path) = &args.plot {
+    for path in args.plot.iter().chain(&args.polar) {
         specvar::plot::check_plot_path(path, false)?;
     }
     let angles = parse_angles(&args.angles)?;
@@ -145,6 +148,34 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
             ..Axes::default()
         };
         line_plot(path, &axes, &[predicted, measured])?;
+    }
+    if let Some(path) = &args.polar {
+        use specvar::plot::{polar_plot, PolarSeries};
+        let predicted = PolarSeries {
+            label: "predicted".into(),
+            points: rows
+                .iter()
+                .map(|r| (r.angle, r.predicted.variance))
+                .collect(),
+            bars: None,
+        };
+        let measured = PolarSeries {
+            label: "Monte Carlo (99%)".into(),
+            points: rows
+                .iter()
+                .map(|r| (r.angle, r.measured.variance))
+                .collect(),
+            bars: Some(
+                rows.iter()
+                    .map(|r| (r.measured.ci_low, r.measured.ci_high))
+                    .collect(),
+            ),
+        };
+        let title = format!(
+            "{} at N = {}: variance of an edge against its angle",
+            args.sampler, args.n
+        );
+        polar_plot(path, &title, &[predicted, measured])?;
     }
     if args.json {
         return super::write_output(None, &(super::to_json(&rows)? + "\n"));
