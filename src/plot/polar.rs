@@ -18,6 +18,9 @@ pub struct PolarSeries {
     pub bars: Option<Vec<(f64, f64)>>,
 }
 
+/// An angle in degrees, its value, and the value's bar if any.
+type Marked = (f64, f64, Option<(f64, f64)>);
+
 const SIZE: f64 = 560.0;
 const LEGEND: f64 = 260.0;
 const COLOURS: [&str; 4] = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd"];
@@ -76,7 +79,7 @@ pub fn polar_plot(path: &Path, title: &str, series: &[PolarSeries]) -> Result<()
     }
     for (j, s) in series.iter().enumerate() {
         let colour = COLOURS[j % COLOURS.len()];
-        let mut all: Vec<(f64, f64, Option<(f64, f64)>)> = Vec::new();
+        let mut all: Vec<Marked> = Vec::new();
         for half in [0.0, 180.0] {
             for (i, &(a, v)) in s.points.iter().enumerate() {
                 all.push((a + half, v, s.bars.as_ref().map(|b| b[i])));
