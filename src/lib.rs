@@ -31,17 +31,23 @@
 //!
 //! ## Map of the crate
 //!
-//! - [`sampler`]: ten samplers behind one [`Sampler`] trait, keyed by (seed, realization);
-//!   [`SamplerKind`] holds every fact about each (closed form, scale invariance, isotropy,
-//!   cost); [`sampler::Homogenized`] adds the random shift.
-//! - [`pointset`] and [`io`]: point sets and their files (UTK text, JSON).
-//! - [`spectrum`]: periodograms (direct and NUFFT engines, with caller-owned scratch), expected
-//!   and radial spectra, closed forms.
-//! - [`integrand`]: balls and Gaussians with closed-form transforms, and functions tabulated on
-//!   a grid (images, text files) whose transforms come from an FFT; [`integrand::IntegrandKind`]
-//!   and [`integrand::IntegrandSpec`] name them.
+//! - [`sampler`]: sixteen samplers behind one [`Sampler`] trait, keyed by (seed, realization),
+//!   from white noise to PMJ02, rank-1 lattices and the Kronecker sequence; [`SamplerKind`]
+//!   holds every fact about each (closed form, scale invariance, isotropy, cost, N rule);
+//!   [`sampler::Homogenized`] adds the random shift.
+//! - [`pointset`] and [`io`]: point sets and their files (UTK text and binary, JSON).
+//! - [`spectrum`]: periodograms (direct and NUFFT engines, with caller-owned scratch), expected,
+//!   radial and directional spectra, closed forms.
+//! - [`metrics`]: discrepancies, the pair correlation function, nearest distances, the
+//!   effective Nyquist frequency.
+//! - [`integrand`]: balls, Gaussians, polygons and edges with closed-form transforms, and
+//!   functions tabulated on a grid (images, text files) whose transforms come from an FFT;
+//!   [`integrand::IntegrandKind`] and [`integrand::IntegrandSpec`] name them.
 //! - [`predict`]: the one call [`predict::predict`] that chooses a valid route; the polar and
-//!   lattice forms with the DC term; bias of fixed patterns.
+//!   lattice forms with the DC term; exact sums in space for lattices; the pair-correlation
+//!   route; bias of fixed patterns.
+//! - [`anisotropy`]: the variance of an edge against its angle, and its rates against N.
+//! - [`atlas`]: every 2D sampler on one page.
 //! - [`montecarlo`]: empirical variance with 99% intervals, pools for costly samplers.
 //! - [`rate`]: theoretical, predicted and measured convergence rates; the rate study.
 //! - [`render`]: ambient occlusion rendered with every sampler, its measured MSE, and its MSE

@@ -251,7 +251,15 @@ fn summed_in_space(
                  summed exactly in space, (1/N²) Σ_j (N - |j|) a_f(jα) - I² over its lags"
             ),
         ),
-        _ => unreachable!("only the forms without a tail bound are summed in space"),
+        other => {
+            return Err(Error::OutsideValidity {
+                route: "the lattice form summed in space".into(),
+                reason: format!(
+                    "{} has a tail bound and is summed on the lattice instead",
+                    other.name()
+                ),
+            })
+        }
     };
     let (value, rounding) = exact.ok_or_else(|| Error::OutsideValidity {
         route: format!("the lattice form with the {}'s spectrum", closed.name()),
