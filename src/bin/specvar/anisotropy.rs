@@ -112,71 +112,7 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
         &config,
         &super::bars::Bars::default(),
     )?;
-    if let Some(path) = &args.plot {
-        let predicted = Series {
-            label: "predicted".into(),
-            points: rows
-                .iter()
-                .map(|r| (r.angle, r.predicted.variance))
-                .collect(),
-            bars: None,
-            style: Style::Line,
-            color: 0,
-        };
-        let measured = Series {
-            label: "Monte Carlo (99%)".into(),
-            points: rows
-                .iter()
-                .map(|r| (r.angle, r.measured.variance))
-                .collect(),
-            bars: Some(
-                rows.iter()
-                    .map(|r| (r.measured.ci_low, r.measured.ci_high))
-                    .collect(),
-            ),
-            style: Style::Points,
-            color: 1,
-        };
-        let axes = Axes {
-            title: format!(
-                "{} at N = {}: variance of an edge (offset {}) against its angle",
-                args.sampler, args.n, args.offset
-            ),
-            x_label: "angle of the edge's normal (degrees)".into(),
-            y_label: "variance".into(),
-            log_y: true,
-            ..Axes::default()
-        };
-        line_plot(path, &axes, &[predicted, measured])?;
-    }
-    if let Some(path) = &args.polar {
-        use specvar::plot::{polar_plot, PolarSeries};
-        let predicted = PolarSeries {
-            label: "predicted".into(),
-            points: rows
-                .iter()
-                .map(|r| (r.angle, r.predicted.variance))
-                .collect(),
-            bars: None,
-        };
-        let measured = PolarSeries {
-            label: "Monte Carlo (99%)".into(),
-            points: rows
-                .iter()
-                .map(|r| (r.angle, r.measured.variance))
-                .collect(),
-            bars: Some(
-                rows.iter()
-                    .map(|r| (r.measured.ci_low, r.measured.ci_high))
-                    .collect(),
-            ),
-        };
-        let title = format!(
-            "{} at N = {}: variance of an edge against its angle",
-            args.sampler, args.n
-        );
-        polar_plot(path, &title, &[predicted, measured])?;
-    }
+    plots(args, &rows)?;
     if args.json {
         return super::write_output(None, &(super::to_json(&rows)? + "\n"));
     }
@@ -225,6 +161,70 @@ fn rates(args: &Args, sampler: &dyn specvar::Sampler, config: &OrientationConfig
             r.measured.ci.0,
             r.measured.ci.1
         );
+    }
+    Ok(())
+}
+
+/// The variance against the angle, Cartesian (`--plot`) and polar (`--polar`).
+fn plots(args: &Args, rows: &[specvar::anisotropy::OrientationRow]) -> Result<()> {
+    use specvar::plot::{polar_plot, PolarSeries};
+    let predicted: Vec<(f64, f64)> = rows
+        .iter()
+        .map(|r| (r.angle, r.predicted.variance))
+        .collect();
+    let measured: Vec<(f64, f64)> = rows
+        .iter()
+        .map(|r| (r.angle, r.measured.variance))
+        .collect();
+    let bars: Vec<(f64, f64)> = rows
+        .iter()
+        .map(|r| (r.measured.ci_low, r.measured.ci_high))
+        .collect();
+    let (predicted_label, measured_label) = ("predicted", "Monte Carlo (99%)");
+    let title = format!(
+        "{} at N = {}: variance of an edge (offset {}) against its angle",
+        args.sampler, args.n, args.offset
+    );
+    if let Some(path) = &args.plot {
+        let series = [
+            Series {
+                label: predicted_label.into(),
+                points: predicted.clone(),
+                bars: None,
+                style: Style::Line,
+                color: 0,
+            },
+            Series {
+                label: measured_label.into(),
+                points: measured.clone(),
+                bars: Some(bars.clone()),
+                style: Style::Points,
+                color: 1,
+            },
+        ];
+        let axes = Axes {
+            title: title.clone(),
+            x_label: "angle of the edge's normal (degrees)".into(),
+            y_label: "variance".into(),
+            log_y: true,
+            ..Axes::default()
+        };
+        line_plot(path, &axes, &series)?;
+    }
+    if let Some(path) = &args.polar {
+        let series = [
+            PolarSeries {
+                label: predicted_label.into(),
+                points: predicted,
+                bars: None,
+            },
+            PolarSeries {
+                label: measured_label.into(),
+                points: measured,
+                bars: Some(bars),
+            },
+        ];
+        polar_plot(path, &title, &series)?;
     }
     Ok(())
 }

@@ -8,6 +8,7 @@ mod bars;
 mod bias;
 mod mc;
 mod metrics;
+mod patterns;
 mod predict;
 mod problem;
 mod rates;

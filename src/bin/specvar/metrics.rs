@@ -7,7 +7,6 @@ use specvar::metrics::{
 };
 use specvar::plot::{line_plot, Axes, Series, Style};
 use specvar::pointset::PointSet;
-use specvar::sampler::SamplerKind;
 use specvar::spectrum::{estimate_with_progress, PatternSource, SpectrumParams};
 use specvar::Result;
 use std::path::PathBuf;
@@ -15,24 +14,9 @@ use std::path::PathBuf;
 /// Arguments of `specvar metrics`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Sampler name (ignored with --input).
-    #[arg(long, short = 's', default_value = "random")]
-    pub sampler: SamplerKind,
-    /// Points per pattern (ignored with --input).
-    #[arg(short = 'n', default_value_t = 1024)]
-    pub n: usize,
-    /// Dimension, 1 to 3 (ignored with --input).
-    #[arg(short = 'd', default_value_t = 2)]
-    pub dimension: usize,
-    /// Patterns to average (ignored with --input: every realization in the file is used).
-    #[arg(long, short = 'm', default_value_t = 16)]
-    pub realizations: usize,
-    /// Seed.
-    #[arg(long, default_value_t = 0)]
-    pub seed: u64,
-    /// Read point sets (UTK text or JSON) instead of sampling.
-    #[arg(long)]
-    pub input: Option<PathBuf>,
+    /// The patterns.
+    #[command(flatten)]
+    pub patterns: super::patterns::PatternArgs,
     /// The pair correlation function's kernel width, in mean spacings N^(-1/d).
     #[arg(long, default_value_t = 0.05)]
     pub pcf_sigma: f64,
@@ -118,22 +102,22 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
 }
 
 fn patterns(args: &Args, ctx: &super::Context) -> Result<(String, Vec<PointSet>)> {
-    if let Some(path) = &args.input {
+    if let Some(path) = &args.patterns.input {
         return Ok((path.display().to_string(), specvar::io::read_file(path)?));
     }
-    if args.realizations == 0 {
+    if args.patterns.realizations == 0 {
         return Err(specvar::Error::InvalidParameter {
             name: "realizations",
             value: "0".into(),
             allowed: "at least 1".into(),
         });
     }
-    let sampler = ctx.sampler(args.sampler, args.dimension)?;
-    sampler.check_count(args.n)?;
-    let sets = (0..args.realizations as u64)
-        .map(|r| sampler.sample(args.n, args.seed, r))
+    let sampler = ctx.sampler(args.patterns.sampler, args.patterns.dimension)?;
+    sampler.check_count(args.patterns.n)?;
+    let sets = (0..args.patterns.realizations as u64)
+        .map(|r| sampler.sample(args.patterns.n, args.patterns.seed, r))
         .collect::<Result<Vec<_>>>()?;
-    Ok((args.sampler.to_string(), sets))
+    Ok((args.patterns.sampler.to_string(), sets))
 }
 
 fn summarize(label: &str, patterns: &[PointSet], ctx: &super::Context) -> Result<Summary> {

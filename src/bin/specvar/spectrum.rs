@@ -1,7 +1,6 @@
 //! `specvar spectrum`: the expected power spectrum of a sampler or of point sets from a file.
 
 use specvar::progress::Progress;
-use specvar::sampler::SamplerKind;
 use specvar::spectrum::export::{lattice_table, radial_table, TableFormat};
 use specvar::spectrum::{
     estimate_with_progress, statistical_tolerance, Engine, PatternSource, SpectrumParams,
@@ -23,18 +22,9 @@ pub enum Method {
 /// Arguments of `specvar spectrum`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Sampler name (ignored with --input).
-    #[arg(long, short = 's', default_value = "random")]
-    pub sampler: SamplerKind,
-    /// Points per pattern (ignored with --input).
-    #[arg(short = 'n', default_value_t = 1024)]
-    pub n: usize,
-    /// Dimension, 1 to 3 (ignored with --input).
-    #[arg(short = 'd', default_value_t = 2)]
-    pub dimension: usize,
-    /// Realizations to average (ignored with --input: every realization in the file is used).
-    #[arg(long, short = 'm', default_value_t = 16)]
-    pub realizations: usize,
+    /// The patterns.
+    #[command(flatten)]
+    pub patterns: super::patterns::PatternArgs,
     /// Largest frequency per axis K: the lattice is (2K+1)^d.
     #[arg(long, default_value_t = 64)]
     pub kmax: usize,
@@ -49,9 +39,6 @@ pub struct Args {
     /// Ring width in |k| for --radial.
     #[arg(long, default_value_t = 1.0)]
     pub bin_width: f64,
-    /// Seed.
-    #[arg(long, default_value_t = 0)]
-    pub seed: u64,
     /// Output the radial spectrum instead of the lattice.
     #[arg(long, conflicts_with = "sectors")]
     pub radial: bool,
@@ -59,9 +46,6 @@ pub struct Args {
     /// the directional spectrum of anisotropic samplers.
     #[arg(long)]
     pub sectors: Option<usize>,
-    /// Read point sets (UTK text or JSON) instead of sampling.
-    #[arg(long)]
-    pub input: Option<PathBuf>,
     /// JSON output.
     #[arg(long, conflicts_with = "csv")]
     pub json: bool,
@@ -78,13 +62,13 @@ pub struct Args {
 
 /// Estimates the spectrum and writes it.
 pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
-    let sets = match &args.input {
+    let sets = match &args.patterns.input {
         Some(path) => Some(specvar::io::read_file(path)?),
         None => None,
     };
     let (n, realizations) = match &sets {
         Some(sets) => (sets.first().map_or(0, |s| s.len()), sets.len()),
-        None => (args.n, args.realizations),
+        None => (args.patterns.n, args.patterns.realizations),
     };
     let engine = match args.method {
         Method::Direct => Engine::Direct,
@@ -97,8 +81,8 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
     };
     let params = SpectrumParams {
         kmax: args.kmax,
-        realizations: args.realizations,
-        seed: args.seed,
+        realizations: args.patterns.realizations,
+        seed: args.patterns.seed,
         engine,
         bin_width: args.bin_width,
         budget: ctx.budget,
@@ -108,18 +92,19 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
     let (source, label) = match &sets {
         Some(sets) => (
             PatternSource::Sets(sets),
-            args.input
+            args.patterns
+                .input
                 .as_ref()
                 .map_or(String::new(), |p| p.display().to_string()),
         ),
         None => {
-            sampler = ctx.sampler(args.sampler, args.dimension)?;
+            sampler = ctx.sampler(args.patterns.sampler, args.patterns.dimension)?;
             let source = PatternSource::Sampler {
                 sampler: sampler.as_ref(),
                 n,
-                seed: args.seed,
+                seed: args.patterns.seed,
             };
-            (source, args.sampler.to_string())
+            (source, args.patterns.sampler.to_string())
         }
     };
     let stage = format!("spectrum of {label} at N = {n}");
