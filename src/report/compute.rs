@@ -2,8 +2,11 @@
 //! calls, and no output written.
 
 use super::model::{
-    AmbientSection, Check, ClosureConfig, ClosureRow, ClosureTable, Crossover, Illustration,
-    PolarComparison, Report, ReportConfig, SeriesExtras, Timing,
+    AmbientSection, Check, ClosureConfig, ClosureRow, ClosureTable, Crossover, EdgesConfig,
+    EdgesSection, Illustration, PolarComparison, Report, ReportConfig, SeriesExtras, Timing,
+};
+use crate::anisotropy::{
+    edge_rates, variance_against_orientation, OrientationConfig, OrientationRow,
 };
 use crate::cache::PATTERN_MEMORY;
 use crate::error::Result;
@@ -62,6 +65,9 @@ pub fn compute(config: &ReportConfig, progress: &dyn Progress) -> Result<Report>
         });
     let illustration = illustration()?;
     let start = Instant::now();
+    let edges = edges(&config.edges, config.seed, progress)?;
+    timed("edges at any angle: orientation curves and rates", start);
+    let start = Instant::now();
     let run = run_comparison(&config.ambient, progress)?;
     timed("ambient-occlusion renders", start);
     let ambient = AmbientSection {
@@ -77,6 +83,7 @@ pub fn compute(config: &ReportConfig, progress: &dyn Progress) -> Result<Report>
     };
     let mut checks = study_checks(&study);
     checks.extend(closure_checks(&closure));
+    checks.extend(edge_checks(&edges));
     checks.extend(ambient_checks(&ambient));
     Ok(Report {
         config: config.clone(),
@@ -86,10 +93,89 @@ pub fn compute(config: &ReportConfig, progress: &dyn Progress) -> Result<Report>
         crossovers,
         ccvt_low_band,
         illustration,
+        edges,
         ambient,
         checks,
         timings,
     })
+}
+
+/// The edges' seed stream, independent of the others.
+const EDGES_STREAM: u64 = 0xED;
+
+/// Every sampler's orientation curve at N and its rates at the rate angles.
+fn edges(config: &EdgesConfig, seed: u64, progress: &dyn Progress) -> Result<EdgesSection> {
+    let mut curves = Vec::new();
+    let mut rates = Vec::new();
+    for &kind in &config.samplers {
+        let sampler = kind.build(2)?;
+        let curve = OrientationConfig {
+            n: config.n,
+            angles: config.angles.clone(),
+            offset: 0.5,
+            trials: config.trials,
+            seed: seed ^ EDGES_STREAM,
+            predict: PredictParams {
+                seed: seed ^ EDGES_STREAM,
+                ..config.predict
+            },
+        };
+        curves.push((
+            kind,
+            variance_against_orientation(sampler.as_ref(), kind, &curve, progress)?,
+        ));
+        let at_angles = OrientationConfig {
+            angles: config.rate_angles.clone(),
+            ..curve
+        };
+        rates.push((
+            kind,
+            edge_rates(
+                sampler.as_ref(),
+                kind,
+                &config.rate_ns,
+                &at_angles,
+                progress,
+            )?,
+        ));
+    }
+    Ok(EdgesSection { curves, rates })
+}
+
+/// The curves' agreement (misses consistent with 1%, none beyond four standard errors) and
+/// each predicted rate inside Monte Carlo's 99% interval, widened by its own 99% error.
+fn edge_checks(edges: &EdgesSection) -> Vec<Check> {
+    let rows: Vec<&OrientationRow> = edges.curves.iter().flat_map(|c| &c.1).collect();
+    let misses = rows.iter().filter(|r| !r.agrees()).count();
+    let largest = rows.iter().map(|r| r.z.abs()).fold(0.0, f64::max);
+    let p = binomial_tail(rows.len(), misses, 0.01);
+    let mut checks = vec![Check {
+        what: "edges: orientation curves inside Monte Carlo's intervals at the nominal rate".into(),
+        pass: p >= 0.01 && largest <= 4.0,
+        detail: format!(
+            "{misses} misses of {} (expected {:.1}); P(this many or more) = {p:.3}; largest |z| = {largest:.2}",
+            rows.len(),
+            0.01 * rows.len() as f64
+        ),
+    }];
+    for (kind, rates) in &edges.rates {
+        for r in rates {
+            let slack = Z_99 * r.predicted.stderr;
+            checks.push(Check {
+                what: format!(
+                    "edges, {kind} at {}°: predicted rate within the Monte Carlo interval",
+                    r.angle
+                ),
+                pass: r.predicted.slope + slack >= r.measured.ci.0
+                    && r.predicted.slope - slack <= r.measured.ci.1,
+                detail: format!(
+                    "predicted {:.3} ± {slack:.3}, Monte Carlo {:.3} [{:.3}, {:.3}]",
+                    r.predicted.slope, r.measured.slope, r.measured.ci.0, r.measured.ci.1
+                ),
+            });
+        }
+    }
+    checks
 }
 
 /// The polar form rescaled from each sampler's reference spectrum at every N of its series,

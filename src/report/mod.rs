@@ -15,8 +15,9 @@ mod write;
 
 pub use compute::compute;
 pub use model::{
-    AmbientSection, Check, ClosureConfig, ClosureRow, ClosureTable, Crossover, Illustration,
-    PolarComparison, Report, ReportConfig, SeriesExtras, Timing, DEFAULT_SEED, TALK_SAMPLERS,
+    AmbientSection, Check, ClosureConfig, ClosureRow, ClosureTable, Crossover, EdgesConfig,
+    EdgesSection, Illustration, PolarComparison, Report, ReportConfig, SeriesExtras, Timing,
+    DEFAULT_SEED, TALK_SAMPLERS,
 };
 #[cfg(feature = "plot")]
 pub use write::write;

@@ -57,6 +57,62 @@ impl ClosureConfig {
     }
 }
 
+/// Edges at any angle: the variance of an edge through the centre against its angle for
+/// samplers that stratify the axes, and its rate against N at 0° and 45°.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct EdgesConfig {
+    /// Samplers.
+    pub samplers: Vec<SamplerKind>,
+    /// Points per pattern of the orientation curves.
+    pub n: usize,
+    /// The curves' angles, in degrees.
+    pub angles: Vec<f64>,
+    /// The N values of the rates (the curves' N among them is measured once more).
+    pub rate_ns: Vec<usize>,
+    /// The rates' angles.
+    pub rate_angles: Vec<f64>,
+    /// Monte Carlo evaluations per sampler and N.
+    pub trials: usize,
+    /// The predictions' parameters.
+    #[serde(skip)]
+    pub predict: PredictParams,
+}
+
+impl EdgesConfig {
+    /// Jitter, Latin hypercube, CMJ and Sobol at N = 256, angles 0° to 165° every 15° (the
+    /// half turn: each angle's complement is 180° away, and CMJ and Sobol are not symmetric
+    /// under reflections), rates
+    /// at 0° and 45° over N = 64, 256, 1024, 4000 evaluations, predictions to 5% noise.
+    pub fn standard() -> Self {
+        Self {
+            samplers: vec![
+                SamplerKind::Jitter,
+                SamplerKind::LatinHypercube,
+                SamplerKind::Cmj,
+                SamplerKind::Sobol,
+            ],
+            n: 256,
+            angles: (0..12).map(|i| 15.0 * i as f64).collect(),
+            rate_ns: vec![64, 256, 1024],
+            rate_angles: vec![0.0, 45.0],
+            trials: 4000,
+            predict: PredictParams {
+                target_noise: 0.05,
+                ..PredictParams::default()
+            },
+        }
+    }
+}
+
+/// Edges at any angle, computed.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct EdgesSection {
+    /// Per sampler, the orientation curve.
+    pub curves: Vec<(SamplerKind, Vec<crate::anisotropy::OrientationRow>)>,
+    /// Per sampler, the rates at the configured angles.
+    pub rates: Vec<(SamplerKind, Vec<crate::anisotropy::EdgeRate>)>,
+}
+
 /// What the report computes. [`Default`] is the full run; [`ReportConfig::quick`] the short one.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ReportConfig {
@@ -68,6 +124,8 @@ pub struct ReportConfig {
     pub study: StudyConfig,
     /// The closure table.
     pub closure: ClosureConfig,
+    /// Edges at any angle.
+    pub edges: EdgesConfig,
     /// The ambient-occlusion renders.
     #[serde(skip)]
     pub ambient: ComparisonConfig,
@@ -106,6 +164,7 @@ impl ReportConfig {
     pub fn set_budget(&mut self, budget: crate::budget::Budget) {
         self.study.predict.budget = budget;
         self.closure.predict.budget = budget;
+        self.edges.predict.budget = budget;
     }
 
     /// The full run with `seed`: N = 16 … 4096, spectra at 4096.
@@ -130,6 +189,7 @@ impl ReportConfig {
                 patterns_cache: None,
             },
             closure: ClosureConfig::full(),
+            edges: EdgesConfig::standard(),
             ambient: ComparisonConfig {
                 render: RenderParams {
                     seed,
@@ -169,6 +229,12 @@ impl ReportConfig {
                 trials: 4000,
                 predict: quick_predictions,
                 ..ClosureConfig::full()
+            },
+            edges: EdgesConfig {
+                samplers: vec![SamplerKind::Jitter, SamplerKind::LatinHypercube],
+                angles: (0..8).map(|i| 22.5 * i as f64).collect(),
+                rate_ns: vec![64, 256],
+                ..EdgesConfig::standard()
             },
             ambient: ComparisonConfig {
                 width: 32,
@@ -333,6 +399,8 @@ pub struct Report {
     pub ccvt_low_band: Option<(LowBandFit, f64)>,
     /// The 1D illustration numbers.
     pub illustration: Illustration,
+    /// Edges at any angle.
+    pub edges: EdgesSection,
     /// The rendering experiment.
     pub ambient: AmbientSection,
     /// Every cross-check.

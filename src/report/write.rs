@@ -2,7 +2,9 @@
 //! replaces the old one only when complete.
 
 use super::compute::talk_mse;
-use super::model::{AmbientSection, ClosureTable, PolarComparison, Report};
+use super::model::{
+    AmbientSection, ClosureTable, EdgesConfig, EdgesSection, PolarComparison, Report,
+};
 use crate::error::{Error, Result};
 use crate::integrand::IntegrandKind;
 use crate::montecarlo::Z_99;
@@ -108,6 +110,7 @@ pub fn write(report: &Report, dir: &Path) -> Result<()> {
     crate::output::replace_dir(dir, |tmp| {
         variance_plots(tmp, report)?;
         spectrum_plots(tmp, report)?;
+        edge_plots(tmp, &report.edges)?;
         illustration_plots(tmp, report)?;
         let ao = &report.ambient;
         write_comparison(&tmp.join("ao"), &ao.rows, &ao.reference)?;
@@ -116,6 +119,87 @@ pub fn write(report: &Report, dir: &Path) -> Result<()> {
         crate::output::write_atomic(&tmp.join("report.json"), json.as_bytes())?;
         crate::output::write_atomic(&tmp.join("report.md"), markdown(report).as_bytes())
     })
+}
+
+/// One polar plot per sampler: the edge's variance against its angle, predicted and measured.
+fn edge_plots(dir: &Path, edges: &EdgesSection) -> Result<()> {
+    use crate::plot::{polar_plot, PolarSeries};
+    for (kind, rows) in &edges.curves {
+        let n = rows.first().map_or(0, |r| r.measured.n);
+        let series = [
+            PolarSeries {
+                label: "predicted".into(),
+                points: rows
+                    .iter()
+                    .map(|r| (r.angle, r.predicted.variance))
+                    .collect(),
+                bars: None,
+            },
+            PolarSeries {
+                label: "Monte Carlo (99%)".into(),
+                points: rows
+                    .iter()
+                    .map(|r| (r.angle, r.measured.variance))
+                    .collect(),
+                bars: Some(
+                    rows.iter()
+                        .map(|r| (r.measured.ci_low, r.measured.ci_high))
+                        .collect(),
+                ),
+            },
+        ];
+        let title = format!("{kind} at N = {n}: variance of an edge against its angle");
+        polar_plot(&dir.join(format!("edges_{kind}.svg")), &title, &series)?;
+    }
+    Ok(())
+}
+
+/// The edges section: what it is, the polar plots, the rate table.
+fn edges_markdown(config: &EdgesConfig, edges: &EdgesSection) -> String {
+    let mut md = String::new();
+    let _ = writeln!(
+        md,
+        "\n## Edges at any angle\n\nThe indicator of a half-plane through the centre, its \
+         normal at angle θ (`edge:theta=θ`), is anisotropic: its power lies on the line through \
+         the origin along the normal. Its variance therefore reads the sampler's spectrum along \
+         that line. Each curve is the default prediction (the lattice form with the sampler's \
+         2D spectrum at N = {}, one estimate for every angle) beside Monte Carlo on the same \
+         patterns ({} evaluations, 99% intervals); each angle is drawn at θ + 180° too, whose \
+         edge is the complement.\n",
+        config.n, config.trials
+    );
+    for (kind, _) in &edges.curves {
+        let _ = writeln!(
+            md,
+            "![{kind}: edge variance against angle](edges_{kind}.svg)"
+        );
+    }
+    let _ = writeln!(
+        md,
+        "\nRates against N = {:?} (predicted slope ± its standard error; Monte Carlo slope with \
+         its 99% interval):\n\n| sampler | angle | predicted | Monte Carlo |\n|---|---|---|---|",
+        config.rate_ns
+    );
+    for (kind, rates) in &edges.rates {
+        for r in rates {
+            let _ = writeln!(
+                md,
+                "| {kind} | {}° | {:.3} ± {:.3} | {:.3} [{:.3}, {:.3}] |",
+                r.angle,
+                r.predicted.slope,
+                r.predicted.stderr,
+                r.measured.slope,
+                r.measured.ci.0,
+                r.measured.ci.1
+            );
+        }
+    }
+    md.push_str(
+        "\nJitter reaches Mitchell's N^-1.5 at every angle. Samplers that stratify each axis \
+         in N strata see an axis-aligned edge as a 1D step under 1D jitter, N^-2. At 45° Latin \
+         hypercube is no better than white noise.\n",
+    );
+    md
 }
 
 fn variance_plots(dir: &Path, report: &Report) -> Result<()> {
@@ -533,6 +617,7 @@ fn markdown(report: &Report) -> String {
          most N_ref) with its difference to Monte Carlo.\n"
     );
     md.push_str(&closure_markdown(&report.closure));
+    md.push_str(&edges_markdown(&report.config.edges, &report.edges));
     let _ = writeln!(md, "## Spectra\n");
     let _ = writeln!(md, "![radial spectra](radial_spectra.svg)\n\n![radial spectra, log-log](radial_spectra_loglog.svg)\n");
     for s in &study.spectra {
