@@ -11,6 +11,7 @@
 //! function is contained in the cube ([`Integrand::full_space_leak`]) and its autocorrelation's
 //! images on the torus are negligible ([`Integrand::autocorrelation_beyond`]).
 
+mod anisotropic;
 mod ball;
 mod gaussian;
 mod grid;
@@ -18,6 +19,7 @@ mod grid_io;
 mod polygon;
 mod spec;
 
+pub use anisotropic::{AnisotropicGaussian, MAX_OUTSIDE_FRACTION};
 pub use ball::Ball;
 pub use gaussian::Gaussian;
 pub use grid::GridIntegrand;

@@ -8,7 +8,7 @@
 //! `d` values separated by `;`). Defaults: ball `r = 0.25`, Gaussian `sigma = 0.1`, centre 0.5
 //! in every coordinate, `a = 1`. A key may appear once.
 
-use super::{read_grid_file, Ball, Gaussian, Integrand, Polygon};
+use super::{read_grid_file, AnisotropicGaussian, Ball, Gaussian, Integrand, Polygon};
 use crate::error::{invalid, Error, Result};
 use serde::Serialize;
 use std::fmt;
@@ -28,6 +28,8 @@ pub enum IntegrandKind {
     Grid,
     /// A polygon's indicator, or an edge (a half-plane clipped to the square).
     Polygon,
+    /// An anisotropic Gaussian contained in the square.
+    AnisotropicGaussian,
 }
 
 impl IntegrandKind {
@@ -38,6 +40,7 @@ impl IntegrandKind {
             IntegrandKind::Gaussian => "gaussian",
             IntegrandKind::Grid => "grid",
             IntegrandKind::Polygon => "polygon",
+            IntegrandKind::AnisotropicGaussian => "agaussian",
         }
     }
 }
@@ -80,6 +83,19 @@ pub enum IntegrandSpec {
         /// The vertices, in either orientation.
         vertices: Vec<[f64; 2]>,
     },
+    /// An anisotropic Gaussian (2D; see [`super::AnisotropicGaussian`]).
+    AnisotropicGaussian {
+        /// Width along the direction at `angle`.
+        sigma_1: f64,
+        /// Width across it.
+        sigma_2: f64,
+        /// The direction, in degrees.
+        angle: f64,
+        /// Height `a`.
+        height: f64,
+        /// Centre (0.5 on both axes if `None`).
+        centre: Option<Vec<f64>>,
+    },
     /// An edge: the half-plane `n·x ≤ t` clipped to the square (2D; see
     /// [`super::Polygon::edge`]).
     Edge {
@@ -96,8 +112,8 @@ const KEYS: &str = "accepted keys: r (ball radius), sigma (Gaussian width), a (h
                     c (centre, one value or d values separated by ';'), each once";
 
 const KINDS: &str = "disk, ball or gaussian, with optional overrides such as disk:r=0.2,a=2, \
-                     grid:FILE for a text or PNG grid, polygon:x,y;x,y;x,y or polygon:@FILE, or \
-                     edge:theta=30,offset=0.5";
+                     grid:FILE for a text or PNG grid, polygon:x,y;x,y;x,y or polygon:@FILE, \
+                     edge:theta=30,offset=0.5, or agaussian:s1=0.05,s2=0.02,angle=30";
 
 /// Parses an integrand specification.
 ///
@@ -124,6 +140,7 @@ pub fn parse_integrand(text: &str) -> Result<IntegrandSpec> {
         "grid" | "image" => IntegrandKind::Grid,
         "polygon" => return parse_polygon(rest),
         "edge" => return parse_edge(rest),
+        "agaussian" => return parse_anisotropic(rest),
         other => return Err(invalid("integrand", other, KINDS)),
     };
     if kind == IntegrandKind::Grid {
@@ -215,6 +232,53 @@ fn parse_polygon(rest: &str) -> Result<IntegrandSpec> {
     Ok(IntegrandSpec::Polygon { vertices })
 }
 
+/// `s1=W,s2=W,angle=DEGREES,a=HEIGHT,c=X;Y`, each optional (0.05, 0.02, 0°, 1, centre).
+fn parse_anisotropic(rest: &str) -> Result<IntegrandSpec> {
+    const ANISOTROPIC_KEYS: &str = "accepted keys: s1 (width along the angle), s2 (width \
+                                    across), angle (degrees), a (height), c (centre x;y), each once";
+    let (mut s1, mut s2, mut angle, mut height, mut centre) = (None, None, None, None, None);
+    for pair in rest.split(',').filter(|p| !p.trim().is_empty()) {
+        let (key, value) = pair
+            .split_once('=')
+            .ok_or_else(|| invalid("integrand override", pair, ANISOTROPIC_KEYS))?;
+        let number = |v: &str| {
+            v.trim()
+                .parse::<f64>()
+                .map_err(|_| invalid("integrand value", format!("{key}={v}"), "a number"))
+        };
+        let taken = match key.trim() {
+            "s1" => s1.replace(number(value)?).is_some(),
+            "s2" => s2.replace(number(value)?).is_some(),
+            "angle" => angle.replace(number(value)?).is_some(),
+            "a" => height.replace(number(value)?).is_some(),
+            "c" => centre
+                .replace(value.split(';').map(number).collect::<Result<Vec<_>>>()?)
+                .is_some(),
+            other => {
+                return Err(invalid(
+                    "integrand key",
+                    format!("{other} (for agaussian)"),
+                    ANISOTROPIC_KEYS,
+                ))
+            }
+        };
+        if taken {
+            return Err(invalid(
+                "integrand key",
+                format!("{key} given twice"),
+                ANISOTROPIC_KEYS,
+            ));
+        }
+    }
+    Ok(IntegrandSpec::AnisotropicGaussian {
+        sigma_1: s1.unwrap_or(0.05),
+        sigma_2: s2.unwrap_or(0.02),
+        angle: angle.unwrap_or(0.0),
+        height: height.unwrap_or(1.0),
+        centre,
+    })
+}
+
 /// `theta=DEGREES,offset=FRACTION,a=HEIGHT`, each optional (0°, 0.5, 1).
 fn parse_edge(rest: &str) -> Result<IntegrandSpec> {
     const EDGE_KEYS: &str = "accepted keys: theta (degrees), offset (fraction in (0, 1)), a \
@@ -280,6 +344,7 @@ impl IntegrandSpec {
             IntegrandSpec::Gaussian { .. } => IntegrandKind::Gaussian,
             IntegrandSpec::Grid { .. } => IntegrandKind::Grid,
             IntegrandSpec::Polygon { .. } | IntegrandSpec::Edge { .. } => IntegrandKind::Polygon,
+            IntegrandSpec::AnisotropicGaussian { .. } => IntegrandKind::AnisotropicGaussian,
         }
     }
 
@@ -308,8 +373,32 @@ impl IntegrandSpec {
                 }
                 Box::new(read_grid_file(path)?)
             }
-            IntegrandSpec::Polygon { .. } | IntegrandSpec::Edge { .. } if d != 2 => {
-                return Err(invalid("dimension", d, "2 for a polygon or an edge"));
+            IntegrandSpec::Polygon { .. }
+            | IntegrandSpec::Edge { .. }
+            | IntegrandSpec::AnisotropicGaussian { .. }
+                if d != 2 =>
+            {
+                return Err(invalid(
+                    "dimension",
+                    d,
+                    "2 for a polygon, an edge or an anisotropic Gaussian",
+                ));
+            }
+            IntegrandSpec::AnisotropicGaussian {
+                sigma_1,
+                sigma_2,
+                angle,
+                height,
+                centre: c,
+            } => {
+                let c = centre(c)?;
+                Box::new(AnisotropicGaussian::new(
+                    *sigma_1,
+                    *sigma_2,
+                    *angle,
+                    [c[0], c[1]],
+                    *height,
+                )?)
             }
             IntegrandSpec::Polygon { vertices } => Box::new(Polygon::new(vertices.clone(), 1.0)?),
             IntegrandSpec::Edge {
@@ -375,6 +464,17 @@ impl fmt::Display for IntegrandSpec {
                 offset,
                 height,
             } => write!(f, "edge:theta={theta},offset={offset},a={height}"),
+            IntegrandSpec::AnisotropicGaussian {
+                sigma_1,
+                sigma_2,
+                angle,
+                height,
+                centre: c,
+            } => write!(
+                f,
+                "agaussian:s1={sigma_1},s2={sigma_2},angle={angle},a={height}{}",
+                centre(c)
+            ),
         }
     }
 }
