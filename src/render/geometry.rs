@@ -151,6 +151,36 @@ impl Shape {
     }
 }
 
+impl Shape {
+    /// Whether the ray meets the shape at some `t` in `(0, t_max)`: the decision of
+    /// [`intersect`](Self::intersect), to the same bits, without the normal and with the
+    /// direction's reciprocals computed once per ray by the caller.
+    fn blocks(&self, ray: &Ray, inverse: [f64; 3], t_max: f64) -> bool {
+        match *self {
+            Shape::Sphere { .. } => self.intersect(ray, t_max).is_some(),
+            Shape::AxisBox { min, max } => {
+                let (mut near, mut far) = (f64::NEG_INFINITY, f64::INFINITY);
+                for (a, &inv) in inverse.iter().enumerate() {
+                    let t0 = (min.axis(a) - ray.origin.axis(a)) * inv;
+                    let t1 = (max.axis(a) - ray.origin.axis(a)) * inv;
+                    let (lo, hi) = if t0 < t1 { (t0, t1) } else { (t1, t0) };
+                    if lo > near {
+                        near = lo;
+                    }
+                    if hi < far {
+                        far = hi;
+                    }
+                }
+                if near > far {
+                    return false;
+                }
+                let t = if near > 0.0 { near } else { far };
+                t > 0.0 && t < t_max
+            }
+        }
+    }
+}
+
 /// `normal` or its opposite, whichever faces against `direction`.
 fn facing(normal: Vec3, direction: Vec3) -> Vec3 {
     if normal.dot(direction) > 0.0 {
@@ -266,8 +296,10 @@ impl Scene {
 
     /// Whether any surface lies along `ray` closer than `max_distance`.
     pub fn occluded(&self, ray: &Ray, max_distance: f64) -> bool {
+        let d = ray.direction;
+        let inverse = [1.0 / d.x, 1.0 / d.y, 1.0 / d.z];
         self.shapes
             .iter()
-            .any(|s| s.intersect(ray, max_distance).is_some())
+            .any(|s| s.blocks(ray, inverse, max_distance))
     }
 }
