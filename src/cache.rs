@@ -41,7 +41,7 @@ use crate::sampler::{Sampler, SamplerKind};
 
 /// The format version of cached patterns: a change of a sampler's algorithm bumps it, so that
 /// older patterns are recomputed instead of read.
-pub const PATTERN_FORMAT: u32 = 1;
+pub const PATTERN_FORMAT: u32 = 2;
 
 const MAGIC: &[u8; 4] = b"SPVP";
 

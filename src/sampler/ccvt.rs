@@ -266,6 +266,9 @@ struct State {
     // Scratch buffers for the pair pass, reused so the inner loop does not allocate.
     hi: Vec<(f64, u32)>,
     hj: Vec<(f64, u32)>,
+    /// Sites whose points changed during the current pass, and during the previous one.
+    changed: Vec<bool>,
+    previous: Vec<bool>,
 }
 
 impl State {
@@ -286,8 +289,11 @@ impl State {
             owned,
             hi: Vec::with_capacity(capacity),
             hj: Vec::with_capacity(capacity),
+            changed: vec![true; n],
+            previous: vec![true; n],
         };
         state.move_sites();
+        state.previous = vec![true; n];
         state
     }
 
@@ -348,18 +354,49 @@ impl State {
     }
 
     /// One pass over all neighbouring pairs; returns the number of points swapped.
+    ///
+    /// A pair whose two sites kept their points since the previous pass (and so did not move)
+    /// is skipped: it was examined then with the same points and sites and swapped nothing,
+    /// so it would swap nothing now. Exact, and most pairs after the first few passes.
     fn swap_pass(&mut self) -> usize {
         let pairs = self.neighbour_pairs();
-        pairs.into_iter().map(|(i, j)| self.swap_pair(i, j)).sum()
+        let mut swaps = 0;
+        for (i, j) in pairs {
+            let stale =
+                !(self.previous[i] || self.previous[j] || self.changed[i] || self.changed[j]);
+            if stale {
+                continue;
+            }
+            let moved = self.swap_pair(i, j);
+            if moved > 0 {
+                self.changed[i] = true;
+                self.changed[j] = true;
+            }
+            swaps += moved;
+        }
+        swaps
     }
 
+    /// The gain `|x − a|² − |x − b|²` of moving each point of site `from` (at `a`) to site
+    /// `to` (at `b`). With `δ = x − a` and `e = b − a` (toroidal, both short: the point is near
+    /// its site and the sites are neighbours), it is `2 δ·e − |e|²`: one difference per axis.
     fn gains(&self, from: usize, to: usize, out: &mut Vec<(f64, u32)>) -> f64 {
         out.clear();
+        let d = self.d;
         let (a, b) = (self.site(from), self.site(to));
+        let mut e = [0.0f64; 3];
+        for k in 0..d {
+            e[k] = toroidal_delta(b[k], a[k]);
+        }
+        let ee: f64 = e[..d].iter().map(|v| v * v).sum();
         let mut best = f64::NEG_INFINITY;
         for &x in &self.owned[from] {
             let p = self.point(x);
-            let h = toroidal_distance_sq(p, a) - toroidal_distance_sq(p, b);
+            let mut dot = 0.0;
+            for k in 0..d {
+                dot += toroidal_delta(p[k], a[k]) * e[k];
+            }
+            let h = 2.0 * dot - ee;
             best = best.max(h);
             out.push((h, x));
         }
@@ -373,6 +410,10 @@ impl State {
         let best_j = self.gains(j, i, &mut hj);
         let mut swaps = 0;
         if best_i + best_j > 0.0 {
+            // Only a point whose gain beats minus the other side's best can be in a swapped
+            // pair: sort those alone (usually a handful of the capacity).
+            hi.retain(|h| h.0 > -best_j);
+            hj.retain(|h| h.0 > -best_i);
             let by_gain = |a: &(f64, u32), b: &(f64, u32)| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1));
             hi.sort_unstable_by(by_gain);
             hj.sort_unstable_by(by_gain);
@@ -380,13 +421,12 @@ impl State {
                 swaps += 1;
             }
             if swaps > 0 {
-                // Keep the points that stay, then take the other site's best movers.
-                let keep_i = hi[swaps..].iter().map(|&(_, x)| x);
-                let keep_j = hj[swaps..].iter().map(|&(_, x)| x);
-                let new_i: Vec<u32> = keep_i.chain(hj[..swaps].iter().map(|&(_, x)| x)).collect();
-                let new_j: Vec<u32> = keep_j.chain(hi[..swaps].iter().map(|&(_, x)| x)).collect();
-                self.owned[i] = new_i;
-                self.owned[j] = new_j;
+                let (out_i, out_j) = (&hi[..swaps], &hj[..swaps]);
+                let leaving = |moved: &[(f64, u32)], x: u32| moved.iter().any(|m| m.1 == x);
+                self.owned[i].retain(|&x| !leaving(out_i, x));
+                self.owned[j].retain(|&x| !leaving(out_j, x));
+                self.owned[i].extend(out_j.iter().map(|m| m.1));
+                self.owned[j].extend(out_i.iter().map(|m| m.1));
             }
         }
         self.hi = hi;
@@ -394,10 +434,11 @@ impl State {
         swaps
     }
 
-    /// Moves every site to the toroidal centroid of its points.
+    /// Moves every site whose points changed in this pass to the toroidal centroid of its
+    /// points (the others are at theirs already, and keep their bits), then starts a new pass.
     fn move_sites(&mut self) {
         let d = self.d;
-        for s in 0..self.n {
+        for s in (0..self.n).filter(|&s| self.changed[s]) {
             let mut mean = [0.0f64; 3];
             for &x in &self.owned[s] {
                 let p = self.point(x);
@@ -410,6 +451,8 @@ impl State {
                 self.sites[s * d + a] = wrap(self.sites[s * d + a] + mean[a] / count);
             }
         }
+        std::mem::swap(&mut self.previous, &mut self.changed);
+        self.changed.iter_mut().for_each(|c| *c = false);
     }
 
     fn energy(&self) -> f64 {

@@ -341,7 +341,7 @@ impl SamplerKind {
             SamplerKind::Halton => 35.0,
             SamplerKind::PoissonDisk => 4_500.0,
             SamplerKind::Bridson => 8_400.0,
-            SamplerKind::Ccvt => 420_000.0,
+            SamplerKind::Ccvt => 190_000.0,
         }
     }
 
