@@ -15,6 +15,7 @@
 use super::ErrorBudget;
 use crate::error::{invalid, Result};
 use crate::integrand::Integrand;
+use crate::metrics::Mean;
 use crate::pointset::{toroidal_delta, PointSet};
 use crate::quadrature::GaussLegendre;
 use rayon::prelude::*;
@@ -100,9 +101,14 @@ pub fn pair_correlation_variance(
             (value, far, ring_excess)
         })
         .collect();
-    let (variance, noise) = mean_and_error(per_pattern.iter().map(|v| v.0));
-    let (far_field, _) = mean_and_error(per_pattern.iter().map(|v| v.1));
-    let (excess, excess_error) = mean_and_error(per_pattern.iter().map(|v| v.2));
+    let column = |pick: fn(&(f64, f64, f64)) -> f64| {
+        Mean::of(&per_pattern.iter().map(pick).collect::<Vec<_>>())
+    };
+    let value = column(|v| v.0);
+    let far_field = column(|v| v.1).mean;
+    let ring = column(|v| v.2);
+    let (variance, noise) = (value.mean, value.stderr);
+    let (excess, excess_error) = (ring.mean, ring.stderr);
     let deviation = excess.abs() + BOUND_Z * excess_error;
     Ok(PcfVariance {
         variance,
@@ -201,13 +207,4 @@ fn inner_autocorrelation(f: &dyn Integrand, r_c: f64) -> f64 {
             rule.integrate(a, a + width, |s| circular(s) * 2.0 * PI * s)
         })
         .sum()
-}
-
-/// The mean of `values` and its standard error.
-fn mean_and_error(values: impl Iterator<Item = f64>) -> (f64, f64) {
-    let v: Vec<f64> = values.collect();
-    let m = v.len() as f64;
-    let mean = v.iter().sum::<f64>() / m;
-    let ss: f64 = v.iter().map(|x| (x - mean).powi(2)).sum();
-    (mean, (ss / (m - 1.0) / m).sqrt())
 }
