@@ -45,6 +45,33 @@ pub struct OrientationRow {
     pub z: f64,
 }
 
+/// The orientation curve as polar-plot series: the prediction as a line, Monte Carlo as
+/// markers with its 99% intervals.
+pub fn polar_series(rows: &[OrientationRow]) -> [crate::plot::PolarSeries; 2] {
+    [
+        crate::plot::PolarSeries {
+            label: "predicted".into(),
+            points: rows
+                .iter()
+                .map(|r| (r.angle, r.predicted.variance))
+                .collect(),
+            bars: None,
+        },
+        crate::plot::PolarSeries {
+            label: "Monte Carlo (99%)".into(),
+            points: rows
+                .iter()
+                .map(|r| (r.angle, r.measured.variance))
+                .collect(),
+            bars: Some(
+                rows.iter()
+                    .map(|r| (r.measured.ci_low, r.measured.ci_high))
+                    .collect(),
+            ),
+        },
+    ]
+}
+
 impl OrientationRow {
     /// Whether the prediction agrees with Monte Carlo at 99%.
     pub fn agrees(&self) -> bool {

@@ -211,18 +211,7 @@ impl Integrand for AnisotropicGaussian {
         self.integral_of_square()
     }
     fn radial_power(&self, rho: f64) -> f64 {
-        // The mean over the circle, by the trapezoid rule over 256 angles (geometric convergence
-        // for this smooth periodic function); only the polar form reads it, for σ_1 = σ_2.
-        const ANGLES: usize = 256;
-        (0..ANGLES)
-            .map(|i| {
-                let t = 2.0 * PI * i as f64 / ANGLES as f64;
-                (self.integral()
-                    * (-2.0 * PI * PI * self.quadratic([rho * t.cos(), rho * t.sin()])).exp())
-                .powi(2)
-            })
-            .sum::<f64>()
-            / ANGLES as f64
+        super::circular_mean_power(rho, |nu| self.transform(nu))
     }
     fn decay_exponent(&self) -> f64 {
         f64::INFINITY

@@ -166,6 +166,20 @@ pub(crate) fn squared_distance(x: &[f64], centre: &[f64]) -> f64 {
     x.iter().zip(centre).map(|(a, b)| (a - b) * (a - b)).sum()
 }
 
+/// The mean of `|f̂|²` over the circle `|ω| = rho` in 2D, by the trapezoid rule over 256
+/// angles (geometrically convergent for a smooth periodic function of the angle): the radial
+/// power of an anisotropic integrand, which only the polar form reads (and refuses for them).
+pub(crate) fn circular_mean_power(rho: f64, transform: impl Fn([f64; 2]) -> Complex64) -> f64 {
+    const ANGLES: usize = 256;
+    (0..ANGLES)
+        .map(|i| {
+            let t = 2.0 * PI * i as f64 / ANGLES as f64;
+            transform([rho * t.cos(), rho * t.sin()]).norm_sqr()
+        })
+        .sum::<f64>()
+        / ANGLES as f64
+}
+
 /// The phase factor `e^{-2πi ω·x0}` of a shift to `x0`.
 pub(crate) fn shift_phase(omega: &[f64], centre: &[f64]) -> Complex64 {
     let phase: f64 = omega.iter().zip(centre).map(|(w, c)| w * c).sum();

@@ -328,17 +328,7 @@ impl Integrand for Polygon {
         self.integral_of_square()
     }
     fn radial_power(&self, rho: f64) -> f64 {
-        // The mean of |f̂|² over the circle of radius ρ, by the trapezoid rule over 256 angles
-        // (geometrically convergent for a smooth periodic function of the angle). Only the
-        // polar form reads it, and it refuses anisotropic integrands.
-        const ANGLES: usize = 256;
-        (0..ANGLES)
-            .map(|i| {
-                let t = 2.0 * PI * i as f64 / ANGLES as f64;
-                self.transform([rho * t.cos(), rho * t.sin()]).norm_sqr()
-            })
-            .sum::<f64>()
-            / ANGLES as f64
+        super::circular_mean_power(rho, |nu| self.transform(nu))
     }
     fn decay_exponent(&self) -> f64 {
         3.0

@@ -123,33 +123,11 @@ pub fn write(report: &Report, dir: &Path) -> Result<()> {
 
 /// One polar plot per sampler: the edge's variance against its angle, predicted and measured.
 fn edge_plots(dir: &Path, edges: &EdgesSection) -> Result<()> {
-    use crate::plot::{polar_plot, PolarSeries};
     for (kind, rows) in &edges.curves {
         let n = rows.first().map_or(0, |r| r.measured.n);
-        let series = [
-            PolarSeries {
-                label: "predicted".into(),
-                points: rows
-                    .iter()
-                    .map(|r| (r.angle, r.predicted.variance))
-                    .collect(),
-                bars: None,
-            },
-            PolarSeries {
-                label: "Monte Carlo (99%)".into(),
-                points: rows
-                    .iter()
-                    .map(|r| (r.angle, r.measured.variance))
-                    .collect(),
-                bars: Some(
-                    rows.iter()
-                        .map(|r| (r.measured.ci_low, r.measured.ci_high))
-                        .collect(),
-                ),
-            },
-        ];
+        let series = crate::anisotropy::polar_series(rows);
         let title = format!("{kind} at N = {n}: variance of an edge against its angle");
-        polar_plot(&dir.join(format!("edges_{kind}.svg")), &title, &series)?;
+        crate::plot::polar_plot(&dir.join(format!("edges_{kind}.svg")), &title, &series)?;
     }
     Ok(())
 }

@@ -167,20 +167,7 @@ fn rates(args: &Args, sampler: &dyn specvar::Sampler, config: &OrientationConfig
 
 /// The variance against the angle, Cartesian (`--plot`) and polar (`--polar`).
 fn plots(args: &Args, rows: &[specvar::anisotropy::OrientationRow]) -> Result<()> {
-    use specvar::plot::{polar_plot, PolarSeries};
-    let predicted: Vec<(f64, f64)> = rows
-        .iter()
-        .map(|r| (r.angle, r.predicted.variance))
-        .collect();
-    let measured: Vec<(f64, f64)> = rows
-        .iter()
-        .map(|r| (r.angle, r.measured.variance))
-        .collect();
-    let bars: Vec<(f64, f64)> = rows
-        .iter()
-        .map(|r| (r.measured.ci_low, r.measured.ci_high))
-        .collect();
-    let (predicted_label, measured_label) = ("predicted", "Monte Carlo (99%)");
+    let [predicted, measured] = specvar::anisotropy::polar_series(rows);
     let title = format!(
         "{} at N = {}: variance of an edge (offset {}) against its angle",
         args.sampler, args.n, args.offset
@@ -188,16 +175,16 @@ fn plots(args: &Args, rows: &[specvar::anisotropy::OrientationRow]) -> Result<()
     if let Some(path) = &args.plot {
         let series = [
             Series {
-                label: predicted_label.into(),
-                points: predicted.clone(),
+                label: predicted.label.clone(),
+                points: predicted.points.clone(),
                 bars: None,
                 style: Style::Line,
                 color: 0,
             },
             Series {
-                label: measured_label.into(),
-                points: measured.clone(),
-                bars: Some(bars.clone()),
+                label: measured.label.clone(),
+                points: measured.points.clone(),
+                bars: measured.bars.clone(),
                 style: Style::Points,
                 color: 1,
             },
@@ -212,19 +199,7 @@ fn plots(args: &Args, rows: &[specvar::anisotropy::OrientationRow]) -> Result<()
         line_plot(path, &axes, &series)?;
     }
     if let Some(path) = &args.polar {
-        let series = [
-            PolarSeries {
-                label: predicted_label.into(),
-                points: predicted,
-                bars: None,
-            },
-            PolarSeries {
-                label: measured_label.into(),
-                points: measured,
-                bars: Some(bars),
-            },
-        ];
-        polar_plot(path, &title, &series)?;
+        specvar::plot::polar_plot(path, &title, &[predicted, measured])?;
     }
     Ok(())
 }
