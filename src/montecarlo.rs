@@ -209,18 +209,7 @@ pub fn empirical_variances(
     params: &McParams,
     progress: &dyn Progress,
 ) -> Result<Vec<McResult>> {
-    for f in integrands {
-        check(sampler.dimension(), *f, params)?;
-    }
-    sampler.check_count(n)?;
-    let pattern = match sampler.kind() {
-        Some(kind) => kind.pattern_needs(n, sampler.dimension()),
-        None => crate::budget::Needs {
-            memory_bytes: (n * sampler.dimension() * 32) as f64,
-            work_seconds: n as f64 * 1e-6,
-        },
-    };
-    check_budget(params, pattern, n, integrands.len())?;
+    check_sampler_run(sampler, integrands, n, params, params.patterns)?;
     run(integrands, n, params, progress, |p| {
         sampler.sample(n, params.seed, p as u64)
     })
@@ -280,6 +269,33 @@ pub fn empirical_variances_of_sets(
     })
 }
 
+/// Checks a run of `patterns` patterns of `sampler` before it starts: dimensions, N,
+/// parameters and the budget.
+fn check_sampler_run(
+    sampler: &dyn Sampler,
+    integrands: &[&dyn Integrand],
+    n: usize,
+    params: &McParams,
+    patterns: usize,
+) -> Result<()> {
+    for f in integrands {
+        check(sampler.dimension(), *f, params)?;
+    }
+    sampler.check_count(n)?;
+    let pattern = match sampler.kind() {
+        Some(kind) => kind.pattern_needs(n, sampler.dimension()),
+        None => crate::budget::Needs {
+            memory_bytes: (n * sampler.dimension() * 32) as f64,
+            work_seconds: n as f64 * 1e-6,
+        },
+    };
+    let run = McParams {
+        patterns,
+        ..*params
+    };
+    check_budget(&run, pattern, n, integrands.len())
+}
+
 /// Estimated cost of one integrand evaluation with its shift, in seconds (a Gaussian's `exp`).
 const EVALUATION_SECONDS: f64 = 30e-9;
 
@@ -303,8 +319,139 @@ fn check_budget(
         .check("the Monte Carlo run", needs, "lower the trials or N")
 }
 
-/// The shared core: `params.patterns` patterns from `pattern`, each under `params.shifts`
-/// shifts, every integrand on each; parallel over patterns, reduced in order.
+/// One pattern's errors `e = μ_N - I` under its shifts, for one integrand.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct PatternErrors {
+    /// The mean of `e` over the shifts.
+    pub mean: f64,
+    /// The mean of `e²` over the shifts.
+    pub mean_square: f64,
+}
+
+/// The errors of patterns `patterns` (indices into the run `params` describes) of `sampler`
+/// at `n` points, each under its `params.shifts` shifts, for every integrand: `[pattern]
+/// [integrand]`. A pattern's errors depend on `(params.seed, pattern index)` alone, so a run
+/// split into blocks of patterns, computed anywhere and concatenated in order, gives the same
+/// [`McResult`] bits through [`result_from_errors`] as one [`empirical_variances`] call.
+///
+/// # Errors
+/// As [`empirical_variances`]; a range beyond `params.patterns`.
+///
+/// # Examples
+/// ```
+/// use specvar::integrand::{Ball, Integrand};
+/// use specvar::montecarlo::{empirical_variance, errors_of_patterns, result_from_errors, McParams};
+/// use specvar::sampler::Jitter;
+/// let (jitter, disk) = (Jitter::new(2)?, Ball::new(0.25, vec![0.5, 0.5], 1.0)?);
+/// let params = McParams { patterns: 200, ..Default::default() };
+/// let silent = &specvar::progress::Silent;
+/// let mut errors = errors_of_patterns(&jitter, &[&disk], 64, &params, 0..120, silent)?;
+/// errors.extend(errors_of_patterns(&jitter, &[&disk], 64, &params, 120..200, silent)?);
+/// let column: Vec<_> = errors.iter().map(|e| e[0]).collect();
+/// let blocks = result_from_errors(64, &params, &column)?;
+/// assert_eq!(blocks, empirical_variance(&jitter, &disk, 64, &params)?);
+/// # Ok::<(), specvar::Error>(())
+/// ```
+pub fn errors_of_patterns(
+    sampler: &dyn Sampler,
+    integrands: &[&dyn Integrand],
+    n: usize,
+    params: &McParams,
+    patterns: std::ops::Range<usize>,
+    progress: &dyn Progress,
+) -> Result<Vec<Vec<PatternErrors>>> {
+    if patterns.start > patterns.end || patterns.end > params.patterns {
+        return Err(invalid(
+            "pattern range",
+            format!("{}..{}", patterns.start, patterns.end),
+            format!("a range within 0..{}", params.patterns),
+        ));
+    }
+    check_sampler_run(sampler, integrands, n, params, patterns.len())?;
+    errors_in_range(integrands, params, patterns, progress, |p| {
+        sampler.sample(n, params.seed, p as u64)
+    })
+}
+
+/// Trial `trial`'s point set as [`empirical_variances`] integrates it with one shift per
+/// pattern: realization `trial` of `params.seed`, translated by its homogenizing shift (none
+/// without homogenization). Integrating a function of one's own on these sets, and passing the
+/// estimates to [`result_from_estimates`], runs the same experiment as the built-in
+/// integrands.
+///
+/// # Errors
+/// A sampler error.
+pub fn trial_pattern(
+    sampler: &dyn Sampler,
+    n: usize,
+    params: &McParams,
+    trial: usize,
+) -> Result<PointSet> {
+    let base = sampler.sample(n, params.seed, trial as u64)?;
+    let mut coords = vec![0.0; base.coords().len()];
+    shift_into(
+        &base,
+        &shift_of(params, base.dimension(), trial),
+        &mut coords,
+    );
+    PointSet::new(base.dimension(), coords)
+}
+
+/// The homogenizing shift in dimension `d` of unit `unit` (pattern × shifts + shift), or none.
+fn shift_of(params: &McParams, d: usize, unit: usize) -> [f64; MAX_DIMENSION] {
+    if params.homogenize {
+        homogenizing_shift(d, params.seed, unit as u64)
+    } else {
+        [0.0; MAX_DIMENSION]
+    }
+}
+
+/// Writes `base` translated by `shift` modulo 1 into `out`.
+fn shift_into(base: &PointSet, shift: &[f64], out: &mut [f64]) {
+    let d = base.dimension();
+    for (x, c) in out.chunks_exact_mut(d).zip(base.coords().chunks_exact(d)) {
+        for a in 0..d {
+            x[a] = wrap(c[a] + shift[a]);
+        }
+    }
+}
+
+/// The shared core: patterns `range` from `pattern`, each under `params.shifts` shifts, every
+/// integrand on each; parallel over patterns, collected in order.
+fn errors_in_range(
+    integrands: &[&dyn Integrand],
+    params: &McParams,
+    range: std::ops::Range<usize>,
+    progress: &dyn Progress,
+    pattern: impl Fn(usize) -> Result<PointSet> + Sync,
+) -> Result<Vec<Vec<PatternErrors>>> {
+    let truths: Vec<f64> = integrands.iter().map(|f| f.integral()).collect();
+    let s = params.shifts;
+    let per_pattern: Vec<Result<Vec<PatternErrors>>> = range
+        .into_par_iter()
+        .map(|p| {
+            let base = pattern(p)?;
+            let d = base.dimension();
+            let mut sums = vec![PatternErrors::default(); integrands.len()];
+            // The shifted pattern is computed once per shift and read by every integrand.
+            let mut shifted = vec![0.0; base.coords().len()];
+            for shift in 0..s {
+                shift_into(&base, &shift_of(params, d, p * s + shift), &mut shifted);
+                for (j, f) in integrands.iter().enumerate() {
+                    let sum: f64 = shifted.chunks_exact(d).map(|x| f.eval(x)).sum();
+                    let e = sum / base.len() as f64 - truths[j];
+                    sums[j].mean += e / s as f64;
+                    sums[j].mean_square += e * e / s as f64;
+                }
+            }
+            progress.advance(1);
+            Ok(sums)
+        })
+        .collect();
+    per_pattern.into_iter().collect()
+}
+
+/// [`errors_in_range`] over all of `params.patterns`, summarized per integrand.
 fn run(
     integrands: &[&dyn Integrand],
     n: usize,
@@ -312,49 +459,11 @@ fn run(
     progress: &dyn Progress,
     pattern: impl Fn(usize) -> Result<PointSet> + Sync,
 ) -> Result<Vec<McResult>> {
-    let truths: Vec<f64> = integrands.iter().map(|f| f.integral()).collect();
-    let s = params.shifts;
-    let k = integrands.len();
-    // Per pattern and integrand: (mean of e, mean of e²) over the shifts.
-    let per_pattern: Vec<Result<Vec<(f64, f64)>>> = (0..params.patterns)
-        .into_par_iter()
-        .map(|p| {
-            let base = pattern(p)?;
-            let d = base.dimension();
-            let mut sums = vec![(0.0, 0.0); k];
-            // The shifted pattern is computed once per shift and read by every integrand.
-            let mut shifted = vec![0.0; base.coords().len()];
-            for shift in 0..s {
-                let u = if params.homogenize {
-                    homogenizing_shift(d, params.seed, (p * s + shift) as u64)
-                } else {
-                    [0.0; MAX_DIMENSION]
-                };
-                for (x, c) in shifted
-                    .chunks_exact_mut(d)
-                    .zip(base.coords().chunks_exact(d))
-                {
-                    for a in 0..d {
-                        x[a] = wrap(c[a] + u[a]);
-                    }
-                }
-                for (j, f) in integrands.iter().enumerate() {
-                    let sum: f64 = shifted.chunks_exact(d).map(|x| f.eval(x)).sum();
-                    let e = sum / base.len() as f64 - truths[j];
-                    sums[j].0 += e / s as f64;
-                    sums[j].1 += e * e / s as f64;
-                }
-            }
-            progress.advance(1);
-            Ok(sums)
-        })
-        .collect();
-    let values = per_pattern.into_iter().collect::<Result<Vec<_>>>()?;
-    (0..k)
+    let values = errors_in_range(integrands, params, 0..params.patterns, progress, pattern)?;
+    (0..integrands.len())
         .map(|j| {
-            let means: Vec<f64> = values.iter().map(|v| v[j].0).collect();
-            let squares: Vec<f64> = values.iter().map(|v| v[j].1).collect();
-            summarize(n, params, &means, &squares)
+            let column: Vec<PatternErrors> = values.iter().map(|v| v[j]).collect();
+            result_from_errors(n, params, &column)
         })
         .collect()
 }
@@ -374,12 +483,28 @@ pub fn empirical_variance_with(
     Ok(results.remove(0))
 }
 
-/// Turns per-pattern mean errors and mean squared errors into a result.
-fn summarize(n: usize, params: &McParams, means: &[f64], squares: &[f64]) -> Result<McResult> {
-    let (bias, bias_var) = mean_and_variance(means);
+/// The result of a run from its patterns' errors, in pattern order ([`errors_of_patterns`]).
+///
+/// # Errors
+/// Fewer patterns than `params.patterns`, or data that cannot support a 99% interval (see the
+/// module notes).
+pub fn result_from_errors(
+    n: usize,
+    params: &McParams,
+    errors: &[PatternErrors],
+) -> Result<McResult> {
+    if errors.len() != params.patterns {
+        return Err(crate::error::Error::Mismatch(format!(
+            "{} patterns' errors for a run of {} patterns",
+            errors.len(),
+            params.patterns
+        )));
+    }
+    let means: Vec<f64> = errors.iter().map(|e| e.mean).collect();
+    let (bias, bias_var) = mean_and_variance(&means);
     let count = means.len() as f64;
     let values: Vec<f64> = if params.homogenize {
-        squares.to_vec()
+        errors.iter().map(|e| e.mean_square).collect()
     } else {
         // Fixed patterns: the sample variance about the mean error.
         means
@@ -404,6 +529,89 @@ fn summarize(n: usize, params: &McParams, means: &[f64], squares: &[f64]) -> Res
         interval,
         effective_units,
     })
+}
+
+/// The result of a run with one shift per pattern from its estimates `μ_N`, one per trial in
+/// trial order (e.g. a function of one's own integrated on [`trial_pattern`]'s sets). With the
+/// exact integral `truth` the errors are `μ_N - truth`, as for the built-in integrands. Without
+/// it they are taken about the estimates' mean: the variance is the sample variance (unbiased
+/// for a homogenized estimator), and `bias` is 0 by construction.
+///
+/// # Errors
+/// `params.shifts` other than 1, estimates that are not finite, fewer than `params.patterns`
+/// estimates, or data that cannot support a 99% interval.
+///
+/// # Examples
+/// ```
+/// use specvar::montecarlo::{result_from_estimates, trial_pattern, McParams};
+/// use specvar::sampler::Jitter;
+/// let params = McParams { patterns: 2000, ..Default::default() };
+/// let jitter = Jitter::new(2)?;
+/// // f(x, y) = x y, with integral 1/4, integrated on the run's own shifted patterns.
+/// let estimates = (0..params.patterns)
+///     .map(|t| {
+///         let set = trial_pattern(&jitter, 16, &params, t)?;
+///         Ok(set.points().map(|p| p[0] * p[1]).sum::<f64>() / 16.0)
+///     })
+///     .collect::<specvar::Result<Vec<f64>>>()?;
+/// let r = result_from_estimates(16, &params, &estimates, Some(0.25))?;
+/// assert!(r.ci_low < r.variance && r.variance < r.ci_high);
+/// # Ok::<(), specvar::Error>(())
+/// ```
+pub fn result_from_estimates(
+    n: usize,
+    params: &McParams,
+    estimates: &[f64],
+    truth: Option<f64>,
+) -> Result<McResult> {
+    if params.shifts != 1 {
+        return Err(invalid(
+            "shifts",
+            params.shifts,
+            "1 for a run from estimates",
+        ));
+    }
+    if let Some(bad) = estimates.iter().position(|e| !e.is_finite()) {
+        return Err(invalid(
+            "estimate",
+            format!("{} (trial {bad})", estimates[bad]),
+            "a finite number: the integrand returned NaN or infinity",
+        ));
+    }
+    let errors: Vec<PatternErrors> = match truth {
+        Some(i) => estimates
+            .iter()
+            .map(|m| PatternErrors {
+                mean: m - i,
+                mean_square: (m - i) * (m - i),
+            })
+            .collect(),
+        None => {
+            let centre = mean_and_variance(estimates).0;
+            estimates
+                .iter()
+                .map(|m| PatternErrors {
+                    mean: m - centre,
+                    mean_square: 0.0,
+                })
+                .collect()
+        }
+    };
+    match truth {
+        Some(_) => result_from_errors(n, params, &errors),
+        None => {
+            // The sample variance about the mean: the fixed-pattern summary.
+            let about_mean = McParams {
+                homogenize: false,
+                ..*params
+            };
+            let r = result_from_errors(n, &about_mean, &errors)?;
+            Ok(McResult {
+                homogenized: params.homogenize,
+                ..r
+            })
+        }
+    }
 }
 
 /// `(Σz)²/Σz²`: how many of the units carry their sum (all, if they are equal; one, if one

@@ -231,3 +231,47 @@ fn rates_command_library_and_report_give_identical_rows() {
     let computed = compute(&report, &Silent).unwrap();
     assert_eq!(serde_json::to_value(&computed.study.rows).unwrap(), library);
 }
+
+/// A study split into Monte Carlo blocks of any size, run in any order and finished, is the
+/// one-call study bit for bit; blocks that miss or repeat patterns are refused.
+#[test]
+fn a_study_split_into_blocks_is_the_one_call_study() {
+    use specvar::progress::Silent;
+    let config = StudyConfig {
+        samplers: vec![SamplerKind::Random, SamplerKind::Jitter],
+        integrands: vec!["gaussian".parse().unwrap(), "disk:r=0.2".parse().unwrap()],
+        ns: vec![16, 64],
+        trials: 200,
+        seed: 11,
+        reference: ReferenceSpectrum {
+            n: 256,
+            kmax: 32,
+            realizations: 8,
+            costly_realizations: 2,
+        },
+        ..StudyConfig::in_dimension(2)
+    };
+    let whole = serde_json::to_string(&run_study(&config, &Silent).unwrap()).unwrap();
+    for size in [7, 64, 1000] {
+        let blocks = config.mc_blocks(size);
+        let mut done: Vec<_> = blocks
+            .iter()
+            .rev()
+            .map(|b| (*b, config.run_mc_block(b, &Silent).unwrap()))
+            .collect();
+        let split = finish_study(&config, &done, &Silent).unwrap();
+        assert_eq!(
+            serde_json::to_string(&split).unwrap(),
+            whole,
+            "blocks of {size}"
+        );
+        let repeated = done[0].clone();
+        done.push(repeated);
+        assert!(matches!(
+            finish_study(&config, &done, &Silent),
+            Err(specvar::Error::Mismatch(_))
+        ));
+        done.truncate(done.len() - 2);
+        assert!(finish_study(&config, &done, &Silent).is_err());
+    }
+}

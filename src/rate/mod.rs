@@ -13,8 +13,8 @@ mod study;
 
 pub use alpha::{fit_alpha, fit_low_band, AlphaFit, LowBandFit};
 pub use study::{
-    rate_ns, run_study, AlphaSource, ReferenceSpectrum, SamplerSpectrum, Study, StudyConfig,
-    StudyRow, StudySeries,
+    finish_study, rate_ns, run_study, AlphaSource, BlockErrors, McBlock, ReferenceSpectrum,
+    SamplerSpectrum, Study, StudyConfig, StudyRow, StudySeries,
 };
 
 use crate::error::{invalid, Result};

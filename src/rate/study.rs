@@ -5,7 +5,9 @@ use super::{fit_alpha, loglog_slope, loglog_slope_with_weights, theory_rate, Alp
 use crate::cache::PATTERN_MEMORY;
 use crate::error::{invalid, Result};
 use crate::integrand::{Integrand, IntegrandSpec};
-use crate::montecarlo::{empirical_variances, McParams, McResult, Z_99};
+use crate::montecarlo::{
+    errors_of_patterns, result_from_errors, McParams, McResult, PatternErrors, Z_99,
+};
 use crate::predict::{predict_many, PredictParams, Prediction, Problem};
 use crate::progress::{stage, Progress};
 use crate::sampler::SamplerKind;
@@ -309,13 +311,121 @@ impl Study {
 /// ```
 pub fn run_study(config: &StudyConfig, progress: &dyn Progress) -> Result<Study> {
     config.check()?;
-    let d = config.dimension;
-    let fs: Vec<Box<dyn Integrand>> = config
-        .integrands
-        .iter()
-        .map(|s| s.build(d))
-        .collect::<Result<_>>()?;
+    let mut done = Vec::new();
+    for &kind in &config.samplers {
+        let blocks: Vec<McBlock> = config
+            .mc_blocks(usize::MAX)
+            .into_iter()
+            .filter(|b| b.sampler == kind)
+            .collect();
+        let total = blocks.iter().map(|b| b.count as u64).sum();
+        stage(progress, &format!("monte carlo: {kind}"), total, || {
+            for block in blocks {
+                let errors = config.run_mc_block(&block, progress)?;
+                done.push((block, errors));
+            }
+            Ok::<_, crate::Error>(())
+        })?;
+    }
+    finish_study(config, &done, progress)
+}
+
+/// A block of one sampler's Monte Carlo patterns at one N: the unit a study's Monte Carlo is
+/// split into, to run anywhere (on the workers of a cluster, say). A block's errors depend on
+/// the configuration and the block alone.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct McBlock {
+    /// The sampler.
+    pub sampler: SamplerKind,
+    /// Points per pattern.
+    pub n: usize,
+    /// The first pattern.
+    pub start: usize,
+    /// Patterns in the block.
+    pub count: usize,
+}
+
+/// The errors of a block's patterns, `[pattern][integrand]` ([`StudyConfig::run_mc_block`]).
+pub type BlockErrors = Vec<Vec<PatternErrors>>;
+
+impl StudyConfig {
+    /// The Monte Carlo parameters of `kind`'s runs (the same at every N).
+    fn mc_params(&self, kind: SamplerKind) -> McParams {
+        let pool = kind.pool(self.trials);
+        McParams {
+            patterns: pool.patterns,
+            shifts: pool.shifts,
+            seed: self.seed ^ MC_STREAM,
+            homogenize: true,
+            budget: self.predict.budget,
+        }
+    }
+
+    /// The study's Monte Carlo split into blocks of at most `patterns_per_block` patterns
+    /// (at least 1): sampler-major, then N, then pattern.
+    pub fn mc_blocks(&self, patterns_per_block: usize) -> Vec<McBlock> {
+        let size = patterns_per_block.max(1);
+        let mut blocks = Vec::new();
+        for &sampler in &self.samplers {
+            let patterns = self.mc_params(sampler).patterns;
+            for &n in &self.ns {
+                blocks.extend((0..patterns).step_by(size).map(|start| McBlock {
+                    sampler,
+                    n,
+                    start,
+                    count: size.min(patterns - start),
+                }));
+            }
+        }
+        blocks
+    }
+
+    /// Runs one block of the study's Monte Carlo, every integrand on each pattern, advancing
+    /// `progress` by one per pattern.
+    ///
+    /// # Errors
+    /// A block outside the study, or as [`errors_of_patterns`].
+    pub fn run_mc_block(&self, block: &McBlock, progress: &dyn Progress) -> Result<BlockErrors> {
+        if !self.samplers.contains(&block.sampler) || !self.ns.contains(&block.n) {
+            return Err(invalid(
+                "block",
+                format!("{} at N = {}", block.sampler, block.n),
+                "a sampler and an N of the study",
+            ));
+        }
+        let fs = self.build_integrands()?;
+        let f_refs: Vec<&dyn Integrand> = fs.iter().map(|f| f.as_ref()).collect();
+        let sampler = self.sampler(block.sampler)?;
+        let params = self.mc_params(block.sampler);
+        let range = block.start..block.start.saturating_add(block.count);
+        errors_of_patterns(sampler.as_ref(), &f_refs, block.n, &params, range, progress)
+    }
+
+    fn build_integrands(&self) -> Result<Vec<Box<dyn Integrand>>> {
+        self.integrands
+            .iter()
+            .map(|s| s.build(self.dimension))
+            .collect()
+    }
+}
+
+/// Completes a study from its Monte Carlo blocks (in any order, computed anywhere): the
+/// reference spectra, the predictions, the Monte Carlo results from the blocks' errors in
+/// pattern order, and the rate table. The same blocks give the same bits as [`run_study`],
+/// however the work was split.
+///
+/// # Errors
+/// Blocks that do not cover every sampler's patterns at every N exactly once, or as
+/// [`run_study`].
+pub fn finish_study(
+    config: &StudyConfig,
+    blocks: &[(McBlock, BlockErrors)],
+    progress: &dyn Progress,
+) -> Result<Study> {
+    config.check()?;
+    let fs = config.build_integrands()?;
     let f_refs: Vec<&dyn Integrand> = fs.iter().map(|f| f.as_ref()).collect();
+    let d = config.dimension;
     let mut study = Study {
         config: config.clone(),
         spectra: Vec::new(),
@@ -324,7 +434,11 @@ pub fn run_study(config: &StudyConfig, progress: &dyn Progress) -> Result<Study>
     };
     for &kind in &config.samplers {
         let spectrum = reference_spectrum(kind, config, progress)?;
-        let measured = monte_carlo(kind, &f_refs, config, progress)?;
+        let measured = config
+            .ns
+            .iter()
+            .map(|&n| measured_from_blocks(config, kind, n, f_refs.len(), blocks))
+            .collect::<Result<Vec<_>>>()?;
         let sampler = config.sampler(kind)?;
         let params = PredictParams {
             seed: config.seed ^ PREDICT_STREAM,
@@ -360,6 +474,50 @@ pub fn run_study(config: &StudyConfig, progress: &dyn Progress) -> Result<Study>
     Ok(study)
 }
 
+/// The Monte Carlo results of `kind` at `n`, one per integrand, from the blocks that cover its
+/// patterns.
+fn measured_from_blocks(
+    config: &StudyConfig,
+    kind: SamplerKind,
+    n: usize,
+    integrands: usize,
+    blocks: &[(McBlock, BlockErrors)],
+) -> Result<Vec<McResult>> {
+    let params = config.mc_params(kind);
+    let mut mine: Vec<&(McBlock, BlockErrors)> = blocks
+        .iter()
+        .filter(|(b, _)| b.sampler == kind && b.n == n)
+        .collect();
+    mine.sort_by_key(|(b, _)| b.start);
+    let mut rows: Vec<&Vec<PatternErrors>> = Vec::with_capacity(params.patterns);
+    for (block, errors) in mine {
+        if block.start != rows.len() || errors.len() != block.count {
+            return Err(crate::Error::Mismatch(format!(
+                "the Monte Carlo blocks of {kind} at N = {n} must cover patterns 0..{} once,                  in blocks whose errors match their counts; found a block at {} with {}                  patterns' errors after {} patterns",
+                params.patterns,
+                block.start,
+                errors.len(),
+                rows.len()
+            )));
+        }
+        rows.extend(errors.iter());
+    }
+    if rows.len() != params.patterns || rows.iter().any(|r| r.len() != integrands) {
+        return Err(crate::Error::Mismatch(format!(
+            "the Monte Carlo blocks of {kind} at N = {n} hold {} patterns' errors for {}              integrands; the study needs {} patterns",
+            rows.len(),
+            integrands,
+            params.patterns
+        )));
+    }
+    (0..integrands)
+        .map(|j| {
+            let column: Vec<PatternErrors> = rows.iter().map(|r| r[j]).collect();
+            result_from_errors(n, &params, &column)
+        })
+        .collect()
+}
+
 fn reference_spectrum(
     kind: SamplerKind,
     config: &StudyConfig,
@@ -392,34 +550,6 @@ fn reference_spectrum(
         sampler: kind,
         estimate,
         alpha,
-    })
-}
-
-/// Monte Carlo at every N, all integrands on the same patterns: `[n][integrand]`.
-fn monte_carlo(
-    kind: SamplerKind,
-    fs: &[&dyn Integrand],
-    config: &StudyConfig,
-    progress: &dyn Progress,
-) -> Result<Vec<Vec<McResult>>> {
-    let sampler = config.sampler(kind)?;
-    let pool = kind.pool(config.trials);
-    let total = (pool.patterns * config.ns.len()) as u64;
-    stage(progress, &format!("monte carlo: {kind}"), total, || {
-        config
-            .ns
-            .iter()
-            .map(|&n| {
-                let params = McParams {
-                    patterns: pool.patterns,
-                    shifts: pool.shifts,
-                    seed: config.seed ^ MC_STREAM,
-                    homogenize: true,
-                    budget: config.predict.budget,
-                };
-                empirical_variances(sampler.as_ref(), fs, n, &params, progress)
-            })
-            .collect()
     })
 }
 
