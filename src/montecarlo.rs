@@ -387,13 +387,19 @@ pub fn trial_pattern(
     params: &McParams,
     trial: usize,
 ) -> Result<PointSet> {
-    let base = sampler.sample(n, params.seed, trial as u64)?;
+    shifted_pattern(&sampler.sample(n, params.seed, trial as u64)?, params, trial)
+}
+
+/// `base` under the homogenizing shift of unit `unit` (pattern × shifts + shift) of
+/// `params.seed`, as the Monte Carlo runs translate it (unchanged without homogenization):
+/// with one shift per pattern, given sets ([`empirical_variances_of_sets`]) are integrated on
+/// `shifted_pattern(&sets[p], params, p)`.
+///
+/// # Errors
+/// None in practice: the translated coordinates are wrapped into the unit cube.
+pub fn shifted_pattern(base: &PointSet, params: &McParams, unit: usize) -> Result<PointSet> {
     let mut coords = vec![0.0; base.coords().len()];
-    shift_into(
-        &base,
-        &shift_of(params, base.dimension(), trial),
-        &mut coords,
-    );
+    shift_into(base, &shift_of(params, base.dimension(), unit), &mut coords);
     PointSet::new(base.dimension(), coords)
 }
 

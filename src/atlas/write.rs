@@ -7,9 +7,11 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 /// Side of a point-set picture, in pixels.
+#[cfg(feature = "plot")]
 const PICTURE: usize = 200;
 /// The spectra pictures' colour scale: yellow at a power of 4 (above every blue-noise peak),
 /// four decades down to dark violet.
+#[cfg(feature = "plot")]
 const SPECTRUM_MAX: f64 = 4.0;
 
 /// Writes `atlas.md`, `atlas.json` and the figures into `dir`, replacing what was there only
@@ -124,6 +126,7 @@ fn figures(atlas: &Atlas, dir: &Path) -> Result<()> {
 }
 
 /// A white picture with each point as a black 3 × 3 dot.
+#[cfg(feature = "plot")]
 fn picture(points: &crate::PointSet) -> Vec<u8> {
     let mut pixels = vec![255u8; PICTURE * PICTURE];
     for p in points.points() {

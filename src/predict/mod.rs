@@ -356,6 +356,32 @@ pub enum SpectrumChoice {
     Estimated,
 }
 
+impl std::str::FromStr for FormChoice {
+    type Err = Error;
+    /// `auto`, `lattice` or `polar`.
+    fn from_str(s: &str) -> Result<Self> {
+        match s.trim() {
+            "auto" => Ok(FormChoice::Auto),
+            "lattice" => Ok(FormChoice::Lattice),
+            "polar" => Ok(FormChoice::Polar),
+            other => Err(invalid("form", other, "auto, lattice or polar")),
+        }
+    }
+}
+
+impl std::str::FromStr for SpectrumChoice {
+    type Err = Error;
+    /// `auto`, `closed` or `estimated`.
+    fn from_str(s: &str) -> Result<Self> {
+        match s.trim() {
+            "auto" => Ok(SpectrumChoice::Auto),
+            "closed" => Ok(SpectrumChoice::Closed),
+            "estimated" => Ok(SpectrumChoice::Estimated),
+            other => Err(invalid("spectrum", other, "auto, closed or estimated")),
+        }
+    }
+}
+
 /// Parameters of [`predict`]. Every default is the library's choice; override what you need.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PredictParams {

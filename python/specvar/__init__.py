@@ -1,0 +1,492 @@
+"""specvar: Fourier analysis of Monte Carlo sampling, from Python.
+
+Predict the variance of Monte Carlo integration from power spectra, and check it against Monte
+Carlo runs. Samplers give numpy arrays of shape ``(M, N, d)``; realization ``i`` of seed ``s``
+is the same bits as in the Rust library and the ``specvar`` command line. Every error of the
+library is raised as ``ValueError`` with the command line's one-line message.
+
+>>> import specvar
+>>> p = specvar.predict("disk", sampler="jitter", n=256)
+>>> m = specvar.monte_carlo("disk", sampler="jitter", n=256, trials=4000)
+>>> p.interval(3.0)[0] < m.ci_high and m.ci_low < p.interval(3.0)[1]
+True
+
+The theory (the lattice and polar forms, the routes and their error budgets) is in the
+repository's ``docs/theory.md``.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from typing import Any, Callable, Optional, Sequence, Union
+
+import numpy as np
+
+from . import _specvar
+
+__version__ = _specvar.__version__
+
+__all__ = [
+    "Alternative",
+    "ErrorBudget",
+    "Integrand",
+    "McResult",
+    "Prediction",
+    "RadialSpectrum",
+    "Route",
+    "SamplerInfo",
+    "SlopeFit",
+    "Spectrum",
+    "Study",
+    "StudyRow",
+    "StudySeries",
+    "integrand",
+    "monte_carlo",
+    "periodogram",
+    "predict",
+    "read_points",
+    "sample",
+    "samplers",
+    "spectrum",
+    "study",
+    "write_points",
+]
+
+# A function of one's own: points of shape (N, d) in, one value per point out.
+PythonIntegrand = Callable[[np.ndarray], Any]
+
+
+def _points(points: Optional[Any]) -> Optional[np.ndarray]:
+    """A float64 array, read in place by the Rust core when it already is one."""
+    if points is None:
+        return None
+    return np.asarray(points, dtype=np.float64)
+
+
+@dataclass(frozen=True)
+class SamplerInfo:
+    """A sampler's facts: name, dimensions, the N it can draw, its known exponent α."""
+
+    name: str
+    description: str
+    dimensions: tuple
+    count_rule: str
+    deterministic: bool
+    isotropic: bool
+    known_alpha: Optional[float]
+
+
+def samplers() -> list[SamplerInfo]:
+    """Every sampler, with its facts (as ``specvar samplers`` lists them)."""
+    return [SamplerInfo(**{**row, "dimensions": tuple(row["dimensions"])}) for row in _specvar.samplers()]
+
+
+def sample(
+    sampler: str,
+    n: int,
+    realizations: int = 1,
+    dimension: int = 2,
+    seed: int = 0,
+    start: int = 0,
+    homogenized: bool = False,
+    cache: bool = True,
+) -> np.ndarray:
+    """Realizations ``start … start + realizations - 1`` of ``seed``: an array ``(M, N, d)``.
+
+    The same bits as ``specvar sample`` and the Rust library's ``Sampler::sample``.
+    ``homogenized`` adds each realization's random toroidal shift. Costly patterns (CCVT,
+    Poisson disk) are read from and kept in the cache directory unless ``cache`` is false.
+    """
+    return _specvar.sample(sampler, n, realizations, dimension, seed, start, homogenized, cache)
+
+
+def periodogram(
+    points: Any, kmax: int, engine: str = "auto", tolerance: Optional[float] = None
+) -> np.ndarray:
+    """``P(k) = |Σ_j exp(-2πi k·x_j)|² / N`` of one point set ``(N, d)`` on ``|k_i| ≤ kmax``.
+
+    The result has side ``2 kmax + 1`` on each axis, zero frequency at index ``kmax``.
+    ``engine`` is ``auto``, ``direct`` (exact sums) or ``fast`` (NUFFT at ``tolerance``).
+    """
+    return _specvar.periodogram(_points(points), kmax, engine, tolerance)
+
+
+@dataclass(frozen=True)
+class RadialSpectrum:
+    """Rings of the lattice spectrum in scaled frequency ``ν = |k| / N^{1/d}``."""
+
+    nu: np.ndarray
+    rho: np.ndarray
+    power: np.ndarray
+    stderr: np.ndarray
+    count: np.ndarray
+    anisotropy_db: np.ndarray
+    dc_limit: float
+    bin_width: float
+
+
+@dataclass(frozen=True)
+class Spectrum:
+    """An expected power spectrum: the lattice mean (shape ``(2K+1,)*d``, zero frequency at
+    the centre, where the value N is a flag, not data), its standard error, and its rings."""
+
+    n: int
+    dimension: int
+    kmax: int
+    realizations: int
+    engine: str
+    mean: np.ndarray
+    stderr: np.ndarray
+    radial: RadialSpectrum
+
+    def frequencies(self) -> np.ndarray:
+        """The integer frequencies of one axis, ``-kmax … kmax``."""
+        return np.arange(-self.kmax, self.kmax + 1)
+
+
+def spectrum(
+    sampler: Optional[str] = None,
+    points: Optional[Any] = None,
+    n: Optional[int] = None,
+    dimension: int = 2,
+    realizations: int = 16,
+    kmax: int = 64,
+    seed: int = 0,
+    engine: str = "auto",
+    tolerance: Optional[float] = None,
+    bin_width: float = 1.0,
+    cache: bool = True,
+) -> Spectrum:
+    """The expected spectrum of a sampler (``sampler=``, ``n=``) or of your own point sets
+    (``points=``, shape ``(M, N, d)``, every set used)."""
+    raw = _specvar.spectrum(
+        sampler, _points(points), n, dimension, realizations, kmax, seed, engine, tolerance, bin_width, cache
+    )
+    return Spectrum(**{**raw, "radial": RadialSpectrum(**raw["radial"])})
+
+
+@dataclass(frozen=True)
+class ErrorBudget:
+    """A prediction's uncertainty by source, in units of the variance: one standard error of
+    spectrum noise, and bounds on quadrature, truncation and the route's model."""
+
+    spectrum_noise: float
+    quadrature: float
+    truncation: float
+    model: float
+
+    def half_width(self, z: float) -> float:
+        """``z · spectrum_noise + quadrature + truncation + model``."""
+        return z * self.spectrum_noise + self.quadrature + self.truncation + self.model
+
+
+@dataclass(frozen=True)
+class Route:
+    """A form (``lattice`` or ``polar``) and the spectrum it read (a closed form, or an
+    estimate with its N, realizations and lattice extent)."""
+
+    form: str
+    spectrum: Any
+
+    def __str__(self) -> str:
+        return f"{self.form} form, spectrum {self.spectrum}"
+
+
+@dataclass(frozen=True)
+class Alternative:
+    """Another valid route's value for the same problem."""
+
+    route: Route
+    variance: float
+    budget: ErrorBudget
+
+
+@dataclass(frozen=True)
+class Prediction:
+    """A predicted variance of the homogenized estimator, with its route, the reason for the
+    route, and its error budget."""
+
+    variance: float
+    route: Route
+    reason: str
+    budget: ErrorBudget
+    n: int
+    dimension: int
+    dc_term: float
+    evaluations: int
+    alternatives: list = field(default_factory=list)
+
+    def interval(self, z: float = 3.0) -> tuple:
+        """``variance ± budget.half_width(z)``."""
+        h = self.budget.half_width(z)
+        return (self.variance - h, self.variance + h)
+
+    def covers(self, value: float, z: float = 3.0) -> bool:
+        """Whether ``value`` lies within :meth:`interval`."""
+        low, high = self.interval(z)
+        return low <= value <= high
+
+    @staticmethod
+    def _from(raw: dict) -> "Prediction":
+        alternatives = [
+            Alternative(Route(**a["route"]), a["variance"], ErrorBudget(**a["budget"])) for a in raw["alternatives"]
+        ]
+        return Prediction(
+            **{
+                **raw,
+                "route": Route(**raw["route"]),
+                "budget": ErrorBudget(**raw["budget"]),
+                "alternatives": alternatives,
+            }
+        )
+
+
+def predict(
+    integrand: str,
+    sampler: Optional[str] = None,
+    points: Optional[Any] = None,
+    n: Optional[int] = None,
+    dimension: int = 2,
+    spectrum: str = "auto",
+    form: str = "auto",
+    realizations: Optional[int] = None,
+    reference_n: Optional[int] = None,
+    kmax: Optional[int] = None,
+    seed: int = 0,
+    cache: bool = True,
+) -> Prediction:
+    """Predict the variance of integrating ``integrand`` (``disk``, ``gaussian:sigma=0.1``,
+    ``edge:theta=30``, … as on the command line) with ``n`` points of ``sampler``, or with the
+    patterns ``points`` of your own. The library chooses a valid route unless ``spectrum``
+    (``auto``, ``closed``, ``estimated``) or ``form`` (``auto``, ``lattice``, ``polar``) say
+    otherwise."""
+    raw = _specvar.predict(
+        integrand, sampler, _points(points), n, dimension, spectrum, form, realizations, reference_n, kmax, seed, cache
+    )
+    return Prediction._from(raw)
+
+
+@dataclass(frozen=True)
+class McResult:
+    """A Monte Carlo variance with its 99% interval. ``bias`` is ``None`` for a Python
+    integrand run without its exact ``integral``, whose errors are taken about their mean."""
+
+    n: int
+    trials: int
+    patterns: int
+    shifts: int
+    variance: float
+    ci_low: float
+    ci_high: float
+    bias: Optional[float]
+    bias_stderr: Optional[float]
+    homogenized: bool
+    interval: str
+    effective_units: float
+
+
+def monte_carlo(
+    integrand: Union[str, PythonIntegrand],
+    sampler: Optional[str] = None,
+    points: Optional[Any] = None,
+    n: Optional[int] = None,
+    dimension: int = 2,
+    trials: int = 10000,
+    shifts: Optional[int] = None,
+    seed: int = 0,
+    homogenized: bool = True,
+    integral: Optional[float] = None,
+    cache: bool = True,
+) -> McResult:
+    """Monte Carlo of the estimator ``(1/N) Σ f(x_j)``, with a 99% interval.
+
+    ``integrand`` is a built-in specification, or a Python function ``f(points) -> values``
+    vectorized over an ``(N, d)`` array. A function is integrated on the same shifted patterns
+    the built-in integrands see, one shift per pattern; give its exact ``integral`` if you know
+    it (the errors are then ``μ_N − integral``), else the variance is the sample variance.
+    With ``points=`` every set of your own is one pattern.
+    """
+    call = integrand
+    if callable(integrand):
+
+        def call(x: np.ndarray) -> np.ndarray:
+            return np.asarray(integrand(x), dtype=np.float64)
+
+    raw = _specvar.monte_carlo(
+        call, sampler, _points(points), n, dimension, trials, shifts, seed, homogenized, integral, cache
+    )
+    if callable(integrand) and integral is None:
+        raw = {**raw, "bias": None, "bias_stderr": None}
+    return McResult(**raw)
+
+
+@dataclass(frozen=True)
+class Integrand:
+    """A built-in integrand: its label, exact integral and energy, and its values."""
+
+    spec: str
+    dimension: int
+    label: str
+    integral: float
+    integral_of_square: float
+    isotropic: bool
+
+    def __call__(self, points: Any) -> np.ndarray:
+        """``f`` at points ``(N, d)`` (or ``(M, N, d)``, flattened)."""
+        return _specvar.evaluate(self.spec, _points(points))
+
+
+def integrand(spec: str, dimension: int = 2) -> Integrand:
+    """The built-in integrand ``spec`` in ``dimension``, e.g. ``integrand("disk:r=0.2")``."""
+    facts = _specvar.integrand_facts(spec, dimension)
+    return Integrand(spec=spec, dimension=dimension, **facts)
+
+
+def read_points(path: str) -> Union[np.ndarray, list]:
+    """Point sets from a UTK text, UTK binary or JSON file: ``(M, N, d)``, or a list of
+    ``(N, d)`` arrays when the sets differ in size."""
+    return _specvar.read_points(str(path))
+
+
+def write_points(path: str, points: Any, format: str = "text") -> None:
+    """Write point sets ``(M, N, d)`` or ``(N, d)`` atomically as ``text`` (UTK), ``binary``
+    (UTK's "UTK!" format) or ``json``."""
+    _specvar.write_points(str(path), _points(points), format)
+
+
+@dataclass(frozen=True)
+class SlopeFit:
+    """A fitted log-log slope with its standard error and 99% interval."""
+
+    slope: float
+    stderr: float
+    ci: tuple
+    intercept: float
+    points: int
+
+
+@dataclass(frozen=True)
+class StudyRow:
+    """One sampler on one integrand: the theoretical, predicted and measured rates."""
+
+    sampler: str
+    integrand: str
+    dimension: int
+    alpha: float
+    alpha_source: str
+    theory_rate: float
+    log_factor: bool
+    predicted_rate: SlopeFit
+    empirical_rate: SlopeFit
+
+
+@dataclass(frozen=True)
+class StudySeries:
+    """One sampler on one integrand over the N values: predictions beside Monte Carlo."""
+
+    sampler: str
+    integrand: str
+    label: str
+    ns: np.ndarray
+    predicted: list
+    measured: list
+
+    @property
+    def predicted_variance(self) -> np.ndarray:
+        return np.array([p.variance for p in self.predicted])
+
+    @property
+    def measured_variance(self) -> np.ndarray:
+        return np.array([m.variance for m in self.measured])
+
+    @property
+    def measured_interval(self) -> np.ndarray:
+        """``(len(ns), 2)``: the 99% intervals."""
+        return np.array([(m.ci_low, m.ci_high) for m in self.measured])
+
+
+@dataclass(frozen=True)
+class Study:
+    """A rate study: every series and the rate table; ``raw`` holds the library's whole
+    result (spectra, fitted exponents) as plain Python values."""
+
+    rows: list
+    series: list
+    raw: dict
+
+    @staticmethod
+    def _from(raw: dict) -> "Study":
+        rows = [
+            StudyRow(
+                **{
+                    **r,
+                    "predicted_rate": SlopeFit(**{**r["predicted_rate"], "ci": tuple(r["predicted_rate"]["ci"])}),
+                    "empirical_rate": SlopeFit(**{**r["empirical_rate"], "ci": tuple(r["empirical_rate"]["ci"])}),
+                }
+            )
+            for r in raw["rows"]
+        ]
+        series = [
+            StudySeries(
+                sampler=s["sampler"],
+                integrand=s["integrand"],
+                label=s["label"],
+                ns=np.array(s["ns"]),
+                predicted=[Prediction._from(p) for p in s["predicted"]],
+                measured=[McResult(**m) for m in s["measured"]],
+            )
+            for s in raw["series"]
+        ]
+        return Study(rows=rows, series=series, raw=raw)
+
+
+def _describe(
+    samplers: Sequence[str],
+    integrands: Sequence[str],
+    ns: Sequence[int],
+    trials: int,
+    dimension: int,
+    seed: int,
+    reference: Optional[dict],
+    cache: bool,
+) -> str:
+    return json.dumps(
+        {
+            "dimension": int(dimension),
+            "samplers": list(samplers),
+            "integrands": list(integrands),
+            "ns": [int(n) for n in ns],
+            "trials": int(trials),
+            "seed": int(seed),
+            "reference": reference,
+            "cache": bool(cache),
+        }
+    )
+
+
+def study(
+    samplers: Sequence[str],
+    integrands: Sequence[str],
+    ns: Sequence[int],
+    trials: int = 4000,
+    dimension: int = 2,
+    seed: int = 0,
+    reference: Optional[dict] = None,
+    client: Any = None,
+    patterns_per_block: int = 256,
+    cache: bool = False,
+) -> Study:
+    """A rate study: every sampler on every integrand at every N, predicted and measured.
+
+    ``reference`` overrides the reference spectrum (``{"n", "kmax", "realizations",
+    "costly_realizations"}``). Without ``client`` the study runs in this process; with a
+    ``dask.distributed`` client its Monte Carlo runs on the cluster in blocks of
+    ``patterns_per_block`` patterns (see :func:`specvar.cluster.study`), with the same bits.
+    """
+    described = _describe(samplers, integrands, ns, trials, dimension, seed, reference, cache)
+    if client is None:
+        return Study._from(_specvar.run_study(described))
+    from . import cluster
+
+    return cluster.run(described, client, patterns_per_block)

@@ -1,0 +1,72 @@
+"""Type stubs of the Rust core (the ``specvar`` package wraps these in dataclasses)."""
+
+from typing import Any, Callable, Optional, Union
+
+import numpy as np
+
+__version__: str
+
+def samplers() -> list[dict[str, Any]]: ...
+def sample(
+    sampler: str,
+    n: int,
+    realizations: int = 1,
+    dimension: int = 2,
+    seed: int = 0,
+    start: int = 0,
+    homogenized: bool = False,
+    cache: bool = True,
+) -> np.ndarray: ...
+def periodogram(
+    points: np.ndarray, kmax: int, engine: str = "auto", tolerance: Optional[float] = None
+) -> np.ndarray: ...
+def spectrum(
+    sampler: Optional[str] = None,
+    points: Optional[np.ndarray] = None,
+    n: Optional[int] = None,
+    dimension: int = 2,
+    realizations: int = 16,
+    kmax: int = 64,
+    seed: int = 0,
+    engine: str = "auto",
+    tolerance: Optional[float] = None,
+    bin_width: float = 1.0,
+    cache: bool = True,
+) -> dict[str, Any]: ...
+def predict(
+    integrand: str,
+    sampler: Optional[str] = None,
+    points: Optional[np.ndarray] = None,
+    n: Optional[int] = None,
+    dimension: int = 2,
+    spectrum: str = "auto",
+    form: str = "auto",
+    realizations: Optional[int] = None,
+    reference_n: Optional[int] = None,
+    kmax: Optional[int] = None,
+    seed: int = 0,
+    cache: bool = True,
+) -> dict[str, Any]: ...
+def monte_carlo(
+    integrand: Union[str, Callable[[np.ndarray], np.ndarray]],
+    sampler: Optional[str] = None,
+    points: Optional[np.ndarray] = None,
+    n: Optional[int] = None,
+    dimension: int = 2,
+    trials: int = 10000,
+    shifts: Optional[int] = None,
+    seed: int = 0,
+    homogenized: bool = True,
+    integral: Optional[float] = None,
+    cache: bool = True,
+) -> dict[str, Any]: ...
+def integrand_facts(integrand: str, dimension: int = 2) -> dict[str, Any]: ...
+def evaluate(integrand: str, points: np.ndarray) -> np.ndarray: ...
+def read_points(path: str) -> Union[np.ndarray, list[np.ndarray]]: ...
+def write_points(path: str, points: np.ndarray, format: str = "text") -> None: ...
+def run_study(described: str) -> dict[str, Any]: ...
+def study_blocks(described: str, patterns_per_block: int) -> list[tuple[str, int, int, int]]: ...
+def study_block(described: str, block: tuple[str, int, int, int]) -> np.ndarray: ...
+def finish_study(
+    described: str, blocks: list[tuple[str, int, int, int]], errors: list[np.ndarray]
+) -> dict[str, Any]: ...

@@ -1,0 +1,503 @@
+//! `specvar._specvar`: the Rust core of the Python package. Each function converts its
+//! arguments, makes one library call with the interpreter released, and converts the result;
+//! the Python layer (`specvar/__init__.py`) wraps the results in dataclasses. Every library
+//! error becomes a `ValueError` carrying the command line's one-line message.
+
+mod convert;
+mod study;
+
+use convert::{array_of_sets, point_sets, to_py, OrValueError};
+use numpy::{PyArray1, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use rayon::prelude::*;
+use specvar::integrand::{Integrand, IntegrandSpec};
+use specvar::montecarlo::{
+    empirical_variances, empirical_variances_of_sets, result_from_estimates, shifted_pattern,
+    trial_pattern, McParams, McResult,
+};
+use specvar::pointset::PointSet;
+use specvar::predict::{predict as predict_variance, PredictParams, Problem};
+use specvar::sampler::{homogenize, Sampler, SamplerKind};
+use specvar::spectrum::{
+    estimate_with_progress, statistical_tolerance, Engine, PatternSource, SpectrumParams,
+};
+
+/// Memory for costly samplers' patterns kept between calls of one sampler object.
+const PATTERN_MEMORY: usize = 256 << 20;
+
+/// A sampler by name in dimension `d`, its costly patterns read from and written to the cache
+/// directory when `cache` is set (the same bits either way).
+fn build_sampler(name: &str, d: usize, cache: bool) -> specvar::Result<Box<dyn Sampler>> {
+    let kind: SamplerKind = name.parse()?;
+    let dir = cache.then(specvar::cache::default_dir);
+    specvar::cache::cached_sampler(kind, d, dir.as_deref(), PATTERN_MEMORY)
+}
+
+/// The patterns of a call: a sampler's realizations or the caller's point sets.
+enum Source {
+    Sampler(SamplerKind, Box<dyn Sampler>, usize),
+    Sets(Vec<PointSet>),
+}
+
+impl Source {
+    /// Exactly one of `sampler` (with `n`) and `points`.
+    fn from_args(
+        sampler: Option<&str>,
+        points: Option<PyReadonlyArrayDyn<'_, f64>>,
+        n: Option<usize>,
+        d: usize,
+        cache: bool,
+    ) -> PyResult<Self> {
+        match (sampler, points) {
+            (Some(name), None) => {
+                let n = n.ok_or_else(|| PyValueError::new_err("n is required with a sampler"))?;
+                let kind: SamplerKind = name.parse().or_value_error()?;
+                let s = build_sampler(name, d, cache).or_value_error()?;
+                s.check_count(n).or_value_error()?;
+                Ok(Source::Sampler(kind, s, n))
+            }
+            (None, Some(array)) => Ok(Source::Sets(point_sets(&array)?)),
+            _ => Err(PyValueError::new_err(
+                "give exactly one of sampler= (a name, with n=) and points= (an array of shape \
+                 (M, N, d) or (N, d))",
+            )),
+        }
+    }
+
+    fn dimension(&self) -> usize {
+        match self {
+            Source::Sampler(_, s, _) => s.dimension(),
+            Source::Sets(sets) => sets[0].dimension(),
+        }
+    }
+
+    fn n(&self) -> usize {
+        match self {
+            Source::Sampler(_, _, n) => *n,
+            Source::Sets(sets) => sets[0].len(),
+        }
+    }
+}
+
+/// Every sampler with its facts.
+#[pyfunction]
+fn samplers(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
+    let rows = SamplerKind::ALL.iter().map(|k| {
+        let row = PyDict::new(py);
+        row.set_item("name", k.name())?;
+        row.set_item("description", k.description())?;
+        row.set_item("dimensions", (k.dimensions().start(), k.dimensions().end()))?;
+        row.set_item("count_rule", k.count_rule())?;
+        row.set_item("deterministic", k.is_deterministic())?;
+        row.set_item("isotropic", k.is_isotropic())?;
+        row.set_item("known_alpha", k.known_alpha())?;
+        Ok(row)
+    });
+    PyList::new(py, rows.collect::<PyResult<Vec<_>>>()?)
+}
+
+/// Realizations `start … start + realizations - 1` of `seed`: an array `(M, N, d)`.
+#[pyfunction]
+#[pyo3(signature = (sampler, n, realizations=1, dimension=2, seed=0, start=0, homogenized=false, cache=true))]
+#[allow(clippy::too_many_arguments)]
+fn sample<'py>(
+    py: Python<'py>,
+    sampler: &str,
+    n: usize,
+    realizations: usize,
+    dimension: usize,
+    seed: u64,
+    start: u64,
+    homogenized: bool,
+    cache: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    let s = build_sampler(sampler, dimension, cache).or_value_error()?;
+    s.check_count(n).or_value_error()?;
+    let count = realizations as u64;
+    let end = start.checked_add(count).ok_or_else(|| {
+        PyValueError::new_err("start + realizations overflows a 64-bit realization index")
+    })?;
+    let sets = py
+        .detach(|| {
+            (start..end)
+                .into_par_iter()
+                .map(|r| {
+                    let mut set = s.sample(n, seed, r)?;
+                    if homogenized {
+                        homogenize(&mut set, seed, r);
+                    }
+                    Ok(set)
+                })
+                .collect::<specvar::Result<Vec<_>>>()
+        })
+        .or_value_error()?;
+    array_of_sets(py, &sets, n, dimension)
+}
+
+/// The engine named by `method` (`auto`, `direct`, `fast`), the fast one at `tolerance` or the
+/// tolerance the statistics of `realizations` sets of `n` points need.
+fn engine(method: &str, tolerance: Option<f64>, n: usize, realizations: usize) -> PyResult<Engine> {
+    match method {
+        "auto" => Ok(Engine::Auto),
+        "direct" => Ok(Engine::Direct),
+        "fast" => Ok(Engine::Fast {
+            tolerance: tolerance.unwrap_or_else(|| statistical_tolerance(n, realizations)),
+        }),
+        other => Err(PyValueError::new_err(format!(
+            "invalid engine: {other} (allowed: auto, direct or fast)"
+        ))),
+    }
+}
+
+/// The periodogram `P(k) = |Σ e^{-2πi k·x}|² / N` of one point set `(N, d)` on the lattice
+/// `|k_i| ≤ kmax`: an array of side `2 kmax + 1` in each of the `d` axes.
+#[pyfunction]
+#[pyo3(signature = (points, kmax, engine="auto", tolerance=None))]
+fn periodogram<'py>(
+    py: Python<'py>,
+    points: PyReadonlyArrayDyn<'py, f64>,
+    kmax: usize,
+    engine: &str,
+    tolerance: Option<f64>,
+) -> PyResult<Bound<'py, PyAny>> {
+    if points.ndim() != 2 {
+        return Err(PyValueError::new_err(format!(
+            "points must have shape (N, d), not {:?}",
+            points.shape()
+        )));
+    }
+    let set = point_sets(&points)?.remove(0);
+    let eng = self::engine(engine, tolerance, set.len(), 1)?;
+    let d = set.dimension();
+    let power = py
+        .detach(|| specvar::spectrum::periodogram(&set, kmax, eng))
+        .or_value_error()?;
+    let side = 2 * kmax + 1;
+    Ok(PyArray1::from_vec(py, power)
+        .reshape(vec![side; d])?
+        .into_any())
+}
+
+/// The expected spectrum of a sampler's realizations or of given point sets: lattice and
+/// radial.
+#[pyfunction]
+#[pyo3(signature = (sampler=None, points=None, n=None, dimension=2, realizations=16, kmax=64, seed=0, engine="auto", tolerance=None, bin_width=1.0, cache=true))]
+#[allow(clippy::too_many_arguments)]
+fn spectrum<'py>(
+    py: Python<'py>,
+    sampler: Option<&str>,
+    points: Option<PyReadonlyArrayDyn<'py, f64>>,
+    n: Option<usize>,
+    dimension: usize,
+    realizations: usize,
+    kmax: usize,
+    seed: u64,
+    engine: &str,
+    tolerance: Option<f64>,
+    bin_width: f64,
+    cache: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    let source = Source::from_args(sampler, points, n, dimension, cache)?;
+    let m = match &source {
+        Source::Sets(sets) => sets.len(),
+        Source::Sampler(..) => realizations,
+    };
+    let params = SpectrumParams {
+        kmax,
+        realizations,
+        seed,
+        engine: self::engine(engine, tolerance, source.n(), m)?,
+        bin_width,
+        ..Default::default()
+    };
+    let estimate = py
+        .detach(|| {
+            let patterns = match &source {
+                Source::Sampler(_, s, n) => PatternSource::Sampler {
+                    sampler: s.as_ref(),
+                    n: *n,
+                    seed,
+                },
+                Source::Sets(sets) => PatternSource::Sets(sets),
+            };
+            estimate_with_progress(patterns, &params, &specvar::progress::Silent)
+        })
+        .or_value_error()?;
+    convert::spectrum_dict(py, &estimate)
+}
+
+/// The predicted variance of the homogenized estimator: the library's route, its reason and
+/// its error budget.
+#[pyfunction]
+#[pyo3(signature = (integrand, sampler=None, points=None, n=None, dimension=2, spectrum="auto", form="auto", realizations=None, reference_n=None, kmax=None, seed=0, cache=true))]
+#[allow(clippy::too_many_arguments)]
+fn predict<'py>(
+    py: Python<'py>,
+    integrand: &str,
+    sampler: Option<&str>,
+    points: Option<PyReadonlyArrayDyn<'py, f64>>,
+    n: Option<usize>,
+    dimension: usize,
+    spectrum: &str,
+    form: &str,
+    realizations: Option<usize>,
+    reference_n: Option<usize>,
+    kmax: Option<usize>,
+    seed: u64,
+    cache: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    let source = Source::from_args(sampler, points, n, dimension, cache)?;
+    let spec: IntegrandSpec = integrand.parse().or_value_error()?;
+    let f = spec.build(source.dimension()).or_value_error()?;
+    let params = PredictParams {
+        spectrum: spectrum.parse().or_value_error()?,
+        form: form.parse().or_value_error()?,
+        realizations,
+        reference_n,
+        kmax,
+        seed,
+        ..Default::default()
+    };
+    let prediction = py
+        .detach(|| {
+            let problem = match &source {
+                Source::Sampler(_, s, n) => Problem::new(s.as_ref(), f.as_ref(), *n)?,
+                Source::Sets(sets) => Problem::from_point_sets(sets, f.as_ref())?,
+            };
+            predict_variance(&problem, &params)
+        })
+        .or_value_error()?;
+    to_py(py, &prediction)
+}
+
+/// Monte Carlo of the estimator with a 99% interval, on a built-in integrand (a specification
+/// string) or a Python function `f(points (N, d)) -> values (N,)`.
+#[pyfunction]
+#[pyo3(signature = (integrand, sampler=None, points=None, n=None, dimension=2, trials=10000, shifts=None, seed=0, homogenized=true, integral=None, cache=true))]
+#[allow(clippy::too_many_arguments)]
+fn monte_carlo<'py>(
+    py: Python<'py>,
+    integrand: Bound<'py, PyAny>,
+    sampler: Option<&str>,
+    points: Option<PyReadonlyArrayDyn<'py, f64>>,
+    n: Option<usize>,
+    dimension: usize,
+    trials: usize,
+    shifts: Option<usize>,
+    seed: u64,
+    homogenized: bool,
+    integral: Option<f64>,
+    cache: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    let source = Source::from_args(sampler, points, n, dimension, cache)?;
+    let result = if integrand.is_callable() {
+        if shifts.is_some_and(|s| s != 1) {
+            return Err(PyValueError::new_err(
+                "a Python integrand is integrated with one shift per pattern: leave shifts unset",
+            ));
+        }
+        callable_monte_carlo(py, &integrand, &source, trials, seed, homogenized, integral)?
+    } else {
+        if integral.is_some() {
+            return Err(PyValueError::new_err(
+                "integral= is for Python integrands: a built-in integrand knows its own",
+            ));
+        }
+        let spec: IntegrandSpec = integrand.extract::<String>()?.parse().or_value_error()?;
+        let f = spec.build(source.dimension()).or_value_error()?;
+        builtin_monte_carlo(py, f.as_ref(), &source, trials, shifts, seed, homogenized)?
+    };
+    to_py(py, &result)
+}
+
+fn builtin_monte_carlo(
+    py: Python<'_>,
+    f: &dyn Integrand,
+    source: &Source,
+    trials: usize,
+    shifts: Option<usize>,
+    seed: u64,
+    homogenized: bool,
+) -> PyResult<McResult> {
+    let silent = &specvar::progress::Silent;
+    py.detach(|| match source {
+        Source::Sampler(kind, s, n) => {
+            let mut params = McParams::pooled(*kind, trials, seed, homogenized);
+            if let Some(shifts) = shifts {
+                params.shifts = shifts;
+                params.patterns = trials / shifts.max(1);
+            }
+            empirical_variances(s.as_ref(), &[f], *n, &params, silent)
+        }
+        Source::Sets(sets) => {
+            let params = McParams {
+                patterns: sets.len(),
+                shifts: shifts.unwrap_or((trials / sets.len()).max(1)),
+                seed,
+                homogenize: homogenized,
+                ..Default::default()
+            };
+            empirical_variances_of_sets(sets, &[f], &params, silent)
+        }
+    })
+    .map(|mut r| r.remove(0))
+    .or_value_error()
+}
+
+/// Patterns drawn per call back into Python: bounds the memory of a run whatever its trials.
+const CALLABLE_BLOCK: usize = 64;
+
+/// Monte Carlo of a Python function: the patterns are drawn (and shifted) in parallel with the
+/// interpreter released, block by block; the function sees each pattern as an `(N, d)` array.
+fn callable_monte_carlo(
+    py: Python<'_>,
+    f: &Bound<'_, PyAny>,
+    source: &Source,
+    trials: usize,
+    seed: u64,
+    homogenized: bool,
+    integral: Option<f64>,
+) -> PyResult<McResult> {
+    let patterns = match source {
+        Source::Sampler(..) => trials,
+        Source::Sets(sets) => sets.len(),
+    };
+    let params = McParams {
+        patterns,
+        shifts: 1,
+        seed,
+        homogenize: homogenized,
+        ..Default::default()
+    };
+    let (n, d) = (source.n(), source.dimension());
+    let mut estimates = Vec::with_capacity(patterns);
+    for first in (0..patterns).step_by(CALLABLE_BLOCK) {
+        let last = (first + CALLABLE_BLOCK).min(patterns);
+        let sets = py
+            .detach(|| {
+                (first..last)
+                    .into_par_iter()
+                    .map(|t| match source {
+                        Source::Sampler(_, s, n) => trial_pattern(s.as_ref(), *n, &params, t),
+                        Source::Sets(sets) => shifted_pattern(&sets[t], &params, t),
+                    })
+                    .collect::<specvar::Result<Vec<_>>>()
+            })
+            .or_value_error()?;
+        for set in sets {
+            let x = PyArray1::from_vec(py, set.coords().to_vec()).reshape([n, d])?;
+            let values = f.call1((x,))?;
+            let values: PyReadonlyArrayDyn<'_, f64> = values.extract().map_err(|_| {
+                PyValueError::new_err(
+                    "the integrand must return a float64 array of shape (N,) for points of \
+                     shape (N, d)",
+                )
+            })?;
+            let values = values.as_array();
+            if values.len() != n {
+                return Err(PyValueError::new_err(format!(
+                    "the integrand returned {} values for {n} points; it must return one per \
+                     point",
+                    values.len()
+                )));
+            }
+            estimates.push(values.iter().sum::<f64>() / n as f64);
+        }
+    }
+    result_from_estimates(n, &params, &estimates, integral).or_value_error()
+}
+
+/// The exact integral, energy and label of a built-in integrand.
+#[pyfunction]
+#[pyo3(signature = (integrand, dimension=2))]
+fn integrand_facts<'py>(
+    py: Python<'py>,
+    integrand: &str,
+    dimension: usize,
+) -> PyResult<Bound<'py, PyDict>> {
+    let spec: IntegrandSpec = integrand.parse().or_value_error()?;
+    let f = spec.build(dimension).or_value_error()?;
+    let facts = PyDict::new(py);
+    facts.set_item("label", f.label())?;
+    facts.set_item("integral", f.integral())?;
+    facts.set_item("integral_of_square", f.integral_of_square())?;
+    facts.set_item("isotropic", f.is_isotropic())?;
+    Ok(facts)
+}
+
+/// A built-in integrand evaluated at points `(N, d)`: an array `(N,)`.
+#[pyfunction]
+#[pyo3(signature = (integrand, points))]
+fn evaluate<'py>(
+    py: Python<'py>,
+    integrand: &str,
+    points: PyReadonlyArrayDyn<'py, f64>,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    let sets = point_sets(&points)?;
+    let spec: IntegrandSpec = integrand.parse().or_value_error()?;
+    let f = spec.build(sets[0].dimension()).or_value_error()?;
+    let values: Vec<f64> = sets
+        .iter()
+        .flat_map(|s| s.points().map(|x| f.eval(x)))
+        .collect();
+    Ok(PyArray1::from_vec(py, values))
+}
+
+/// Point sets from a file (UTK text or binary, JSON): an array `(M, N, d)` when every set has
+/// the same N, else a list of `(N, d)` arrays.
+#[pyfunction]
+fn read_points<'py>(py: Python<'py>, path: std::path::PathBuf) -> PyResult<Bound<'py, PyAny>> {
+    let sets = specvar::io::read_file(&path).or_value_error()?;
+    let (n, d) = (sets[0].len(), sets[0].dimension());
+    if sets.iter().all(|s| s.len() == n) {
+        return array_of_sets(py, &sets, n, d);
+    }
+    let arrays = sets
+        .iter()
+        .map(|s| array_of_sets(py, std::slice::from_ref(s), s.len(), d))
+        .collect::<PyResult<Vec<_>>>()?;
+    Ok(PyList::new(py, arrays)?.into_any())
+}
+
+/// Writes point sets `(M, N, d)` or `(N, d)` atomically as UTK text (`text`), UTK binary
+/// (`binary`) or JSON (`json`).
+#[pyfunction]
+#[pyo3(signature = (path, points, format="text"))]
+fn write_points(
+    path: std::path::PathBuf,
+    points: PyReadonlyArrayDyn<'_, f64>,
+    format: &str,
+) -> PyResult<()> {
+    let sets = point_sets(&points)?;
+    let bytes = match format {
+        "text" => specvar::io::write_text(&sets).into_bytes(),
+        "binary" => specvar::io::write_utk_binary(&sets).or_value_error()?,
+        "json" => specvar::io::write_json(&sets).or_value_error()?.into_bytes(),
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "invalid format: {other} (allowed: text, binary or json)"
+            )))
+        }
+    };
+    specvar::output::write_atomic(&path, &bytes).or_value_error()
+}
+
+/// The module.
+#[pymodule]
+fn _specvar(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(samplers, m)?)?;
+    m.add_function(wrap_pyfunction!(sample, m)?)?;
+    m.add_function(wrap_pyfunction!(periodogram, m)?)?;
+    m.add_function(wrap_pyfunction!(spectrum, m)?)?;
+    m.add_function(wrap_pyfunction!(predict, m)?)?;
+    m.add_function(wrap_pyfunction!(monte_carlo, m)?)?;
+    m.add_function(wrap_pyfunction!(integrand_facts, m)?)?;
+    m.add_function(wrap_pyfunction!(evaluate, m)?)?;
+    m.add_function(wrap_pyfunction!(read_points, m)?)?;
+    m.add_function(wrap_pyfunction!(write_points, m)?)?;
+    study::register(m)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}
