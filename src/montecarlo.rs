@@ -387,7 +387,11 @@ pub fn trial_pattern(
     params: &McParams,
     trial: usize,
 ) -> Result<PointSet> {
-    shifted_pattern(&sampler.sample(n, params.seed, trial as u64)?, params, trial)
+    shifted_pattern(
+        &sampler.sample(n, params.seed, trial as u64)?,
+        params,
+        trial,
+    )
 }
 
 /// `base` under the homogenizing shift of unit `unit` (pattern × shifts + shift) of

@@ -50,11 +50,31 @@ __all__ = [
     "samplers",
     "spectrum",
     "study",
+    "tabulate",
     "write_points",
 ]
 
 # A function of one's own: points of shape (N, d) in, one value per point out.
 PythonIntegrand = Callable[[np.ndarray], Any]
+
+
+def _integrand(integrand: Any) -> Any:
+    """A specification string or a function as given; anything else as a float64 array of
+    cell values."""
+    if isinstance(integrand, str) or callable(integrand):
+        return integrand
+    return np.asarray(integrand, dtype=np.float64)
+
+
+def tabulate(f: PythonIntegrand, resolution: int = 256) -> np.ndarray:
+    """A function of one's own on the unit square as cell values ``values[y, x]`` at the
+    centres of a ``resolution × resolution`` grid: the piecewise-constant integrand that
+    :func:`predict` reads exactly (its coefficients come from one FFT). Its gap to ``f`` is the
+    tabulation's: refine ``resolution`` until the prediction stops moving."""
+    c = (np.arange(resolution) + 0.5) / resolution
+    x, y = np.meshgrid(c, c, indexing="xy")
+    values = np.asarray(f(np.column_stack([x.ravel(), y.ravel()])), dtype=np.float64)
+    return values.reshape(resolution, resolution)
 
 
 def _points(points: Optional[Any]) -> Optional[np.ndarray]:
@@ -243,7 +263,7 @@ class Prediction:
 
 
 def predict(
-    integrand: str,
+    integrand: Union[str, np.ndarray],
     sampler: Optional[str] = None,
     points: Optional[Any] = None,
     n: Optional[int] = None,
@@ -257,12 +277,13 @@ def predict(
     cache: bool = True,
 ) -> Prediction:
     """Predict the variance of integrating ``integrand`` (``disk``, ``gaussian:sigma=0.1``,
-    ``edge:theta=30``, … as on the command line) with ``n`` points of ``sampler``, or with the
+    ``edge:theta=30``, … as on the command line, or cell values ``values[y, x]`` on the unit
+    square such as :func:`tabulate` gives) with ``n`` points of ``sampler``, or with the
     patterns ``points`` of your own. The library chooses a valid route unless ``spectrum``
     (``auto``, ``closed``, ``estimated``) or ``form`` (``auto``, ``lattice``, ``polar``) say
     otherwise."""
     raw = _specvar.predict(
-        integrand, sampler, _points(points), n, dimension, spectrum, form, realizations, reference_n, kmax, seed, cache
+        _integrand(integrand), sampler, _points(points), n, dimension, spectrum, form, realizations, reference_n, kmax, seed, cache
     )
     return Prediction._from(raw)
 
@@ -287,7 +308,7 @@ class McResult:
 
 
 def monte_carlo(
-    integrand: Union[str, PythonIntegrand],
+    integrand: Union[str, np.ndarray, PythonIntegrand],
     sampler: Optional[str] = None,
     points: Optional[Any] = None,
     n: Optional[int] = None,
@@ -301,13 +322,13 @@ def monte_carlo(
 ) -> McResult:
     """Monte Carlo of the estimator ``(1/N) Σ f(x_j)``, with a 99% interval.
 
-    ``integrand`` is a built-in specification, or a Python function ``f(points) -> values``
-    vectorized over an ``(N, d)`` array. A function is integrated on the same shifted patterns
+    ``integrand`` is a built-in specification, cell values (as :func:`predict` takes them), or
+    a Python function ``f(points) -> values`` vectorized over an ``(N, d)`` array. A function is integrated on the same shifted patterns
     the built-in integrands see, one shift per pattern; give its exact ``integral`` if you know
     it (the errors are then ``μ_N − integral``), else the variance is the sample variance.
     With ``points=`` every set of your own is one pattern.
     """
-    call = integrand
+    call = _integrand(integrand)
     if callable(integrand):
 
         def call(x: np.ndarray) -> np.ndarray:
@@ -323,9 +344,10 @@ def monte_carlo(
 
 @dataclass(frozen=True)
 class Integrand:
-    """A built-in integrand: its label, exact integral and energy, and its values."""
+    """A built-in integrand (a specification or cell values): its label, exact integral and
+    energy, and its values."""
 
-    spec: str
+    spec: Any
     dimension: int
     label: str
     integral: float
@@ -337,8 +359,10 @@ class Integrand:
         return _specvar.evaluate(self.spec, _points(points))
 
 
-def integrand(spec: str, dimension: int = 2) -> Integrand:
-    """The built-in integrand ``spec`` in ``dimension``, e.g. ``integrand("disk:r=0.2")``."""
+def integrand(spec: Union[str, np.ndarray], dimension: int = 2) -> Integrand:
+    """The built-in integrand ``spec`` in ``dimension``, e.g. ``integrand("disk:r=0.2")``, or
+    the piecewise-constant one of cell values ``values[y, x]``."""
+    spec = _integrand(spec)
     facts = _specvar.integrand_facts(spec, dimension)
     return Integrand(spec=spec, dimension=dimension, **facts)
 

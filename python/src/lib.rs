@@ -12,7 +12,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use rayon::prelude::*;
-use specvar::integrand::{Integrand, IntegrandSpec};
+use specvar::integrand::{GridIntegrand, Integrand, IntegrandSpec};
 use specvar::montecarlo::{
     empirical_variances, empirical_variances_of_sets, result_from_estimates, shifted_pattern,
     trial_pattern, McParams, McResult,
@@ -79,6 +79,41 @@ impl Source {
             Source::Sets(sets) => sets[0].len(),
         }
     }
+}
+
+/// A built-in integrand from a specification string (`disk:r=0.2`, as on the command line)
+/// or a 2D array of cell values `values[y, x]` on the unit square (a piecewise-constant
+/// function, [`specvar::integrand::GridIntegrand`]); `None` for anything else.
+fn builtin_integrand(
+    integrand: &Bound<'_, PyAny>,
+    d: usize,
+) -> PyResult<Option<Box<dyn Integrand>>> {
+    if let Ok(text) = integrand.extract::<String>() {
+        let spec: IntegrandSpec = text.parse().or_value_error()?;
+        return spec.build(d).map(Some).or_value_error();
+    }
+    if let Ok(values) = integrand.extract::<PyReadonlyArrayDyn<'_, f64>>() {
+        let shape = values.shape().to_vec();
+        let [height, width] = shape[..] else {
+            return Err(PyValueError::new_err(format!(
+                "a tabulated integrand is a 2D array values[y, x], not shape {shape:?}"
+            )));
+        };
+        let flat: Vec<f64> = values.as_array().iter().copied().collect();
+        let grid = GridIntegrand::new(width, height, flat).or_value_error()?;
+        return Ok(Some(Box::new(grid)));
+    }
+    Ok(None)
+}
+
+/// [`builtin_integrand`], which must succeed.
+fn required_integrand(integrand: &Bound<'_, PyAny>, d: usize) -> PyResult<Box<dyn Integrand>> {
+    builtin_integrand(integrand, d)?.ok_or_else(|| {
+        PyValueError::new_err(
+            "the integrand must be a specification string (disk, gaussian:sigma=0.1, …) or a \
+             2D float64 array of cell values",
+        )
+    })
 }
 
 /// Every sampler with its facts.
@@ -228,14 +263,15 @@ fn spectrum<'py>(
     convert::spectrum_dict(py, &estimate)
 }
 
-/// The predicted variance of the homogenized estimator: the library's route, its reason and
-/// its error budget.
+/// The predicted variance of the homogenized estimator on a built-in integrand (a
+/// specification string or a 2D array of cell values): the library's route, its reason and its
+/// error budget.
 #[pyfunction]
 #[pyo3(signature = (integrand, sampler=None, points=None, n=None, dimension=2, spectrum="auto", form="auto", realizations=None, reference_n=None, kmax=None, seed=0, cache=true))]
 #[allow(clippy::too_many_arguments)]
 fn predict<'py>(
     py: Python<'py>,
-    integrand: &str,
+    integrand: Bound<'py, PyAny>,
     sampler: Option<&str>,
     points: Option<PyReadonlyArrayDyn<'py, f64>>,
     n: Option<usize>,
@@ -249,8 +285,7 @@ fn predict<'py>(
     cache: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     let source = Source::from_args(sampler, points, n, dimension, cache)?;
-    let spec: IntegrandSpec = integrand.parse().or_value_error()?;
-    let f = spec.build(source.dimension()).or_value_error()?;
+    let f = required_integrand(&integrand, source.dimension())?;
     let params = PredictParams {
         spectrum: spectrum.parse().or_value_error()?,
         form: form.parse().or_value_error()?,
@@ -273,7 +308,7 @@ fn predict<'py>(
 }
 
 /// Monte Carlo of the estimator with a 99% interval, on a built-in integrand (a specification
-/// string) or a Python function `f(points (N, d)) -> values (N,)`.
+/// string or a 2D array of cell values) or a Python function `f(points (N, d)) -> values (N,)`.
 #[pyfunction]
 #[pyo3(signature = (integrand, sampler=None, points=None, n=None, dimension=2, trials=10000, shifts=None, seed=0, homogenized=true, integral=None, cache=true))]
 #[allow(clippy::too_many_arguments)]
@@ -292,23 +327,30 @@ fn monte_carlo<'py>(
     cache: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     let source = Source::from_args(sampler, points, n, dimension, cache)?;
-    let result = if integrand.is_callable() {
-        if shifts.is_some_and(|s| s != 1) {
-            return Err(PyValueError::new_err(
-                "a Python integrand is integrated with one shift per pattern: leave shifts unset",
-            ));
-        }
-        callable_monte_carlo(py, &integrand, &source, trials, seed, homogenized, integral)?
-    } else {
-        if integral.is_some() {
-            return Err(PyValueError::new_err(
-                "integral= is for Python integrands: a built-in integrand knows its own",
-            ));
-        }
-        let spec: IntegrandSpec = integrand.extract::<String>()?.parse().or_value_error()?;
-        let f = spec.build(source.dimension()).or_value_error()?;
-        builtin_monte_carlo(py, f.as_ref(), &source, trials, shifts, seed, homogenized)?
-    };
+    let result =
+        match builtin_integrand(&integrand, source.dimension())? {
+            Some(f) => {
+                if integral.is_some() {
+                    return Err(PyValueError::new_err(
+                        "integral= is for Python integrands: a built-in integrand knows its own",
+                    ));
+                }
+                builtin_monte_carlo(py, f.as_ref(), &source, trials, shifts, seed, homogenized)?
+            }
+            None if integrand.is_callable() => {
+                if shifts.is_some_and(|s| s != 1) {
+                    return Err(PyValueError::new_err(
+                    "a Python integrand is integrated with one shift per pattern: leave shifts \
+                     unset",
+                ));
+                }
+                callable_monte_carlo(py, &integrand, &source, trials, seed, homogenized, integral)?
+            }
+            None => return Err(PyValueError::new_err(
+                "the integrand must be a specification string, a 2D array of cell values, or a \
+                 function f(points) -> values",
+            )),
+        };
     to_py(py, &result)
 }
 
@@ -409,16 +451,15 @@ fn callable_monte_carlo(
     result_from_estimates(n, &params, &estimates, integral).or_value_error()
 }
 
-/// The exact integral, energy and label of a built-in integrand.
+/// The exact integral, energy and label of a built-in integrand (string or cell values).
 #[pyfunction]
 #[pyo3(signature = (integrand, dimension=2))]
 fn integrand_facts<'py>(
     py: Python<'py>,
-    integrand: &str,
+    integrand: Bound<'py, PyAny>,
     dimension: usize,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let spec: IntegrandSpec = integrand.parse().or_value_error()?;
-    let f = spec.build(dimension).or_value_error()?;
+    let f = required_integrand(&integrand, dimension)?;
     let facts = PyDict::new(py);
     facts.set_item("label", f.label())?;
     facts.set_item("integral", f.integral())?;
@@ -427,17 +468,16 @@ fn integrand_facts<'py>(
     Ok(facts)
 }
 
-/// A built-in integrand evaluated at points `(N, d)`: an array `(N,)`.
+/// A built-in integrand (string or cell values) evaluated at points `(N, d)`: an array `(N,)`.
 #[pyfunction]
 #[pyo3(signature = (integrand, points))]
 fn evaluate<'py>(
     py: Python<'py>,
-    integrand: &str,
+    integrand: Bound<'py, PyAny>,
     points: PyReadonlyArrayDyn<'py, f64>,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
     let sets = point_sets(&points)?;
-    let spec: IntegrandSpec = integrand.parse().or_value_error()?;
-    let f = spec.build(sets[0].dimension()).or_value_error()?;
+    let f = required_integrand(&integrand, sets[0].dimension())?;
     let values: Vec<f64> = sets
         .iter()
         .flat_map(|s| s.points().map(|x| f.eval(x)))
@@ -456,7 +496,7 @@ fn read_points<'py>(py: Python<'py>, path: std::path::PathBuf) -> PyResult<Bound
     }
     let arrays = sets
         .iter()
-        .map(|s| array_of_sets(py, std::slice::from_ref(s), s.len(), d))
+        .map(|s| PyArray1::from_slice(py, s.coords()).reshape([s.len(), d]))
         .collect::<PyResult<Vec<_>>>()?;
     Ok(PyList::new(py, arrays)?.into_any())
 }
@@ -474,7 +514,9 @@ fn write_points(
     let bytes = match format {
         "text" => specvar::io::write_text(&sets).into_bytes(),
         "binary" => specvar::io::write_utk_binary(&sets).or_value_error()?,
-        "json" => specvar::io::write_json(&sets).or_value_error()?.into_bytes(),
+        "json" => specvar::io::write_json(&sets)
+            .or_value_error()?
+            .into_bytes(),
         other => {
             return Err(PyValueError::new_err(format!(
                 "invalid format: {other} (allowed: text, binary or json)"

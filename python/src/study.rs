@@ -57,12 +57,14 @@ fn config(described: &str) -> PyResult<StudyConfig> {
         ns: c.ns,
         trials: c.trials,
         seed: c.seed,
-        reference: c.reference.map_or(defaults.reference, |r| ReferenceSpectrum {
-            n: r.n,
-            kmax: r.kmax,
-            realizations: r.realizations,
-            costly_realizations: r.costly_realizations,
-        }),
+        reference: c
+            .reference
+            .map_or(defaults.reference, |r| ReferenceSpectrum {
+                n: r.n,
+                kmax: r.kmax,
+                realizations: r.realizations,
+                costly_realizations: r.costly_realizations,
+            }),
         patterns_cache: c.cache.then(specvar::cache::default_dir),
         ..defaults
     })
