@@ -49,7 +49,9 @@ fn direction_numbers(axis: usize) -> [u32; BITS] {
     v
 }
 
-/// The unscrambled 32-bit Sobol coordinate of `index` on one axis.
+/// The unscrambled 32-bit Sobol coordinate of `index` on one axis (sets are drawn by
+/// [`flip_masks`], one XOR per point).
+#[cfg(test)]
 fn sobol_bits(index: u32, v: &[u32; BITS]) -> u32 {
     let mut x = 0;
     let mut i = index;
@@ -64,6 +66,92 @@ fn sobol_bits(index: u32, v: &[u32; BITS]) -> u32 {
     x
 }
 
+/// `c_t = v_0 ^ … ^ v_t`: stepping from index `i - 1` to `i` flips the bits `0 … t` of the
+/// index, `t` its trailing zeros, so `x(i) = x(i - 1) ^ c_t` (one XOR per point).
+fn flip_masks(v: &[u32; BITS]) -> [u32; BITS] {
+    let mut c = [0u32; BITS];
+    let mut acc = 0;
+    for k in 0..BITS {
+        acc ^= v[k];
+        c[k] = acc;
+    }
+    c
+}
+
+/// Levels of the scrambling tree tabulated per set: at most `2^TABLE_LEVELS` entries (4 MiB).
+const TABLE_LEVELS: usize = 20;
+
+/// The flip of node `prefix` at level `b` of the scrambling tree of `key`.
+fn node_flip(key: u64, b: usize, prefix: u64) -> u32 {
+    (splitmix64(key ^ splitmix64(((b as u64) << 32) | prefix)) & 1) as u32
+}
+
+/// The scrambled top `levels` bits for every `levels`-bit prefix: one hash per node of the tree
+/// instead of one per level of every point, with the flips [`owen_scramble`] applies.
+fn scramble_table(key: u64, levels: usize) -> Vec<u32> {
+    let mut table = vec![0u32];
+    for b in 0..levels {
+        let mut next = vec![0u32; 2 << b];
+        for (p, &above) in table.iter().enumerate() {
+            let flip = node_flip(key, b, p as u64);
+            next[2 * p] = (above << 1) | flip;
+            next[2 * p + 1] = (above << 1) | (1 ^ flip);
+        }
+        table = next;
+    }
+    table
+}
+
+/// One axis's scrambling for a set: its key, the levels where the set's prefixes are distinct,
+/// and the tabulated top of the tree.
+struct AxisScramble {
+    key: u64,
+    distinct: usize,
+    tabulated: usize,
+    table: Vec<u32>,
+}
+
+impl AxisScramble {
+    fn new(key: u64, distinct: usize) -> Self {
+        let tabulated = distinct.min(TABLE_LEVELS);
+        Self {
+            key,
+            distinct,
+            tabulated,
+            table: scramble_table(key, tabulated),
+        }
+    }
+
+    /// [`owen_scramble`]`(x, key, distinct)`, its top levels read from the table.
+    fn apply(&self, x: u32) -> u64 {
+        let t = self.tabulated;
+        let mut out = if t == 0 {
+            0
+        } else {
+            (self.table[(x >> (BITS - t)) as usize] as u64) << (53 - t)
+        };
+        for b in t..self.distinct {
+            let bit =
+                ((x >> (BITS - 1 - b)) & 1) ^ node_flip(self.key, b, (x >> (BITS - b)) as u64);
+            out |= (bit as u64) << (53 - 1 - b);
+        }
+        out | uniform_tail(x, self.key, self.distinct)
+    }
+}
+
+/// The scrambled bits below level `distinct`: independent uniform bits from one hash of the
+/// point's prefix (see [`owen_scramble`]).
+fn uniform_tail(x: u32, key: u64, distinct: usize) -> u64 {
+    let prefix = if distinct == 0 {
+        0
+    } else {
+        (x >> (BITS - distinct)) as u64
+    };
+    let below = 53 - distinct;
+    let uniform = splitmix64(key ^ 0x5EED ^ splitmix64(((distinct as u64) << 40) | prefix));
+    uniform >> (64 - below)
+}
+
 /// Owen scrambling of a 32-bit fraction, extended to 53 bits: bit `b` (from the top) is
 /// flipped by a random bit that depends on the key and on all the bits above it, i.e. one
 /// independent flip per node of the binary tree of elementary intervals; the bits below 2^-32
@@ -73,22 +161,18 @@ fn sobol_bits(index: u32, v: &[u32; BITS]) -> u32 {
 /// points of a Sobol axis have distinct `L`-bit prefixes), so each of its flips there is an
 /// independent uniform bit of its own node: the scrambled bits below that level are independent
 /// uniform bits, drawn from one hash of the point's prefix instead of one hash per level.
+///
+/// This per-level form defines the scrambling; sets are drawn with [`AxisScramble`], which
+/// tabulates the top of the tree and gives the same bits.
+#[cfg(test)]
 fn owen_scramble(x: u32, key: u64, distinct: usize) -> u64 {
     let mut out = 0u64;
     for b in 0..distinct {
         let prefix = if b == 0 { 0 } else { (x >> (BITS - b)) as u64 };
-        let node = splitmix64(key ^ splitmix64(((b as u64) << 32) | prefix));
-        let bit = ((x >> (BITS - 1 - b)) & 1) ^ (node & 1) as u32;
+        let bit = ((x >> (BITS - 1 - b)) & 1) ^ node_flip(key, b, prefix);
         out |= (bit as u64) << (53 - 1 - b);
     }
-    let prefix = if distinct == 0 {
-        0
-    } else {
-        (x >> (BITS - distinct)) as u64
-    };
-    let below = 53 - distinct;
-    let uniform = splitmix64(key ^ 0x5EED ^ splitmix64(((distinct as u64) << 40) | prefix));
-    out | uniform >> (64 - below)
+    out | uniform_tail(x, key, distinct)
 }
 
 /// The first N points of the Sobol sequence (Joe–Kuo directions, up to 8 axes) with Owen
@@ -132,16 +216,26 @@ impl Sampler for Sobol {
         self.check_count(n)?;
         let d = self.dimension;
         let base = splitmix64(seed ^ splitmix64(realization ^ ((Stream::Points as u64) << 56)));
-        let axes: Vec<([u32; BITS], u64)> = (0..d)
-            .map(|a| (direction_numbers(a), splitmix64(base ^ a as u64)))
-            .collect();
         // Levels at which the N points' prefixes are all distinct: ⌈log2 N⌉ and below.
-        let distinct = (usize::BITS - (n - 1).leading_zeros()) as usize;
+        let distinct = ((usize::BITS - (n - 1).leading_zeros()) as usize).min(BITS);
+        let axes: Vec<([u32; BITS], AxisScramble)> = (0..d)
+            .map(|a| {
+                let key = splitmix64(base ^ a as u64);
+                (
+                    flip_masks(&direction_numbers(a)),
+                    AxisScramble::new(key, distinct),
+                )
+            })
+            .collect();
+        let mut x = [0u32; MAX_DIMENSION];
         let mut coords = Vec::with_capacity(n * d);
         for i in 0..n as u32 {
-            for (v, key) in &axes {
+            for (a, (masks, scramble)) in axes.iter().enumerate() {
+                if i > 0 {
+                    x[a] ^= masks[i.trailing_zeros() as usize];
+                }
                 // 53 bits, strictly below 1.
-                let bits = owen_scramble(sobol_bits(i, v), *key, distinct.min(BITS));
+                let bits = scramble.apply(x[a]);
                 coords.push(bits as f64 / (1u64 << 53) as f64);
             }
         }
@@ -161,5 +255,38 @@ mod tests {
             .map(|i| sobol_bits(i, &v) as f64 / 2f64.powi(32))
             .collect();
         assert_eq!(got, vec![0.0, 0.5, 0.75, 0.25, 0.625, 0.125, 0.375, 0.875]);
+    }
+
+    #[test]
+    fn stepping_by_flip_masks_is_the_direct_sum() {
+        for axis in 0..MAX_DIMENSION {
+            let v = direction_numbers(axis);
+            let masks = flip_masks(&v);
+            let mut x = 0u32;
+            for i in 0..5000u32 {
+                if i > 0 {
+                    x ^= masks[i.trailing_zeros() as usize];
+                }
+                assert_eq!(x, sobol_bits(i, &v), "axis {axis}, index {i}");
+            }
+        }
+    }
+
+    #[test]
+    fn the_tabulated_tree_scrambles_as_the_per_level_form() {
+        let mut state = 7u64;
+        for distinct in [0, 1, 2, 7, 12, TABLE_LEVELS, TABLE_LEVELS + 3, BITS] {
+            let key = splitmix64(distinct as u64 + 11);
+            let scramble = AxisScramble::new(key, distinct);
+            for _ in 0..2000 {
+                state = splitmix64(state);
+                let x = state as u32;
+                assert_eq!(
+                    scramble.apply(x),
+                    owen_scramble(x, key, distinct),
+                    "{distinct}"
+                );
+            }
+        }
     }
 }
