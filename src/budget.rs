@@ -16,11 +16,16 @@ pub struct Budget {
     pub work_seconds: f64,
 }
 
+/// The default memory budget: 8 GiB.
+pub const DEFAULT_MEMORY_BYTES: f64 = 8.0 * GIB;
+/// The default work budget: one hour of one core.
+pub const DEFAULT_WORK_SECONDS: f64 = 3600.0;
+
 impl Default for Budget {
     fn default() -> Self {
         Self {
-            memory_bytes: 8.0 * GIB,
-            work_seconds: 3600.0,
+            memory_bytes: DEFAULT_MEMORY_BYTES,
+            work_seconds: DEFAULT_WORK_SECONDS,
         }
     }
 }

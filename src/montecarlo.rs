@@ -282,13 +282,7 @@ fn check_sampler_run(
         check(sampler.dimension(), *f, params)?;
     }
     sampler.check_count(n)?;
-    let pattern = match sampler.kind() {
-        Some(kind) => kind.pattern_needs(n, sampler.dimension()),
-        None => crate::budget::Needs {
-            memory_bytes: (n * sampler.dimension() * 32) as f64,
-            work_seconds: n as f64 * 1e-6,
-        },
-    };
+    let pattern = crate::sampler::pattern_needs(sampler, n);
     let run = McParams {
         patterns,
         ..*params

@@ -48,6 +48,7 @@ __all__ = [
     "read_points",
     "sample",
     "samplers",
+    "set_budget",
     "spectrum",
     "study",
     "tabulate",
@@ -95,6 +96,13 @@ class SamplerInfo:
     deterministic: bool
     isotropic: bool
     known_alpha: Optional[float]
+
+
+def set_budget(memory_gib: Optional[float] = None, seconds: Optional[float] = None) -> tuple:
+    """What one call may spend, checked before it starts (default 8 GiB and one hour of one
+    core's work, as on the command line): a call above it raises ``ValueError`` saying what it
+    would need. Returns the budget in force as ``(GiB, seconds)``."""
+    return _specvar.set_budget(memory_gib, seconds)
 
 
 def samplers() -> list[SamplerInfo]:

@@ -6,6 +6,7 @@ import numpy as np
 
 __version__: str
 
+def set_budget(memory_gib: Optional[float] = None, seconds: Optional[float] = None) -> tuple[float, float]: ...
 def samplers() -> list[dict[str, Any]]: ...
 def sample(
     sampler: str,

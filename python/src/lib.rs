@@ -12,6 +12,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use rayon::prelude::*;
+use specvar::budget::{Budget, DEFAULT_MEMORY_BYTES, DEFAULT_WORK_SECONDS};
 use specvar::integrand::{GridIntegrand, Integrand, IntegrandSpec};
 use specvar::montecarlo::{
     empirical_variances, empirical_variances_of_sets, result_from_estimates, shifted_pattern,
@@ -19,13 +20,56 @@ use specvar::montecarlo::{
 };
 use specvar::pointset::PointSet;
 use specvar::predict::{predict as predict_variance, PredictParams, Problem};
-use specvar::sampler::{homogenize, Sampler, SamplerKind};
+use specvar::sampler::{draw_realizations, Sampler, SamplerKind};
 use specvar::spectrum::{
     estimate_with_progress, statistical_tolerance, Engine, PatternSource, SpectrumParams,
 };
 
 /// Memory for costly samplers' patterns kept between calls of one sampler object.
 const PATTERN_MEMORY: usize = 256 << 20;
+
+/// What one call may spend, checked before it starts (the command line's `--budget-memory`
+/// and `--budget-seconds`); [`set_budget`] changes it for the process.
+static BUDGET: std::sync::RwLock<Budget> = std::sync::RwLock::new(Budget {
+    memory_bytes: DEFAULT_MEMORY_BYTES,
+    work_seconds: DEFAULT_WORK_SECONDS,
+});
+
+/// The budget now in force.
+pub(crate) fn budget() -> Budget {
+    *BUDGET
+        .read()
+        .unwrap_or_else(|poisoned| poisoned.into_inner())
+}
+
+/// Sets what one call may spend: memory in GiB and work in seconds of one core (each left as
+/// it is when `None`); returns the budget in force afterwards as `(GiB, seconds)`.
+#[pyfunction]
+#[pyo3(signature = (memory_gib=None, seconds=None))]
+fn set_budget(memory_gib: Option<f64>, seconds: Option<f64>) -> PyResult<(f64, f64)> {
+    let positive = |name: &str, v: f64| {
+        if v.is_finite() && v > 0.0 {
+            Ok(v)
+        } else {
+            Err(PyValueError::new_err(format!(
+                "invalid {name}: {v} (a positive number)"
+            )))
+        }
+    };
+    let mut b = budget();
+    if let Some(gib) = memory_gib {
+        b.memory_bytes = positive("budget memory", gib)? * GIB;
+    }
+    if let Some(s) = seconds {
+        b.work_seconds = positive("budget seconds", s)?;
+    }
+    *BUDGET
+        .write()
+        .unwrap_or_else(|poisoned| poisoned.into_inner()) = b;
+    Ok((b.memory_bytes / GIB, b.work_seconds))
+}
+
+const GIB: f64 = (1u64 << 30) as f64;
 
 /// A sampler by name in dimension `d`, its costly patterns read from and written to the cache
 /// directory when `cache` is set (the same bits either way).
@@ -149,24 +193,12 @@ fn sample<'py>(
     cache: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     let s = build_sampler(sampler, dimension, cache).or_value_error()?;
-    s.check_count(n).or_value_error()?;
-    let count = realizations as u64;
-    let end = start.checked_add(count).ok_or_else(|| {
+    let end = start.checked_add(realizations as u64).ok_or_else(|| {
         PyValueError::new_err("start + realizations overflows a 64-bit realization index")
     })?;
+    let b = budget();
     let sets = py
-        .detach(|| {
-            (start..end)
-                .into_par_iter()
-                .map(|r| {
-                    let mut set = s.sample(n, seed, r)?;
-                    if homogenized {
-                        homogenize(&mut set, seed, r);
-                    }
-                    Ok(set)
-                })
-                .collect::<specvar::Result<Vec<_>>>()
-        })
+        .detach(|| draw_realizations(s.as_ref(), n, seed, start..end, homogenized, &b))
         .or_value_error()?;
     array_of_sets(py, &sets, n, dimension)
 }
@@ -245,7 +277,7 @@ fn spectrum<'py>(
         seed,
         engine: self::engine(engine, tolerance, source.n(), m)?,
         bin_width,
-        ..Default::default()
+        budget: budget(),
     };
     let estimate = py
         .detach(|| {
@@ -293,6 +325,7 @@ fn predict<'py>(
         reference_n,
         kmax,
         seed,
+        budget: budget(),
         ..Default::default()
     };
     let prediction = py
@@ -367,6 +400,7 @@ fn builtin_monte_carlo(
     py.detach(|| match source {
         Source::Sampler(kind, s, n) => {
             let mut params = McParams::pooled(*kind, trials, seed, homogenized);
+            params.budget = budget();
             if let Some(shifts) = shifts {
                 params.shifts = shifts;
                 params.patterns = trials / shifts.max(1);
@@ -379,7 +413,7 @@ fn builtin_monte_carlo(
                 shifts: shifts.unwrap_or((trials / sets.len()).max(1)),
                 seed,
                 homogenize: homogenized,
-                ..Default::default()
+                budget: budget(),
             };
             empirical_variances_of_sets(sets, &[f], &params, silent)
         }
@@ -411,9 +445,21 @@ fn callable_monte_carlo(
         shifts: 1,
         seed,
         homogenize: homogenized,
-        ..Default::default()
+        budget: budget(),
     };
     let (n, d) = (source.n(), source.dimension());
+    if let Source::Sampler(_, s, _) = source {
+        // The patterns' cost; the function's own is the caller's to judge.
+        let one = specvar::sampler::pattern_needs(s.as_ref(), n);
+        let needs = specvar::budget::Needs {
+            memory_bytes: CALLABLE_BLOCK as f64 * (n * d * 16) as f64 + one.memory_bytes,
+            work_seconds: patterns as f64 * one.work_seconds,
+        };
+        params
+            .budget
+            .check("the Monte Carlo run", needs, "lower the trials or N")
+            .or_value_error()?;
+    }
     let mut estimates = Vec::with_capacity(patterns);
     for first in (0..patterns).step_by(CALLABLE_BLOCK) {
         let last = (first + CALLABLE_BLOCK).min(patterns);
@@ -529,6 +575,7 @@ fn write_points(
 /// The module.
 #[pymodule]
 fn _specvar(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(set_budget, m)?)?;
     m.add_function(wrap_pyfunction!(samplers, m)?)?;
     m.add_function(wrap_pyfunction!(sample, m)?)?;
     m.add_function(wrap_pyfunction!(periodogram, m)?)?;

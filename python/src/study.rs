@@ -66,6 +66,10 @@ fn config(described: &str) -> PyResult<StudyConfig> {
                 costly_realizations: r.costly_realizations,
             }),
         patterns_cache: c.cache.then(specvar::cache::default_dir),
+        predict: specvar::predict::PredictParams {
+            budget: crate::budget(),
+            ..defaults.predict
+        },
         ..defaults
     })
 }

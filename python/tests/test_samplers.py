@@ -58,3 +58,17 @@ def test_errors_are_value_errors_with_the_command_lines_message(cli, args, kwarg
     # The library's message is the line's end: after "error: ", or after the name of the
     # argument where the command line's parser called the library to read it.
     assert line.endswith(": " + str(raised.value)), (line, str(raised.value))
+
+
+def test_work_beyond_the_budget_is_refused_before_it_starts():
+    try:
+        assert specvar.set_budget(memory_gib=0.001) == (0.001, 3600.0)
+        with pytest.raises(ValueError, match="sampling would need 244 MiB, above the budget of 1 MiB"):
+            specvar.sample("random", 4_000_000)
+        assert specvar.sample("random", 1000).shape == (1, 1000, 2)
+    finally:
+        specvar.set_budget(memory_gib=8.0)
+    with pytest.raises(ValueError, match="sampling would need"):
+        specvar.sample("random", 10**9, realizations=10**6)
+    with pytest.raises(ValueError, match="positive"):
+        specvar.set_budget(seconds=float("nan"))

@@ -86,6 +86,73 @@ pub trait Sampler: Send + Sync {
     }
 }
 
+/// What one pattern of `sampler` at `n` points costs: its kind's model
+/// ([`SamplerKind::pattern_needs`]), or for a sampler of one's own a generous guess (32 bytes
+/// and a microsecond a point).
+pub fn pattern_needs(sampler: &dyn Sampler, n: usize) -> crate::budget::Needs {
+    match sampler.kind() {
+        Some(kind) => kind.pattern_needs(n, sampler.dimension()),
+        None => crate::budget::Needs {
+            memory_bytes: (n * sampler.dimension() * 32) as f64,
+            work_seconds: n as f64 * 1e-6,
+        },
+    }
+}
+
+/// Realizations `realizations` of `seed` at `n` points, drawn in parallel (the same bits as
+/// one by one) and homogenized if asked ([`homogenize`], keyed by the same pair), after
+/// checking their memory and work against `budget`.
+///
+/// # Errors
+/// A count the sampler cannot draw, no realizations, a budget the sets would exceed, or a
+/// sampler error.
+///
+/// # Examples
+/// ```
+/// use specvar::budget::Budget;
+/// use specvar::sampler::{draw_realizations, Jitter, Sampler};
+/// let jitter = Jitter::new(2)?;
+/// let sets = draw_realizations(&jitter, 16, 3, 4..6, false, &Budget::default())?;
+/// assert_eq!(sets[1], jitter.sample(16, 3, 5)?);
+/// # Ok::<(), specvar::Error>(())
+/// ```
+pub fn draw_realizations(
+    sampler: &dyn Sampler,
+    n: usize,
+    seed: u64,
+    realizations: std::ops::Range<u64>,
+    homogenized: bool,
+    budget: &crate::budget::Budget,
+) -> Result<Vec<PointSet>> {
+    use rayon::prelude::*;
+    sampler.check_count(n)?;
+    if realizations.is_empty() {
+        return Err(crate::error::invalid(
+            "realizations",
+            realizations.end.saturating_sub(realizations.start),
+            "at least 1",
+        ));
+    }
+    let one = pattern_needs(sampler, n);
+    let m = (realizations.end - realizations.start) as f64;
+    let threads = rayon::current_num_threads().max(1) as f64;
+    let needs = crate::budget::Needs {
+        memory_bytes: m * (n * sampler.dimension() * 8) as f64 + threads * one.memory_bytes,
+        work_seconds: m * one.work_seconds,
+    };
+    budget.check("sampling", needs, "lower N or the realizations")?;
+    realizations
+        .into_par_iter()
+        .map(|r| {
+            let mut set = sampler.sample(n, seed, r)?;
+            if homogenized {
+                homogenize(&mut set, seed, r);
+            }
+            Ok(set)
+        })
+        .collect()
+}
+
 /// Errors unless `d` lies in `supported`.
 pub(crate) fn check_supported(
     sampler: &'static str,

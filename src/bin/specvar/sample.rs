@@ -1,6 +1,6 @@
 //! `specvar sample`: point sets as UTK text, UTK binary or JSON.
 
-use specvar::sampler::{Homogenized, Sampler, SamplerKind};
+use specvar::sampler::{draw_realizations, SamplerKind};
 use specvar::Result;
 use std::path::PathBuf;
 
@@ -38,31 +38,22 @@ pub struct Args {
 
 /// Writes the realizations.
 pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
-    if args.realizations == 0 {
-        return Err(specvar::Error::InvalidParameter {
-            name: "realizations",
-            value: "0".into(),
-            allowed: "at least 1".into(),
-        });
-    }
-    // Every realization is held, then formatted at about 25 bytes a coordinate.
-    let one = args.sampler.pattern_needs(args.n, args.dimension);
-    let m = args.realizations as f64;
-    let needs = specvar::budget::Needs {
-        memory_bytes: one.memory_bytes + m * (args.n * args.dimension) as f64 * (8.0 + 25.0),
-        work_seconds: m * one.work_seconds,
-    };
-    ctx.budget
-        .check("sampling", needs, "lower N or the realizations")?;
-    let inner = ctx.sampler(args.sampler, args.dimension)?;
-    let sampler: Box<dyn Sampler> = if args.homogenize {
-        Box::new(Homogenized::new(inner))
-    } else {
-        inner
-    };
-    let sets = (0..args.realizations)
-        .map(|r| sampler.sample(args.n, args.seed, r))
-        .collect::<Result<Vec<_>>>()?;
+    // Formatted text takes about 25 bytes a coordinate besides the sets the library holds.
+    let text = args.realizations as f64 * args.n as f64 * args.dimension as f64 * 25.0;
+    ctx.budget.check(
+        "writing the points",
+        specvar::budget::Needs::memory(text),
+        "lower N or the realizations",
+    )?;
+    let sampler = ctx.sampler(args.sampler, args.dimension)?;
+    let sets = draw_realizations(
+        sampler.as_ref(),
+        args.n,
+        args.seed,
+        0..args.realizations,
+        args.homogenize,
+        &ctx.budget,
+    )?;
     if args.binary {
         let bytes = specvar::io::write_utk_binary(&sets)?;
         let path = args
