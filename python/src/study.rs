@@ -70,7 +70,6 @@ fn config(described: &str) -> PyResult<StudyConfig> {
             budget: crate::budget(),
             ..defaults.predict
         },
-        ..defaults
     })
 }
 
