@@ -60,6 +60,15 @@ fn samplers(c: &mut Criterion) {
         b.iter(|| black_box(ccvt.sample(4096, 1, 0).unwrap()))
     });
     g.finish();
+    let mut g = c.benchmark_group("gbn_2d");
+    g.sample_size(10).measurement_time(Duration::from_secs(10));
+    let gbn = SamplerKind::GaussianBlueNoise.build(2).unwrap();
+    for n in [1024, 4096] {
+        g.bench_function(format!("gbn_{n}"), |b| {
+            b.iter(|| black_box(gbn.sample(n, 1, 0).unwrap()))
+        });
+    }
+    g.finish();
 }
 
 criterion_group!(benches, samplers);

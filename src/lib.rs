@@ -31,7 +31,7 @@
 //!
 //! ## Map of the crate
 //!
-//! - [`sampler`]: sixteen samplers behind one [`Sampler`] trait, keyed by (seed, realization),
+//! - [`sampler`]: seventeen samplers behind one [`Sampler`] trait, keyed by (seed, realization),
 //!   from white noise to PMJ02, rank-1 lattices and the Kronecker sequence; [`SamplerKind`]
 //!   holds every fact about each (closed form, scale invariance, isotropy, cost, N rule);
 //!   [`sampler::Homogenized`] adds the random shift.

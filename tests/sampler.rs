@@ -475,3 +475,72 @@ fn pmj02_prefixes_of_powers_of_two_are_0k2_nets() {
         );
     }
 }
+
+#[test]
+fn gaussian_blue_noise_descends_its_energy() {
+    for d in 1..=3 {
+        let n = [64, 256, 512][d - 1];
+        let energies: Vec<f64> = [1, 3, 10, 30, 100]
+            .iter()
+            .map(|&iterations| {
+                let params = GbnParams {
+                    iterations,
+                    ..Default::default()
+                };
+                let s = GaussianBlueNoise::with_params(d, params).unwrap();
+                s.energy(&s.sample(n, 4, 1).unwrap())
+            })
+            .collect();
+        for w in energies.windows(2) {
+            assert!(w[1] < w[0], "d={d}: energy rose: {energies:?}");
+        }
+        let s = GaussianBlueNoise::new(d).unwrap();
+        let white = s.energy(&Random::new(d).unwrap().sample(n, 4, 1).unwrap());
+        assert!(energies[4] < white, "d={d}: {energies:?} against {white}");
+        if d == 1 {
+            // In 1D the minimum is the regular lattice's, N Σ_{0<|m|<4c} exp(-m²/(2c²)) at width
+            // c spacings (the energy counts pairs closer than 4σ); the descent from jitter
+            // reaches it to within its last few steps' gain.
+            let c = specvar::sampler::GbnParams::default().sigma;
+            let lattice: f64 = (1..)
+                .take_while(|&m| (m as f64) < 4.0 * c)
+                .map(|m| 2.0 * n as f64 * (-(m * m) as f64 / (2.0 * c * c)).exp())
+                .sum();
+            let last_gain = energies[3] - energies[4];
+            assert!(
+                energies[4] >= lattice * (1.0 - 1e-12),
+                "{energies:?} below {lattice}"
+            );
+            assert!(energies[4] - lattice < 10.0 * last_gain.max(1e-3 * lattice));
+        }
+    }
+}
+
+#[test]
+fn gaussian_blue_noise_is_spread_and_the_same_on_any_thread_count() {
+    let s = GaussianBlueNoise::new(2).unwrap();
+    let p = s.sample(256, 1, 0).unwrap();
+    assert!(p.min_toroidal_distance() > 0.5 * max_packing_radius(2, 256));
+    let serial = s.sample(300, 2, 5).unwrap();
+    let threaded = common::assert_thread_count_invariant(|| s.sample(300, 2, 5).unwrap());
+    assert_eq!(serial, threaded);
+}
+
+/// Gaussian blue noise is blue noise without crystals: its spectrum stays suppressed beyond the
+/// hexagonal lattice's Nyquist frequency, and its peak stays far below a lattice's Bragg
+/// peaks (whose power grows with N).
+#[test]
+fn gaussian_blue_noise_has_a_wide_zero_region_and_no_crystal_peak() {
+    use specvar::metrics::{effective_nyquist, hexagonal_nyquist};
+    use specvar::spectrum::{estimate, SpectrumParams};
+    let params = SpectrumParams {
+        kmax: 64,
+        realizations: 16,
+        ..Default::default()
+    };
+    let e = estimate(&GaussianBlueNoise::new(2).unwrap(), 1024, &params).unwrap();
+    let nu = effective_nyquist(&e.radial).unwrap();
+    assert!(nu > hexagonal_nyquist(), "ν_eff = {nu}");
+    let peak = e.radial.bins.iter().map(|b| b.power).fold(0.0, f64::max);
+    assert!(peak < 3.0, "peak {peak}");
+}

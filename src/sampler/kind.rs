@@ -1,9 +1,9 @@
 //! Every sampler this crate provides, and every fact about each one, in one place.
 
 use super::{
-    Ccvt, CorrelatedMultiJitter, GaussianJitter, Halton, Jitter, Kronecker, LatinHypercube,
-    LatticeRule, MultiJitter, Pmj02, PoissonDisk, PoissonMethod, Random, Rank1Lattice, Regular,
-    Sampler, Sobol,
+    Ccvt, CorrelatedMultiJitter, GaussianBlueNoise, GaussianJitter, Halton, Jitter, Kronecker,
+    LatinHypercube, LatticeRule, MultiJitter, Pmj02, PoissonDisk, PoissonMethod, Random,
+    Rank1Lattice, Regular, Sampler, Sobol,
 };
 use crate::budget::Needs;
 use crate::error::{Error, Result};
@@ -48,6 +48,8 @@ pub enum SamplerKind {
     Pmj02,
     /// Multi-jittered (2D), independent shuffles.
     MultiJitter,
+    /// Gaussian blue noise: descent of a Gaussian-kernel energy.
+    GaussianBlueNoise,
 }
 
 /// How a sampler's expected spectrum depends on N: whether one spectrum, estimated at a
@@ -87,7 +89,7 @@ const COSTLY_NS: f64 = 10_000.0;
 
 impl SamplerKind {
     /// All kinds, in display order.
-    pub const ALL: [SamplerKind; 16] = [
+    pub const ALL: [SamplerKind; 17] = [
         SamplerKind::Random,
         SamplerKind::Regular,
         SamplerKind::Jitter,
@@ -95,6 +97,7 @@ impl SamplerKind {
         SamplerKind::PoissonDisk,
         SamplerKind::Bridson,
         SamplerKind::Ccvt,
+        SamplerKind::GaussianBlueNoise,
         SamplerKind::LatinHypercube,
         SamplerKind::Halton,
         SamplerKind::Sobol,
@@ -125,6 +128,7 @@ impl SamplerKind {
             SamplerKind::Kronecker => "kronecker",
             SamplerKind::Pmj02 => "pmj02",
             SamplerKind::MultiJitter => "mj",
+            SamplerKind::GaussianBlueNoise => "gbn",
         }
     }
 
@@ -160,13 +164,19 @@ impl SamplerKind {
             SamplerKind::MultiJitter => {
                 "multi-jittered (Chiu et al. 1994): jittered and N-rooks, independent shuffles"
             }
+            SamplerKind::GaussianBlueNoise => {
+                "Gaussian blue noise (after Ahmed et al. 2022): descent of a Gaussian-kernel energy"
+            }
         }
     }
 
     /// The dimensions this sampler supports.
     pub fn dimensions(self) -> RangeInclusive<usize> {
         match self {
-            SamplerKind::PoissonDisk | SamplerKind::Bridson | SamplerKind::Ccvt => 1..=3,
+            SamplerKind::PoissonDisk
+            | SamplerKind::Bridson
+            | SamplerKind::Ccvt
+            | SamplerKind::GaussianBlueNoise => 1..=3,
             SamplerKind::Cmj
             | SamplerKind::MultiJitter
             | SamplerKind::Pmj02
@@ -263,7 +273,8 @@ impl SamplerKind {
             SamplerKind::Random
             | SamplerKind::PoissonDisk
             | SamplerKind::Bridson
-            | SamplerKind::Ccvt => Scaling::Invariant,
+            | SamplerKind::Ccvt
+            | SamplerKind::GaussianBlueNoise => Scaling::Invariant,
             SamplerKind::Jitter => Scaling::PerfectPowers,
             SamplerKind::Regular
             | SamplerKind::LatinHypercube
@@ -297,6 +308,7 @@ impl SamplerKind {
                 | SamplerKind::PoissonDisk
                 | SamplerKind::Bridson
                 | SamplerKind::Ccvt
+                | SamplerKind::GaussianBlueNoise
         )
     }
 
@@ -310,6 +322,7 @@ impl SamplerKind {
             | SamplerKind::PoissonDisk
             | SamplerKind::Bridson
             | SamplerKind::Ccvt
+            | SamplerKind::GaussianBlueNoise
             | SamplerKind::LatinHypercube => true,
             SamplerKind::Jitter | SamplerKind::Regular | SamplerKind::GaussianJitter => {
                 super::perfect_root(n, d).is_some()
@@ -342,6 +355,7 @@ impl SamplerKind {
             SamplerKind::PoissonDisk => 4_500.0,
             SamplerKind::Bridson => 8_400.0,
             SamplerKind::Ccvt => 190_000.0,
+            SamplerKind::GaussianBlueNoise => 180_000.0,
         }
     }
 
@@ -463,6 +477,7 @@ impl SamplerKind {
             SamplerKind::Kronecker => Box::new(Kronecker::new(d)?),
             SamplerKind::Pmj02 => Box::new(Pmj02::new(d)?),
             SamplerKind::MultiJitter => Box::new(MultiJitter::new(d)?),
+            SamplerKind::GaussianBlueNoise => Box::new(GaussianBlueNoise::new(d)?),
         })
     }
 

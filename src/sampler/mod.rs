@@ -7,6 +7,7 @@
 mod ccvt;
 mod cmj;
 mod gaussian_jitter;
+mod gbn;
 mod halton;
 mod homogenize;
 mod jitter;
@@ -27,6 +28,7 @@ pub use cmj::CorrelatedMultiJitter;
 pub use gaussian_jitter::{
     GaussianJitter, DEFAULT_GAUSSIAN_WIDTH, MAX_GAUSSIAN_WIDTH, MIN_GAUSSIAN_WIDTH,
 };
+pub use gbn::{GaussianBlueNoise, GbnParams};
 pub use halton::Halton;
 pub use homogenize::{homogenize, homogenizing_shift, Homogenized};
 pub use jitter::Jitter;

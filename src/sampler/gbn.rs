@@ -1,0 +1,292 @@
+//! Gaussian blue noise: points that descend a Gaussian-kernel energy on the torus (after Ahmed,
+//! Ren and Wonka 2022, "Gaussian Blue Noise").
+//!
+//! The energy of a pattern is `E = Σ_{i≠j} exp(-|x_i - x_j|² / (2σ²))` with toroidal
+//! distances and `σ = c · N^{-1/d}` a fixed fraction of the mean spacing. Its gradient pushes
+//! every point away from its neighbours, most strongly from the nearest; gradient descent from
+//! white noise (jitter in 1D) spreads the points evenly while the kernel's short reach and the
+//! few steps leave the pattern without long-range order. Each step moves every point from the same old positions (a Jacobi
+//! step), so a pattern is the same bits for any thread count.
+
+use super::{check_positive, check_supported, uniform, Sampler, SamplerKind};
+use crate::error::{invalid, Result};
+use crate::pointset::{toroidal_delta, wrap, PointSet, MAX_DIMENSION};
+use crate::rng::{realization_rng, Stream};
+use rayon::prelude::*;
+
+/// The kernel is cut where it falls below `exp(-CUTOFF_SIGMAS² / 2)` (3e-4 of its peak).
+const CUTOFF_SIGMAS: f64 = 4.0;
+
+/// Parameters of the descent.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GbnParams {
+    /// The kernel's standard deviation in mean spacings `N^{-1/d}`.
+    pub sigma: f64,
+    /// Gradient steps.
+    pub iterations: usize,
+    /// The step, relative to the kernel's mass: a point moves by
+    /// `(step / S) Σ_j (x_i - x_j) exp(-|x_i - x_j|²/(2σ²))`, with `S = (2π)^{d/2} c^d` the
+    /// continuum value of `Σ_j exp(…)` at width `c` spacings, so that the same step is as
+    /// stable in every dimension and at every width (the descent oscillates above about 2.5).
+    pub step: f64,
+}
+
+impl Default for GbnParams {
+    fn default() -> Self {
+        Self {
+            sigma: DEFAULT_SIGMA,
+            iterations: DEFAULT_ITERATIONS,
+            step: DEFAULT_STEP,
+        }
+    }
+}
+
+/// The default kernel width, in spacings (see `docs/theory.md` for the measured choice).
+pub const DEFAULT_SIGMA: f64 = 0.9;
+/// The default number of gradient steps.
+pub const DEFAULT_ITERATIONS: usize = 100;
+/// The default step.
+pub const DEFAULT_STEP: f64 = 2.0;
+
+/// Gaussian blue noise in 1 to 3 dimensions, any N.
+#[derive(Debug, Clone, Copy)]
+pub struct GaussianBlueNoise {
+    dimension: usize,
+    params: GbnParams,
+}
+
+impl GaussianBlueNoise {
+    /// Gaussian blue noise in dimension `d` (1 to 3) with the default parameters.
+    ///
+    /// # Errors
+    /// An unsupported dimension.
+    pub fn new(d: usize) -> Result<Self> {
+        Self::with_params(d, GbnParams::default())
+    }
+
+    /// Gaussian blue noise with the given parameters.
+    ///
+    /// # Errors
+    /// An unsupported dimension, a width outside 0.1–2 spacings, no iterations, or a step
+    /// outside (0, 2.5].
+    pub fn with_params(d: usize, params: GbnParams) -> Result<Self> {
+        check_supported("gbn", d, 1..=3)?;
+        if !(0.1..=2.0).contains(&params.sigma) {
+            return Err(invalid("GBN sigma", params.sigma, "0.1 to 2 spacings"));
+        }
+        if params.iterations == 0 || params.iterations > 100_000 {
+            return Err(invalid("GBN iterations", params.iterations, "1 to 100000"));
+        }
+        if !(params.step > 0.0 && params.step <= 2.5) {
+            return Err(invalid("GBN step", params.step, "in (0, 2.5]"));
+        }
+        Ok(Self {
+            dimension: d,
+            params,
+        })
+    }
+}
+
+impl GaussianBlueNoise {
+    /// The energy `Σ_{i≠j} exp(-|x_i - x_j|²/(2σ²))` over the pairs closer than `4σ` (the
+    /// kernel's cut-off) that the descent lowers, at this sampler's width for `points.len()` points.
+    pub fn energy(&self, points: &PointSet) -> f64 {
+        let (n, d) = (points.len(), points.dimension());
+        let sigma = self.params.sigma * (n as f64).powf(-1.0 / d as f64);
+        let mut cells = Cells::new(d, CUTOFF_SIGMAS * sigma, n);
+        let x = points.coords();
+        cells.sort(x);
+        let inv = -1.0 / (2.0 * sigma * sigma);
+        let cut2 = cells.reach * cells.reach;
+        (0..n)
+            .map(|i| {
+                let xi = &x[i * d..(i + 1) * d];
+                let mut e = 0.0;
+                cells.for_each_near(xi, |j| {
+                    let r2: f64 = (0..d)
+                        .map(|a| toroidal_delta(xi[a], x[j * d + a]).powi(2))
+                        .sum();
+                    if j != i && r2 < cut2 {
+                        e += (r2 * inv).exp();
+                    }
+                });
+                e
+            })
+            .sum()
+    }
+}
+
+impl Sampler for GaussianBlueNoise {
+    fn name(&self) -> &'static str {
+        "gbn"
+    }
+    fn dimension(&self) -> usize {
+        self.dimension
+    }
+    fn kind(&self) -> Option<SamplerKind> {
+        Some(SamplerKind::GaussianBlueNoise)
+    }
+    fn check_count(&self, n: usize) -> Result<()> {
+        check_positive(self.name(), self.dimension, n)?;
+        if n > u32::MAX as usize {
+            return Err(invalid("N", n, "at most 2^32 - 1 for gbn"));
+        }
+        Ok(())
+    }
+    fn sample(&self, n: usize, seed: u64, realization: u64) -> Result<PointSet> {
+        self.check_count(n)?;
+        let d = self.dimension;
+        let mut rng = realization_rng(seed, realization, Stream::Points);
+        let mut x: Vec<f64> = (0..n * d).map(|_| uniform(&mut rng)).collect();
+        if d == 1 {
+            // The descent relaxes a mode of wavelength 1/k in about (N/k)² steps: in 1D, where
+            // the lowest modes would keep white noise's power, start from jitter instead.
+            for (i, xi) in x.iter_mut().enumerate() {
+                *xi = (i as f64 + *xi) / n as f64;
+            }
+        }
+        let sigma = self.params.sigma * (n as f64).powf(-1.0 / d as f64);
+        let mass =
+            (2.0 * std::f64::consts::PI).powf(d as f64 / 2.0) * self.params.sigma.powi(d as i32);
+        let step = self.params.step / mass;
+        let mut cells = Cells::new(d, CUTOFF_SIGMAS * sigma, n);
+        let mut next = vec![0.0; n * d];
+        for _ in 0..self.params.iterations {
+            cells.sort(&x);
+            descend(&x, &cells, sigma, step, &mut next);
+            std::mem::swap(&mut x, &mut next);
+        }
+        PointSet::new(d, x)
+    }
+}
+
+/// One Jacobi step: every point's new position from the old ones.
+fn descend(x: &[f64], cells: &Cells, sigma: f64, step: f64, out: &mut [f64]) {
+    let d = cells.d;
+    let inv = -1.0 / (2.0 * sigma * sigma);
+    let cut2 = cells.reach * cells.reach;
+    out.par_chunks_mut(d).enumerate().for_each(|(i, new)| {
+        let xi = &x[i * d..(i + 1) * d];
+        let mut force = [0.0; MAX_DIMENSION];
+        cells.for_each_near(xi, |j| {
+            if j == i {
+                return;
+            }
+            let mut delta = [0.0; MAX_DIMENSION];
+            let mut r2 = 0.0;
+            for a in 0..d {
+                delta[a] = toroidal_delta(xi[a], x[j * d + a]);
+                r2 += delta[a] * delta[a];
+            }
+            if r2 < cut2 {
+                let w = (r2 * inv).exp();
+                for a in 0..d {
+                    force[a] += delta[a] * w;
+                }
+            }
+        });
+        for a in 0..d {
+            new[a] = wrap(xi[a] + step * force[a]);
+        }
+    });
+}
+
+/// Points sorted into `g^d` cells of side at least `reach` (a counting sort, stable in the
+/// point index), so that the points within `reach` of any point lie in its `3^d` neighbouring
+/// cells; with fewer than 3 cells per axis every point is a neighbour of every other.
+struct Cells {
+    d: usize,
+    g: usize,
+    reach: f64,
+    start: Vec<u32>,
+    order: Vec<u32>,
+}
+
+impl Cells {
+    fn new(d: usize, reach: f64, n: usize) -> Self {
+        let g = ((1.0 / reach).floor() as usize).clamp(1, 1 << (30 / d));
+        Self {
+            d,
+            g,
+            reach,
+            start: vec![0; g.pow(d as u32) + 1],
+            order: vec![0; n],
+        }
+    }
+
+    fn cell(&self, p: &[f64]) -> usize {
+        (0..self.d).fold(0, |acc, a| {
+            acc * self.g + ((p[a] * self.g as f64) as usize).min(self.g - 1)
+        })
+    }
+
+    fn sort(&mut self, x: &[f64]) {
+        self.start.fill(0);
+        for p in x.chunks_exact(self.d) {
+            let c = self.cell(p);
+            self.start[c + 1] += 1;
+        }
+        for c in 1..self.start.len() {
+            self.start[c] += self.start[c - 1];
+        }
+        let mut fill = self.start.clone();
+        for (i, p) in x.chunks_exact(self.d).enumerate() {
+            let c = self.cell(p);
+            self.order[fill[c] as usize] = i as u32;
+            fill[c] += 1;
+        }
+    }
+
+    /// Calls `visit` with every point in the cells around `p` (every point, when the grid has
+    /// fewer than 3 cells per axis), each once.
+    fn for_each_near(&self, p: &[f64], mut visit: impl FnMut(usize)) {
+        if self.g < 3 {
+            self.order.iter().for_each(|&j| visit(j as usize));
+            return;
+        }
+        let g = self.g as isize;
+        let mut home = [0isize; 3];
+        for a in 0..self.d {
+            home[a] = ((p[a] * self.g as f64) as isize).min(g - 1);
+        }
+        let offsets = 3usize.pow(self.d as u32);
+        for o in 0..offsets {
+            let mut flat = 0usize;
+            let mut rest = o;
+            for a in 0..self.d {
+                let step = (rest % 3) as isize - 1;
+                rest /= 3;
+                flat = flat * self.g + (home[a] + step).rem_euclid(g) as usize;
+            }
+            let (lo, hi) = (self.start[flat] as usize, self.start[flat + 1] as usize);
+            self.order[lo..hi].iter().for_each(|&j| visit(j as usize));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn neighbouring_cells_hold_every_point_within_reach_once() {
+        let d = 2;
+        let mut rng = realization_rng(3, 0, Stream::Points);
+        let x: Vec<f64> = (0..400 * d).map(|_| uniform(&mut rng)).collect();
+        let mut cells = Cells::new(d, 0.13, 400);
+        cells.sort(&x);
+        for i in 0..400 {
+            let mut seen = vec![0; 400];
+            cells.for_each_near(&x[i * d..(i + 1) * d], |j| seen[j] += 1);
+            for j in 0..400 {
+                let r2: f64 = (0..d)
+                    .map(|a| toroidal_delta(x[i * d + a], x[j * d + a]).powi(2))
+                    .sum();
+                assert!(seen[j] <= 1);
+                if r2 < 0.13 * 0.13 {
+                    assert_eq!(seen[j], 1, "{i} {j}");
+                }
+            }
+        }
+    }
+}
