@@ -258,10 +258,15 @@ impl SamplerKind {
     /// ideal CCVT: each site is the centroid of exactly `c` points of a jittered discrete
     /// density, so at low frequencies the sites' spectrum is the discrete density's over `c`,
     /// a floor `π²ν²/(3c²)` under the optimized `ν⁴` band (`docs/theory.md`; measured by
-    /// [`crate::rate::fit_low_band`]).
+    /// [`crate::rate::fit_low_band`]). Gaussian blue noise's is 0: a fixed number of descent
+    /// steps relaxes density waves only down to a fixed scale, so below `ν ≈ 0.01` its spectrum
+    /// climbs back to white noise's (`docs/theory.md`).
     pub fn known_alpha(self) -> Option<f64> {
         match self {
-            SamplerKind::Random | SamplerKind::PoissonDisk | SamplerKind::Bridson => Some(0.0),
+            SamplerKind::Random
+            | SamplerKind::PoissonDisk
+            | SamplerKind::Bridson
+            | SamplerKind::GaussianBlueNoise => Some(0.0),
             SamplerKind::Jitter | SamplerKind::Ccvt | SamplerKind::GaussianJitter => Some(2.0),
             _ => None,
         }
