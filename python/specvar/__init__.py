@@ -17,6 +17,8 @@ repository's ``docs/theory.md``.
 
 from __future__ import annotations
 
+import functools
+import inspect
 import json
 from dataclasses import dataclass, field
 from typing import Any, Callable, Optional, Sequence, Union
@@ -59,6 +61,23 @@ __all__ = [
 PythonIntegrand = Callable[[np.ndarray], Any]
 
 
+def _counts_checked(function):
+    """Refuses integer arguments that the Rust core cannot hold (negative, or 2^64 and above)
+    with a ``ValueError`` naming the argument, as the core's own errors do."""
+    signature = inspect.signature(function)
+
+    @functools.wraps(function)
+    def checked(*args, **kwargs):
+        bound = signature.bind(*args, **kwargs)
+        for name, value in bound.arguments.items():
+            if isinstance(value, (int, np.integer)) and not isinstance(value, bool):
+                if not 0 <= int(value) < 2**64:
+                    raise ValueError(f"invalid {name}: {value} (a non-negative integer below 2^64)")
+        return function(*args, **kwargs)
+
+    return checked
+
+
 def _integrand(integrand: Any) -> Any:
     """A specification string or a function as given; anything else as a float64 array of
     cell values."""
@@ -98,6 +117,7 @@ class SamplerInfo:
     known_alpha: Optional[float]
 
 
+@_counts_checked
 def set_budget(memory_gib: Optional[float] = None, seconds: Optional[float] = None) -> tuple:
     """What one call may spend, checked before it starts (default 8 GiB and one hour of one
     core's work, as on the command line): a call above it raises ``ValueError`` saying what it
@@ -110,6 +130,7 @@ def samplers() -> list[SamplerInfo]:
     return [SamplerInfo(**{**row, "dimensions": tuple(row["dimensions"])}) for row in _specvar.samplers()]
 
 
+@_counts_checked
 def sample(
     sampler: str,
     n: int,
@@ -129,6 +150,7 @@ def sample(
     return _specvar.sample(sampler, n, realizations, dimension, seed, start, homogenized, cache)
 
 
+@_counts_checked
 def periodogram(
     points: Any, kmax: int, engine: str = "auto", tolerance: Optional[float] = None
 ) -> np.ndarray:
@@ -173,6 +195,7 @@ class Spectrum:
         return np.arange(-self.kmax, self.kmax + 1)
 
 
+@_counts_checked
 def spectrum(
     sampler: Optional[str] = None,
     points: Optional[Any] = None,
@@ -270,6 +293,7 @@ class Prediction:
         )
 
 
+@_counts_checked
 def predict(
     integrand: Union[str, np.ndarray],
     sampler: Optional[str] = None,
@@ -315,6 +339,7 @@ class McResult:
     effective_units: float
 
 
+@_counts_checked
 def monte_carlo(
     integrand: Union[str, np.ndarray, PythonIntegrand],
     sampler: Optional[str] = None,
@@ -367,6 +392,7 @@ class Integrand:
         return _specvar.evaluate(self.spec, _points(points))
 
 
+@_counts_checked
 def integrand(spec: Union[str, np.ndarray], dimension: int = 2) -> Integrand:
     """The built-in integrand ``spec`` in ``dimension``, e.g. ``integrand("disk:r=0.2")``, or
     the piecewise-constant one of cell values ``values[y, x]``."""
@@ -497,6 +523,7 @@ def _describe(
     )
 
 
+@_counts_checked
 def study(
     samplers: Sequence[str],
     integrands: Sequence[str],

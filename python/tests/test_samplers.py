@@ -72,3 +72,15 @@ def test_work_beyond_the_budget_is_refused_before_it_starts():
         specvar.sample("random", 10**9, realizations=10**6)
     with pytest.raises(ValueError, match="positive"):
         specvar.set_budget(seconds=float("nan"))
+
+
+@pytest.mark.parametrize("call", [
+    lambda: specvar.sample("jitter", -4),
+    lambda: specvar.sample("jitter", 16, seed=2**64),
+    lambda: specvar.spectrum(sampler="jitter", n=16, kmax=-1),
+    lambda: specvar.predict("disk", sampler="jitter", n=-3),
+    lambda: specvar.monte_carlo("disk", sampler="jitter", n=16, trials=-1),
+])
+def test_integers_out_of_range_are_value_errors_naming_the_argument(call):
+    with pytest.raises(ValueError, match="invalid (n|seed|kmax|trials): "):
+        call()
