@@ -67,6 +67,15 @@ impl GaussLegendre {
         Self { nodes, weights }
     }
 
+    /// The rule's nodes and weights mapped onto `[a, b]`: `∫_a^b f ≈ Σ w f(x)`.
+    pub fn on(&self, a: f64, b: f64) -> impl Iterator<Item = (f64, f64)> + '_ {
+        let (mid, half) = ((a + b) / 2.0, (b - a) / 2.0);
+        self.nodes
+            .iter()
+            .zip(&self.weights)
+            .map(move |(x, w)| (mid + half * x, w * half))
+    }
+
     /// `∫_a^b f`.
     pub fn integrate(&self, a: f64, b: f64, mut f: impl FnMut(f64) -> f64) -> f64 {
         let (mid, half) = ((a + b) / 2.0, (b - a) / 2.0);

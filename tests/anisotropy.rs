@@ -233,16 +233,18 @@ fn square_quadrature(g: impl Fn(f64, f64) -> f64) -> f64 {
         .sum()
 }
 
-#[test]
-fn anisotropic_gaussian_matches_quadrature() {
-    use specvar::integrand::AnisotropicGaussian;
-    let f = AnisotropicGaussian::new(0.05, 0.012, 30.0, [0.45, 0.55], 2.0).unwrap();
-    let tolerance = 1e-12;
+/// Integral, energy, coefficients, projections (and the torus autocorrelation, where offered)
+/// of `f` against an 800 × 800 Gauss–Legendre rule on the square.
+fn check_against_quadrature(f: &dyn Integrand, tolerance: f64) {
     let integral = square_quadrature(|x, y| f.eval(&[x, y]));
-    assert!((integral / f.integral() - 1.0).abs() < tolerance);
+    assert!(
+        (integral / f.integral() - 1.0).abs() < tolerance,
+        "{}",
+        f.label()
+    );
     let square = square_quadrature(|x, y| f.eval(&[x, y]).powi(2));
     assert!((square / f.integral_of_square() - 1.0).abs() < tolerance);
-    for k in [[1i64, 0], [0, 3], [-2, 5], [4, 4]] {
+    for k in [[1i64, 0], [0, 3], [-2, 5], [4, 4], [7, -12]] {
         let re = square_quadrature(|x, y| {
             f.eval(&[x, y]) * (-2.0 * PI * (k[0] as f64 * x + k[1] as f64 * y)).cos()
         });
@@ -253,38 +255,105 @@ fn anisotropic_gaussian_matches_quadrature() {
         assert!(
             (c.re - re).abs() < tolerance * f.integral()
                 && (c.im - im).abs() < tolerance * f.integral(),
-            "{k:?}"
+            "{} at {k:?}: {c} against {re} + {im}i",
+            f.label()
         );
     }
     let r = [0.03, -0.02];
-    let auto = square_quadrature(|x, y| {
-        f.eval(&[x, y]) * f.eval(&[(x + r[0]).rem_euclid(1.0), (y + r[1]).rem_euclid(1.0)])
-    });
-    assert!((f.autocorrelation(&r).unwrap() / auto - 1.0).abs() < tolerance);
-    // Projection onto x: ∫ (∫ f dy)² dx.
+    if let Some(a) = f.autocorrelation(&r) {
+        let auto = square_quadrature(|x, y| {
+            f.eval(&[x, y]) * f.eval(&[(x + r[0]).rem_euclid(1.0), (y + r[1]).rem_euclid(1.0)])
+        });
+        assert!((a / auto - 1.0).abs() < tolerance);
+    }
+    // Projections: ∫ (∫ f dy)² dx and ∫ (∫ f dx)² dy.
     let rule = specvar::quadrature::GaussLegendre::new(8);
-    let column = |x: f64| {
+    let panels = |g: &dyn Fn(f64) -> f64| -> f64 {
         (0..100)
-            .map(|j| {
-                rule.integrate(j as f64 / 100.0, (j + 1) as f64 / 100.0, |y| {
-                    f.eval(&[x, y])
-                })
-            })
-            .sum::<f64>()
+            .map(|j| rule.integrate(j as f64 / 100.0, (j + 1) as f64 / 100.0, g))
+            .sum()
     };
-    let projection: f64 = (0..100)
-        .map(|i| {
-            rule.integrate(i as f64 / 100.0, (i + 1) as f64 / 100.0, |x| {
-                column(x).powi(2)
-            })
-        })
-        .sum();
-    assert!((f.projection_energy(0) / projection - 1.0).abs() < tolerance);
-    // Not contained: refused, with the reason.
-    assert!(AnisotropicGaussian::new(0.1, 0.01, 0.0, [0.5, 0.5], 1.0).is_err());
-    assert!(AnisotropicGaussian::new(0.05, 0.01, 0.0, [0.2, 0.5], 1.0).is_err());
+    for axis in 0..2 {
+        let at = |t: f64, u: f64| if axis == 0 { [t, u] } else { [u, t] };
+        let projection = panels(&|t| panels(&|u| f.eval(&at(t, u))).powi(2));
+        assert!(
+            (f.projection_energy(axis) / projection - 1.0).abs() < tolerance,
+            "{} axis {axis}",
+            f.label()
+        );
+    }
+}
+
+#[test]
+fn anisotropic_gaussian_matches_quadrature() {
+    use specvar::integrand::AnisotropicGaussian;
+    let tolerance = 1e-12;
+    // Contained: the closed forms.
+    let f = AnisotropicGaussian::new(0.05, 0.012, 30.0, [0.45, 0.55], 2.0).unwrap();
+    assert!(f.autocorrelation(&[0.03, -0.02]).is_some() && f.full_space_leak() < 1e-14);
+    check_against_quadrature(&f, tolerance);
+    // Crossing the faces: a rotated lobe over the right face, a lobe centred on the top face,
+    // one wide enough to touch all four, and one in a corner.
+    for (s1, s2, angle, centre) in [
+        (0.15, 0.04, 30.0, [0.9, 0.4]),
+        (0.2, 0.05, 0.0, [0.5, 1.0]),
+        (0.5, 0.3, 70.0, [0.3, 0.6]),
+        (0.1, 0.02, -45.0, [0.0, 0.0]),
+    ] {
+        let g = AnisotropicGaussian::new(s1, s2, angle, centre, 1.5).unwrap();
+        assert!(g.autocorrelation(&[0.03, -0.02]).is_none() && g.full_space_leak() > 1e-3);
+        check_against_quadrature(&g, tolerance);
+    }
     let spec = parse_integrand("agaussian:s1=0.05,s2=0.01,angle=60,a=1").unwrap();
     assert_eq!(parse_integrand(&spec.to_string()).unwrap(), spec);
+    assert!(AnisotropicGaussian::new(20.0, 0.01, 0.0, [0.5, 0.5], 1.0).is_err());
+}
+
+/// The lattice's powers in one pass equal the coefficients one by one, for a lobe crossing a
+/// face, and jitter's prediction of its variance falls inside Monte Carlo's 99% interval.
+#[test]
+fn a_lobe_crossing_the_faces_is_predicted_on_the_lattice() {
+    use specvar::integrand::AnisotropicGaussian;
+    use specvar::montecarlo::{empirical_variance, McParams};
+    use specvar::predict::{predict, PredictParams, Problem};
+    use specvar::spectrum::Lattice;
+    let f = AnisotropicGaussian::new(0.12, 0.03, 25.0, [0.85, 0.3], 1.0).unwrap();
+    let lattice = Lattice {
+        dimension: 2,
+        kmax: 12,
+    };
+    let mut power = vec![0.0; lattice.len()];
+    f.power_on_lattice(lattice, &mut power);
+    for (i, p) in power.iter().enumerate() {
+        let k = lattice.frequency(i);
+        let one = f.coefficient(&k[..2]).norm_sqr();
+        assert!(
+            (p - one).abs() <= 1e-13 * f.integral().powi(2),
+            "{k:?}: {p} against {one}"
+        );
+    }
+    let jitter = SamplerKind::Jitter.build(2).unwrap();
+    let p = predict(
+        &Problem::new(jitter.as_ref(), &f, 256).unwrap(),
+        &PredictParams::default(),
+    )
+    .unwrap();
+    assert_eq!(p.route.form, specvar::predict::Form::Lattice);
+    let m = empirical_variance(
+        jitter.as_ref(),
+        &f,
+        256,
+        &McParams {
+            patterns: 20_000,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let band = p.budget.half_width(3.0);
+    assert!(
+        p.variance - band <= m.ci_high && m.ci_low <= p.variance + band,
+        "{p:?} against {m:?}"
+    );
 }
 
 /// A lobe stretched along θ: jitter's prediction (its closed form on the lattice) inside Monte

@@ -1,24 +1,34 @@
-//! An anisotropic Gaussian, contained in the square: a BRDF lobe or a blurred feature stretched
-//! along one direction.
+//! An anisotropic Gaussian: a BRDF lobe or a blurred feature stretched along one direction, in
+//! the square or crossing its faces.
 
+use super::truncated_lobe::TruncatedLobe;
 use super::{shift_phase, Integrand, IntegrandKind, MAX_HEIGHT};
 use crate::error::{invalid, Result};
+use crate::spectrum::Lattice;
 use num_complex::Complex64;
 use std::f64::consts::PI;
 
-/// The largest mass the Gaussian may hold outside the unit square, relative to its total: below
-/// it the full-space transform, integral and energies are its torus values to rounding
-/// (truncation changes them by at most this fraction).
+/// The largest mass the Gaussian may hold outside the unit square, relative to its total, for
+/// its closed forms: below it the full-space transform, integral and energies are its torus
+/// values to rounding (truncation changes them by at most this fraction). Above it the torus
+/// values of the truncated function are computed ([`AnisotropicGaussian`]).
 pub const MAX_OUTSIDE_FRACTION: f64 = 1e-15;
+
+/// The widest lobe accepted, in units of the square: wider, the function is nearly flat on the
+/// square and its variance a small difference of large numbers (as for [`super::Gaussian`]).
+pub const MAX_LOBE_SIGMA: f64 = 10.0;
 
 /// `a · exp(−½ (x − c)ᵀ Σ⁻¹ (x − c))` in 2D with `Σ = R(θ) diag(σ_1², σ_2²) R(θ)ᵀ`: widths
 /// `σ_1` along the direction at angle `θ` and `σ_2` across it.
 ///
-/// Its coefficients are the full-space transform `a 2π √det Σ exp(−2π² kᵀΣk) e^{−2πik·c}`,
-/// which are the torus coefficients of the function Monte Carlo integrates only when it is
-/// contained in the square. So the constructor refuses a Gaussian whose mass outside the
-/// square (bounded by the four half-planes' tails) exceeds [`MAX_OUTSIDE_FRACTION`] of it; a
-/// wider or off-centre lobe is a grid integrand's job.
+/// Monte Carlo integrates it on the square, zero outside. Contained in the square (its mass
+/// outside, bounded by the four half-planes' tails, below [`MAX_OUTSIDE_FRACTION`]), its torus
+/// coefficients are the full-space transform `a 2π √det Σ exp(−2π² kᵀΣk) e^{−2πik·c}` and its
+/// integral, energy and autocorrelation have closed forms. Crossing the faces, the coefficients,
+/// integral, energy and projections are those of the truncated function, exact to rounding:
+/// one axis in closed form (Faddeeva), the other by Gauss–Legendre (see `truncated_lobe`); the
+/// full-space transform then differs from the torus's, so the polar form is refused, and no
+/// torus autocorrelation is offered.
 ///
 /// # Examples
 /// ```
@@ -26,7 +36,9 @@ pub const MAX_OUTSIDE_FRACTION: f64 = 1e-15;
 /// let lobe = AnisotropicGaussian::new(0.05, 0.01, 30.0, [0.5, 0.5], 1.0)?;
 /// let i = lobe.integral();
 /// assert!((i - 2.0 * std::f64::consts::PI * 0.05 * 0.01).abs() < 1e-15);
-/// assert!(AnisotropicGaussian::new(0.2, 0.01, 0.0, [0.5, 0.5], 1.0).is_err()); // leaks
+/// // Half of a lobe centred on a face lies outside: the square holds the other half.
+/// let cut = AnisotropicGaussian::new(0.2, 0.05, 0.0, [0.5, 1.0], 1.0)?;
+/// assert!((cut.integral() / (2.0 * std::f64::consts::PI * 0.2 * 0.05) - 0.5).abs() < 0.01);
 /// # Ok::<(), specvar::Error>(())
 /// ```
 #[derive(Debug, Clone, PartialEq)]
@@ -39,14 +51,16 @@ pub struct AnisotropicGaussian {
     cov: [f64; 3],
     /// Σ⁻¹ as (xx, xy, yy).
     inv: [f64; 3],
+    /// The truncated function's torus values, for a lobe that crosses the faces.
+    truncated: Option<TruncatedLobe>,
 }
 
 impl AnisotropicGaussian {
     /// Widths `sigma_1` along the direction at `angle_degrees` and `sigma_2` across it.
     ///
     /// # Errors
-    /// Widths not positive and finite, a centre outside the square, a non-finite angle or
-    /// height, or a Gaussian not contained in the square (see [`MAX_OUTSIDE_FRACTION`]).
+    /// Widths not positive and finite (at most [`MAX_LOBE_SIGMA`]), a centre outside the
+    /// square, or a non-finite angle or height.
     pub fn new(
         sigma_1: f64,
         sigma_2: f64,
@@ -55,8 +69,12 @@ impl AnisotropicGaussian {
         height: f64,
     ) -> Result<Self> {
         for (name, s) in [("sigma_1", sigma_1), ("sigma_2", sigma_2)] {
-            if !(s.is_finite() && s > 0.0) {
-                return Err(invalid(name, s, "positive and finite"));
+            if !(s.is_finite() && s > 0.0 && s <= MAX_LOBE_SIGMA) {
+                return Err(invalid(
+                    name,
+                    s,
+                    format!("positive, at most {MAX_LOBE_SIGMA}"),
+                ));
             }
         }
         if !angle_degrees.is_finite() {
@@ -86,24 +104,21 @@ impl AnisotropicGaussian {
         ];
         let det = v1 * v2;
         let inv = [cov[2] / det, -cov[1] / det, cov[0] / det];
-        let g = Self {
+        let mut g = Self {
             sigma: [sigma_1, sigma_2],
             angle: angle_degrees,
             centre,
             height,
             cov,
             inv,
+            truncated: None,
         };
-        let outside = g.outside_fraction();
-        if outside > MAX_OUTSIDE_FRACTION {
-            return Err(invalid(
-                "anisotropic Gaussian",
-                format!("{:.1e} of its mass outside the square", outside),
-                format!(
-                    "at most {MAX_OUTSIDE_FRACTION:e} (narrower widths or a centre farther from \
-                     the faces; a wider lobe is a grid integrand)"
-                ),
-            ));
+        if g.outside_fraction() > MAX_OUTSIDE_FRACTION {
+            g.truncated = Some(TruncatedLobe {
+                cov,
+                centre,
+                height,
+            });
         }
         Ok(g)
     }
@@ -135,7 +150,7 @@ impl AnisotropicGaussian {
     }
 
     fn transform(&self, nu: [f64; 2]) -> Complex64 {
-        let amplitude = self.integral() * (-2.0 * PI * PI * self.quadratic(nu)).exp();
+        let amplitude = self.spectral_integral() * (-2.0 * PI * PI * self.quadratic(nu)).exp();
         shift_phase(&nu, &self.centre) * amplitude
     }
 }
@@ -161,26 +176,56 @@ impl Integrand for AnisotropicGaussian {
         self.height * (-0.5 * self.inverse_quadratic(r)).exp()
     }
     fn integral(&self) -> f64 {
-        self.height * 2.0 * PI * self.det().sqrt()
+        match &self.truncated {
+            Some(lobe) => lobe.integral(),
+            None => self.spectral_integral(),
+        }
     }
     fn integral_of_square(&self) -> f64 {
-        // f² is the Gaussian of covariance Σ/2 and height a².
-        self.height * self.height * PI * self.det().sqrt()
+        match &self.truncated {
+            Some(lobe) => lobe.squared().integral(),
+            None => self.spectral_energy(),
+        }
     }
     fn coefficient(&self, k: &[i64]) -> Complex64 {
-        self.transform([k[0] as f64, k[1] as f64])
+        match &self.truncated {
+            Some(lobe) => lobe.coefficient([k[0], k[1]]),
+            None => self.transform([k[0] as f64, k[1] as f64]),
+        }
+    }
+    fn power_on_lattice(&self, lattice: Lattice, out: &mut [f64]) {
+        match &self.truncated {
+            Some(lobe) => lobe.power_on_lattice(lattice.kmax, out),
+            None => {
+                for (i, slot) in out.iter_mut().enumerate() {
+                    let k = lattice.frequency(i);
+                    *slot = self.transform([k[0] as f64, k[1] as f64]).norm_sqr();
+                }
+            }
+        }
+    }
+    fn full_space_leak(&self) -> f64 {
+        let full = self.spectral_energy();
+        ((full - self.integral_of_square()) / full).abs()
     }
     fn projection_energy(&self, axis: usize) -> f64 {
+        if let Some(lobe) = &self.truncated {
+            return lobe.projection_energy(axis);
+        }
         // ∫ f dx_other = a √(2π det/Σ_aa) exp(−x²/(2Σ_aa)), whose square integrates to
         // a² 2π (det/Σ_aa) √(π Σ_aa).
         let saa = self.cov[2 * axis];
         self.height * self.height * 2.0 * PI * self.det() / saa * (PI * saa).sqrt()
     }
     fn autocorrelation(&self, r: &[f64]) -> Option<f64> {
+        if self.truncated.is_some() {
+            // Truncated at the faces and wrapped: no closed form.
+            return None;
+        }
         // Contained: a(r) = a² π √det exp(−¼ rᵀΣ⁻¹r) for the nearest image of r, and the
         // Gaussian's reach (≤ 1/16 per axis) makes every other image negligible; the 3 × 3
         // images are summed all the same.
-        let peak = self.integral_of_square();
+        let peak = self.spectral_energy();
         let mut total = 0.0;
         for i in -1..=1 {
             for j in -1..=1 {
@@ -199,16 +244,14 @@ impl Integrand for AnisotropicGaussian {
     fn autocorrelation_beyond(&self, distance: f64) -> Option<f64> {
         // rᵀΣ⁻¹r ≥ |r|²/σ_max² and |r| is at least its largest component.
         let widest = self.sigma[0].max(self.sigma[1]);
-        Some(
-            self.integral_of_square()
-                * (-distance.max(0.0).powi(2) / (4.0 * widest * widest)).exp(),
-        )
+        Some(self.spectral_energy() * (-distance.max(0.0).powi(2) / (4.0 * widest * widest)).exp())
     }
     fn spectral_integral(&self) -> f64 {
-        self.integral()
+        self.height * 2.0 * PI * self.det().sqrt()
     }
     fn spectral_energy(&self) -> f64 {
-        self.integral_of_square()
+        // f² is the Gaussian of covariance Σ/2 and height a².
+        self.height * self.height * PI * self.det().sqrt()
     }
     fn radial_power(&self, rho: f64) -> f64 {
         super::circular_mean_power(rho, |nu| self.transform(nu))

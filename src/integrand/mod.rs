@@ -18,6 +18,7 @@ mod grid;
 mod grid_io;
 mod polygon;
 mod spec;
+mod truncated_lobe;
 
 pub use anisotropic::{AnisotropicGaussian, MAX_OUTSIDE_FRACTION};
 pub use ball::Ball;

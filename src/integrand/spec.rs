@@ -28,7 +28,7 @@ pub enum IntegrandKind {
     Grid,
     /// A polygon's indicator, or an edge (a half-plane clipped to the square).
     Polygon,
-    /// An anisotropic Gaussian contained in the square.
+    /// An anisotropic Gaussian, truncated to the square where it crosses the faces.
     AnisotropicGaussian,
 }
 
