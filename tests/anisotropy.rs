@@ -299,6 +299,8 @@ fn anisotropic_gaussian_matches_quadrature() {
         (0.2, 0.05, 0.0, [0.5, 1.0]),
         (0.5, 0.3, 70.0, [0.3, 0.6]),
         (0.1, 0.02, -45.0, [0.0, 0.0]),
+        // Its slices' centres m(y) run from 0.05 to 1.75: beyond the right face.
+        (0.3, 0.02, 30.0, [0.9, 0.5]),
     ] {
         let g = AnisotropicGaussian::new(s1, s2, angle, centre, 1.5).unwrap();
         assert!(g.autocorrelation(&[0.03, -0.02]).is_none() && g.full_space_leak() > 1e-3);

@@ -14,6 +14,9 @@ use std::f64::consts::PI;
 /// values of the truncated function are computed ([`AnisotropicGaussian`]).
 pub const MAX_OUTSIDE_FRACTION: f64 = 1e-15;
 
+/// The most quadrature panels a truncated lobe may need before its oscillations (20 nodes each).
+const MAX_PANELS: f64 = 5000.0;
+
 /// The widest lobe accepted, in units of the square: wider, the function is nearly flat on the
 /// square and its variance a small difference of large numbers (as for [`super::Gaussian`]).
 pub const MAX_LOBE_SIGMA: f64 = 10.0;
@@ -114,11 +117,25 @@ impl AnisotropicGaussian {
             truncated: None,
         };
         if g.outside_fraction() > MAX_OUTSIDE_FRACTION {
-            g.truncated = Some(TruncatedLobe {
+            let lobe = TruncatedLobe {
                 cov,
                 centre,
                 height,
-            });
+            };
+            // A thin lobe far from the axes needs panels as narrow as its width across them.
+            if lobe.base_panels() > MAX_PANELS {
+                return Err(invalid(
+                    "anisotropic Gaussian",
+                    format!(
+                        "widths {sigma_1} and {sigma_2} at {angle_degrees}° crossing the faces"
+                    ),
+                    format!(
+                        "a truncated lobe whose quadrature needs at most {MAX_PANELS} panels \
+                         (a wider s2, an angle nearer an axis, or cell values for a thinner one)"
+                    ),
+                ));
+            }
+            g.truncated = Some(lobe);
         }
         Ok(g)
     }

@@ -92,18 +92,28 @@ impl Gaussian {
 }
 
 /// `∫_0^1 exp(-(x - m)²/(2s²)) e^{-2πikx} dx`. With `t = (x - m)/(s√2)` and `b = π k s √2`
-/// it is `s √(π/2) e^{-2πikm} e^{-b²} [erf(t₁ + ib) - erf(t₀ + ib)]`, `t₀ = -m/(s√2) ≤ 0`,
-/// `t₁ = (1 - m)/(s√2) ≥ 0`. Written with `erfc(z) = e^{-z²} w(iz)` so that every `w` is taken
-/// in the upper half plane (where `|w| ≤ 1`), it is
-/// `s √(π/2) e^{-2πikm} [2e^{-b²} - e^{-t₀² - 2it₀b} w(b - it₀) - e^{-t₁² - 2it₁b} w(-b + it₁)]`:
-/// the full-space term and one term per face.
+/// it is `s √(π/2) e^{-2πikm} e^{-b²} [erf(t₁ + ib) - erf(t₀ + ib)]`, `t₀ = -m/(s√2)`,
+/// `t₁ = (1 - m)/(s√2)`. Written with `erfc(z) = e^{-z²} w(iz)` so that every `w` is taken in
+/// the upper half plane (where `|w| ≤ 1`): for a centre in `[0, 1]` (`t₀ ≤ 0 ≤ t₁`) it is
+/// `s √(π/2) e^{-2πikm} [2e^{-b²} - e^{-t₀² - 2it₀b} w(b - it₀) - e^{-t₁² - 2it₁b} w(-b + it₁)]`,
+/// the full-space term and one term per face; for a centre beyond a face (the conditional
+/// slices of a rotated lobe, [`super::truncated_lobe`]) the two faces' terms alone, from
+/// `erf(t₁ + ib) - erf(t₀ + ib) = erfc(t₀ + ib) - erfc(t₁ + ib)` when `0 < t₀` and
+/// `= erfc(-t₁ - ib) - erfc(-t₀ - ib)` when `t₁ < 0`.
 pub(crate) fn axis_coefficient(k: i64, m: f64, s: f64) -> Complex64 {
     let b = PI * k as f64 * s * SQRT_2;
     let (t0, t1) = (-m / (s * SQRT_2), (1.0 - m) / (s * SQRT_2));
     let face = |t: f64, w: Complex64| Complex64::from_polar((-t * t).exp(), -2.0 * t * b) * w;
-    let inner = 2.0 * (-b * b).exp()
-        - face(t0, Complex64::new(b, -t0).w())
-        - face(t1, Complex64::new(-b, t1).w());
+    // e^{-b²} erfc(t + ib) for t > 0, and e^{-b²} erfc(-t - ib) for t < 0.
+    let above = |t: f64| face(t, Complex64::new(-b, t).w());
+    let below = |t: f64| face(t, Complex64::new(b, -t).w());
+    let inner = if t0 > 0.0 {
+        above(t0) - above(t1)
+    } else if t1 < 0.0 {
+        below(t1) - below(t0)
+    } else {
+        2.0 * (-b * b).exp() - below(t0) - above(t1)
+    };
     Complex64::from_polar(s * (PI / 2.0).sqrt(), -2.0 * PI * k as f64 * m) * inner
 }
 
@@ -277,5 +287,43 @@ impl Integrand for Gaussian {
     fn negligible_beyond(&self) -> f64 {
         // exp(-4π²σ²ρ²) < 1e-30 once 4π²σ²ρ² > 69.1.
         69.1f64.sqrt() / (2.0 * PI * self.sigma)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The truncated 1D coefficient for centres inside, on and beyond the faces, against a
+    /// 400-panel Gauss–Legendre sum of the integrand.
+    #[test]
+    fn axis_coefficient_holds_for_any_centre() {
+        let rule = crate::quadrature::GaussLegendre::new(20);
+        for &(m, s) in &[
+            (0.3, 0.05),
+            (1.0, 0.1),
+            (1.5, 0.3),
+            (-0.7, 0.3),
+            (2.5, 0.4),
+            (-0.1, 0.02),
+        ] {
+            for k in [0i64, 3, -11] {
+                let part = |f: &dyn Fn(f64) -> f64| -> f64 {
+                    (0..400)
+                        .map(|p| rule.integrate(p as f64 / 400.0, (p + 1) as f64 / 400.0, f))
+                        .sum()
+                };
+                let g = |x: f64| (-(x - m) * (x - m) / (2.0 * s * s)).exp();
+                let w = 2.0 * PI * k as f64;
+                let re = part(&|x| g(x) * (w * x).cos());
+                let im = part(&|x| -g(x) * (w * x).sin());
+                let c = axis_coefficient(k, m, s);
+                let scale = part(&g).max(1e-300);
+                assert!(
+                    (c.re - re).abs() <= 1e-12 * scale && (c.im - im).abs() <= 1e-12 * scale,
+                    "m = {m}, s = {s}, k = {k}: {c} against {re} + {im}i"
+                );
+            }
+        }
     }
 }

@@ -74,15 +74,33 @@ impl TruncatedLobe {
         (slope, s)
     }
 
+    /// The panels the quadrature in `y` needs before any oscillation: the envelope's and the
+    /// drift of `m(y)`'s.
+    pub fn base_panels(&self) -> f64 {
+        let (lo, hi) = self.reach();
+        let (slope, s) = self.conditional();
+        let mut width = self.cov[2].sqrt();
+        if slope != 0.0 {
+            width = width.min(s / slope.abs());
+        }
+        ((hi - lo) / width).ceil()
+    }
+
+    /// The range of `y` the marginal reaches within the square.
+    fn reach(&self) -> (f64, f64) {
+        let sd = self.cov[2].sqrt();
+        (
+            (self.centre[1] - REACH_SIGMAS * sd).max(0.0),
+            (self.centre[1] + REACH_SIGMAS * sd).min(1.0),
+        )
+    }
+
     /// Quadrature nodes in `y`: the node, its weight, the marginal `a exp(−(y − c_y)²/(2Σ_yy))`
     /// there and the conditional mean `m(y)`; panels narrow enough for the envelope, for `m(y)`
     /// to move by at most `s`, and for an oscillation of `frequency` cycles per unit.
     fn nodes(&self, frequency: f64) -> Vec<Node> {
         let sd = self.cov[2].sqrt();
-        let (lo, hi) = (
-            (self.centre[1] - REACH_SIGMAS * sd).max(0.0),
-            (self.centre[1] + REACH_SIGMAS * sd).min(1.0),
-        );
+        let (lo, hi) = self.reach();
         if hi <= lo {
             return Vec::new();
         }
