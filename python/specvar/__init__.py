@@ -452,10 +452,12 @@ class StudySeries:
 
     @property
     def predicted_variance(self) -> np.ndarray:
+        """The predicted variances, one per N."""
         return np.array([p.variance for p in self.predicted])
 
     @property
     def measured_variance(self) -> np.ndarray:
+        """The Monte Carlo variances, one per N."""
         return np.array([m.variance for m in self.measured])
 
     @property
