@@ -78,12 +78,21 @@ impl TruncatedLobe {
     /// drift of `m(y)`'s.
     pub fn base_panels(&self) -> f64 {
         let (lo, hi) = self.reach();
+        ((hi - lo) / self.panel_width(0.0)).ceil()
+    }
+
+    /// The widest panel for the envelope (`√Σ_yy`), for `m(y)` to move by at most `s`, and for
+    /// an oscillation of `frequency` cycles per unit to turn by at most [`PANEL_PHASE`].
+    fn panel_width(&self, frequency: f64) -> f64 {
         let (slope, s) = self.conditional();
-        let mut width = self.cov[2].sqrt();
+        let width = self.cov[2]
+            .sqrt()
+            .min(PANEL_PHASE / (2.0 * PI * frequency.max(1.0)));
         if slope != 0.0 {
-            width = width.min(s / slope.abs());
+            width.min(s / slope.abs())
+        } else {
+            width
         }
-        ((hi - lo) / width).ceil()
     }
 
     /// The range of `y` the marginal reaches within the square.
@@ -96,20 +105,16 @@ impl TruncatedLobe {
     }
 
     /// Quadrature nodes in `y`: the node, its weight, the marginal `a exp(−(y − c_y)²/(2Σ_yy))`
-    /// there and the conditional mean `m(y)`; panels narrow enough for the envelope, for `m(y)`
-    /// to move by at most `s`, and for an oscillation of `frequency` cycles per unit.
+    /// there and the conditional mean `m(y)`, on panels of [`Self::panel_width`].
     fn nodes(&self, frequency: f64) -> Vec<Node> {
-        let sd = self.cov[2].sqrt();
         let (lo, hi) = self.reach();
         if hi <= lo {
             return Vec::new();
         }
-        let (slope, s) = self.conditional();
-        let mut width = sd.min(PANEL_PHASE / (2.0 * PI * frequency.max(1.0)));
-        if slope != 0.0 {
-            width = width.min(s / slope.abs());
-        }
-        let panels = ((hi - lo) / width).ceil().clamp(1.0, 1e6) as usize;
+        let (slope, _) = self.conditional();
+        let panels = ((hi - lo) / self.panel_width(frequency))
+            .ceil()
+            .clamp(1.0, 1e6) as usize;
         let h = (hi - lo) / panels as f64;
         let mut out = Vec::with_capacity(panels * PANEL_NODES);
         for p in 0..panels {
