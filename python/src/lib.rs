@@ -21,9 +21,7 @@ use specvar::montecarlo::{
 use specvar::pointset::PointSet;
 use specvar::predict::{predict as predict_variance, PredictParams, Problem};
 use specvar::sampler::{draw_realizations, Sampler, SamplerKind};
-use specvar::spectrum::{
-    estimate_with_progress, statistical_tolerance, Engine, PatternSource, SpectrumParams,
-};
+use specvar::spectrum::{estimate_with_progress, Engine, PatternSource, SpectrumParams};
 
 /// Memory for costly samplers' patterns kept between calls of one sampler object.
 const PATTERN_MEMORY: usize = 256 << 20;
@@ -209,9 +207,7 @@ fn engine(method: &str, tolerance: Option<f64>, n: usize, realizations: usize) -
     match method {
         "auto" => Ok(Engine::Auto),
         "direct" => Ok(Engine::Direct),
-        "fast" => Ok(Engine::Fast {
-            tolerance: tolerance.unwrap_or_else(|| statistical_tolerance(n, realizations)),
-        }),
+        "fast" => Ok(Engine::fast_at(tolerance, n, realizations)),
         other => Err(PyValueError::new_err(format!(
             "invalid engine: {other} (allowed: auto, direct or fast)"
         ))),

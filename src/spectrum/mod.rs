@@ -53,6 +53,14 @@ impl Engine {
         }
     }
 
+    /// The fast engine at `tolerance`, or, when none is given, at the [`statistical_tolerance`]
+    /// of `realizations` sets of `n` points.
+    pub fn fast_at(tolerance: Option<f64>, n: usize, realizations: usize) -> Self {
+        Engine::Fast {
+            tolerance: tolerance.unwrap_or_else(|| statistical_tolerance(n, realizations)),
+        }
+    }
+
     /// Resolves `Auto` for `realizations` patterns of `n` points on `|k_i| ≤ kmax`: the fast
     /// engine at the [`statistical_tolerance`] if the cost model of
     /// [`nufft::choice`] predicts it cheaper than the direct sum (`N (2K+1)^d / 2` complex

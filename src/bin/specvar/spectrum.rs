@@ -2,9 +2,7 @@
 
 use specvar::progress::Progress;
 use specvar::spectrum::export::{lattice_table, radial_table, TableFormat};
-use specvar::spectrum::{
-    estimate_with_progress, statistical_tolerance, Engine, PatternSource, SpectrumParams,
-};
+use specvar::spectrum::{estimate_with_progress, Engine, PatternSource, SpectrumParams};
 use specvar::Result;
 use std::path::PathBuf;
 
@@ -72,11 +70,7 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
     };
     let engine = match args.method {
         Method::Direct => Engine::Direct,
-        Method::Fast => Engine::Fast {
-            tolerance: args
-                .tolerance
-                .unwrap_or_else(|| statistical_tolerance(n, realizations)),
-        },
+        Method::Fast => Engine::fast_at(args.tolerance, n, realizations),
         Method::Auto => Engine::Auto,
     };
     let params = SpectrumParams {
