@@ -120,6 +120,15 @@ fn every_documented_command_runs_as_written() {
         .collect();
     assert!(all.len() >= 20, "only {} examples found", all.len());
     for example in &all {
+        let start = Instant::now();
         run(example, &dir, &cache);
+        // Shown with --nocapture: where the suite's time goes.
+        eprintln!(
+            "{:>6.1} s  {}:{} {}",
+            start.elapsed().as_secs_f64(),
+            example.source,
+            example.line,
+            example.args.join(" ")
+        );
     }
 }

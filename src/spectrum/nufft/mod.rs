@@ -168,12 +168,8 @@ impl NufftPlan {
         let rows = g.pow(d as u32 - 1);
         let side = 2 * k + 1;
         let zero = Complex64::new(0.0, 0.0);
-        // The column passes' outputs: (g, side, K+1) then (side, side, K+1) in 3D.
-        let spare = match d {
-            1 => 0,
-            2 => side * (k + 1),
-            _ => g * side * (k + 1),
-        };
+        // In 3D, the middle axis' cropped output: (side, K+1, g).
+        let spare = if d == 3 { side * (k + 1) * g } else { 0 };
         NufftScratch {
             shape: self.shape(),
             cells: vec![0.0; self.layout.len()],
@@ -239,8 +235,8 @@ impl NufftPlan {
         out: &mut [f64],
     ) -> Result<()> {
         self.check_buffers(points, scratch, out.len(), self.output_len() / 2 + 1)?;
-        let half = self.grid_stage(points, scratch);
-        self.unfold_half_power(half, 1.0 / points.len() as f64, out);
+        self.grid_stage(points, scratch);
+        self.unfold_half_power(scratch, 1.0 / points.len() as f64, out);
         Ok(())
     }
 
@@ -257,8 +253,8 @@ impl NufftPlan {
         out: &mut [Complex64],
     ) -> Result<()> {
         self.check_buffers(points, scratch, out.len(), self.output_len())?;
-        let half = self.grid_stage(points, scratch);
-        self.unfold(half, out);
+        self.grid_stage(points, scratch);
+        self.unfold(scratch, out);
         Ok(())
     }
 
@@ -289,8 +285,8 @@ impl NufftPlan {
         Ok(())
     }
 
-    /// Spreads, folds and transforms: the half lattice `k_last = 0..=K`, not deconvolved.
-    fn grid_stage<'s>(&self, points: &PointSet, scratch: &'s mut NufftScratch) -> &'s [Complex64] {
+    /// Spreads and folds all but the last axis (the row pass of the FFT stage folds the last).
+    fn grid_stage(&self, points: &PointSet, scratch: &mut NufftScratch) {
         spread::spread(
             &self.table,
             &self.layout,
@@ -298,9 +294,7 @@ impl NufftPlan {
             &mut scratch.cells,
             &mut scratch.sort,
         );
-        // Fold all but the last axis here; the row pass folds the last.
         spread::fold(&self.layout, &mut scratch.cells, self.dimension - 1);
-        self.fft_stage(scratch)
     }
 }
 

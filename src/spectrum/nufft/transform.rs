@@ -1,9 +1,12 @@
-//! The FFT stage of a [`NufftPlan`]: the folded grid to the half lattice `k_last = 0..=K`.
+//! The FFT stage of a [`NufftPlan`]: the folded grid to the deconvolved half lattice
+//! `k_last = 0..=K`.
 //!
 //! Rows (the last axis) are real: two rows ride in one complex FFT, `z = a + i b`, and
 //! separate as `A(k) = (Z(k) + conj Z(-k)) / 2`, `B(k) = (Z(k) - conj Z(-k)) / 2i`; only
-//! `k = 0..=K` is kept. The other axes transform only the lines that crop keeps. Lines go
-//! through the FFT [`BATCH`] at a time, gathered into one contiguous buffer.
+//! `k = 0..=K` is kept. The other axes transform only the lines that crop keeps. Every pass
+//! stores its output transposed, so that the next axis's lines are contiguous: they are
+//! transformed in place, [`BATCH`] at a time, and each batch is cropped into the next layout
+//! (or, after the first axis, written deconvolved) while it is in cache.
 
 use super::spread::fold_row;
 use super::{NufftPlan, NufftScratch};
@@ -13,31 +16,45 @@ use num_complex::Complex64;
 pub(super) const BATCH: usize = 16;
 
 impl NufftPlan {
-    /// Transforms the grid in `scratch.cells` (folded but for the last axis) and returns the
-    /// half lattice, `(2K+1)^{d-1}` rows of `K + 1` values. Leaves the grid cleared.
-    pub(super) fn fft_stage<'s>(&self, scratch: &'s mut NufftScratch) -> &'s [Complex64] {
-        let (d, g, k) = (self.dimension, self.grid_size(), self.kmax);
-        let keep = k + 1;
+    /// Transforms the grid in `scratch.cells` (folded but for the last axis) and calls
+    /// `write(index, value)` for every frequency of the half `k_last = 0..=K` with its flat
+    /// lattice index, deconvolved. Leaves the grid cleared.
+    pub(super) fn fft_stage(
+        &self,
+        scratch: &mut NufftScratch,
+        mut write: impl FnMut(usize, Complex64),
+    ) {
+        let (g, keep) = (self.grid_size(), self.kmax + 1);
         self.rows(scratch);
-        let s = &mut *scratch;
-        match d {
-            1 => &s.rows[..keep],
+        match self.dimension {
+            1 => {
+                for (t, v) in scratch.rows[..keep].iter().enumerate() {
+                    write(self.kmax + t, v * self.correction[self.kmax + t]);
+                }
+            }
             2 => {
-                self.columns(&s.rows, keep, 1, &mut s.spare, &mut s.batch, &mut s.fft);
-                &s.spare[..]
+                for first in (0..keep).step_by(BATCH) {
+                    let lines = BATCH.min(keep - first);
+                    let block = &mut scratch.rows[first * g..(first + lines) * g];
+                    self.first_axis(block, &mut scratch.fft, first, None, &mut write);
+                }
             }
             _ => {
-                // Axis 1 in every slab of axis 0, then axis 0 over the cropped planes.
-                self.columns(&s.rows, keep, g, &mut s.spare, &mut s.batch, &mut s.fft);
-                let plane = (2 * k + 1) * keep;
-                self.columns(&s.spare, plane, 1, &mut s.rows, &mut s.batch, &mut s.fft);
-                &s.rows[..(2 * k + 1) * plane]
+                self.middle_axis(scratch);
+                for o1 in 0..2 * self.kmax + 1 {
+                    for first in (0..keep).step_by(BATCH) {
+                        let lines = BATCH.min(keep - first);
+                        let block = &mut scratch.spare[(o1 * keep + first) * g..][..lines * g];
+                        self.first_axis(block, &mut scratch.fft, first, Some(o1), &mut write);
+                    }
+                }
             }
         }
     }
 
     /// The last axis: folds each row, transforms rows in pairs, keeps `k = 0..=K` of each in
-    /// `scratch.rows`, and clears the grid row by row while it is in cache.
+    /// `scratch.rows`, transposed (value `t` of row `r` at `t · rows + r`), and clears the grid
+    /// row by row while it is in cache.
     fn rows(&self, scratch: &mut NufftScratch) {
         let (d, g, k) = (self.dimension, self.grid_size(), self.kmax);
         let (keep, rows) = (k + 1, g.pow(d as u32 - 1));
@@ -46,104 +63,124 @@ impl NufftPlan {
             let pairs = BATCH.min((rows - first).div_ceil(2));
             for p in 0..pairs {
                 let line = &mut s.batch[p * g..][..g];
-                for (part, row) in [first + 2 * p, first + 2 * p + 1].into_iter().enumerate() {
-                    if row >= rows {
-                        line.iter_mut().for_each(|z| z.im = 0.0);
-                        continue;
+                let (a, b) = (first + 2 * p, first + 2 * p + 1);
+                let (start_a, side) = (self.row_cells(a), self.layout.side);
+                if b >= rows {
+                    let cells_a = self.folded(&mut s.cells[start_a..][..side]);
+                    for (z, c) in line.iter_mut().zip(cells_a.iter()) {
+                        *z = Complex64::new(*c, 0.0);
                     }
-                    let start = self.layout.row_start(row) - self.layout.offset;
-                    let padded = &mut s.cells[start..start + self.layout.side];
-                    fold_row(&self.layout, padded);
-                    let cells = &mut padded[self.layout.offset..][..g];
-                    for (z, c) in line.iter_mut().zip(cells.iter()) {
-                        if part == 0 {
-                            z.re = *c;
-                        } else {
-                            z.im = *c;
-                        }
-                    }
-                    cells.fill(0.0);
+                    cells_a.fill(0.0);
+                    continue;
                 }
+                // Rows a and b are disjoint and b comes later in the grid.
+                let start_b = self.row_cells(b);
+                let (low, high) = s.cells.split_at_mut(start_b);
+                let (row_a, row_b) = (&mut low[start_a..][..side], &mut high[..side]);
+                let (cells_a, cells_b) = (self.folded(row_a), self.folded(row_b));
+                for ((z, x), y) in line.iter_mut().zip(cells_a.iter()).zip(cells_b.iter()) {
+                    *z = Complex64::new(*x, *y);
+                }
+                cells_a.fill(0.0);
+                cells_b.fill(0.0);
             }
             self.fft
                 .process_with_scratch(&mut s.batch[..pairs * g], &mut s.fft);
-            for p in 0..pairs {
-                let z = &s.batch[p * g..][..g];
-                let (a, b) = (first + 2 * p, first + 2 * p + 1);
-                for t in 0..keep {
-                    let (zk, zn) = (z[t], z[(g - t) % g].conj());
-                    s.rows[a * keep + t] = (zk + zn) * 0.5;
+            let index = |row: usize, t: usize| t * rows + row;
+            // Frequency-major, so that transposed writes of one frequency are contiguous.
+            for t in 0..keep {
+                let mirror = if t == 0 { 0 } else { g - t };
+                for p in 0..pairs {
+                    let z = &s.batch[p * g..][..g];
+                    let (zk, zn) = (z[t], z[mirror].conj());
+                    let (a, b) = (first + 2 * p, first + 2 * p + 1);
+                    s.rows[index(a, t)] = (zk + zn) * 0.5;
                     if b < rows {
                         // (zk - zn) / 2i
                         let diff = zk - zn;
-                        s.rows[b * keep + t] = Complex64::new(diff.im * 0.5, -diff.re * 0.5);
+                        s.rows[index(b, t)] = Complex64::new(diff.im * 0.5, -diff.re * 0.5);
                     }
                 }
             }
         }
     }
 
-    /// The FFT along the middle axis of `input`, a row-major `(outer, g, inner)` array; writes
-    /// the frequencies `-K..=K` of the middle axis to `output` as `(outer, 2K+1, inner)`.
-    /// Lines are gathered [`BATCH`] at a time (contiguous reads of `BATCH` values per grid
-    /// row) and transformed in one call.
-    fn columns(
+    /// The flat index of the first padded cell of periodic row `row`.
+    fn row_cells(&self, row: usize) -> usize {
+        self.layout.row_start(row) - self.layout.offset
+    }
+
+    /// Folds the padding of one padded row onto its periodic cells and returns them.
+    fn folded<'c>(&self, padded: &'c mut [f64]) -> &'c mut [f64] {
+        fold_row(&self.layout, padded);
+        &mut padded[self.layout.offset..][..self.grid_size()]
+    }
+
+    /// The FFT bin of lattice frequency `o - K`.
+    fn bin(&self, o: usize) -> usize {
+        let (g, k) = (self.grid_size(), self.kmax);
+        if o < k {
+            o + g - k
+        } else {
+            o - k
+        }
+    }
+
+    /// In 3D: transforms axis 1, whose lines are contiguous in `scratch.rows` (laid out
+    /// `(t, a0, a1)` by [`rows`](Self::rows)), and crops it into `scratch.spare` laid out
+    /// `(o1, t, a0)`: lines along axis 0, contiguous for consecutive `t`.
+    fn middle_axis(&self, scratch: &mut NufftScratch) {
+        let (g, keep, side) = (self.grid_size(), self.kmax + 1, 2 * self.kmax + 1);
+        let s = &mut *scratch;
+        for t in 0..keep {
+            for first in (0..g).step_by(BATCH) {
+                let lines = BATCH.min(g - first);
+                let block = &mut s.rows[(t * g + first) * g..][..lines * g];
+                self.fft.process_with_scratch(block, &mut s.fft);
+                for o1 in 0..side {
+                    let bin = self.bin(o1);
+                    let dst = &mut s.spare[(o1 * keep + t) * g + first..][..lines];
+                    for (j, v) in dst.iter_mut().enumerate() {
+                        *v = block[j * g + bin];
+                    }
+                }
+            }
+        }
+    }
+
+    /// Transforms `block`, the lines along axis 0 of the last axis' frequencies `first..`
+    /// (at frequency index `middle` of axis 1 in 3D), in place, and writes them deconvolved.
+    fn first_axis(
         &self,
-        input: &[Complex64],
-        inner: usize,
-        outer: usize,
-        output: &mut [Complex64],
-        batch: &mut [Complex64],
+        block: &mut [Complex64],
         fft_scratch: &mut [Complex64],
+        first: usize,
+        middle: Option<usize>,
+        write: &mut impl FnMut(usize, Complex64),
     ) {
         let (g, k) = (self.grid_size(), self.kmax);
         let side = 2 * k + 1;
-        for o in 0..outer {
-            for first in (0..inner).step_by(BATCH) {
-                let lines = BATCH.min(inner - first);
-                for t in 0..g {
-                    let src = &input[(o * g + t) * inner + first..][..lines];
-                    for (j, v) in src.iter().enumerate() {
-                        batch[j * g + t] = *v;
-                    }
-                }
-                self.fft
-                    .process_with_scratch(&mut batch[..lines * g], fft_scratch);
-                for t in 0..side {
-                    let bin = (t + g - k) % g; // frequency t - K
-                    let dst = &mut output[(o * side + t) * inner + first..][..lines];
-                    for (j, v) in dst.iter_mut().enumerate() {
-                        *v = batch[j * g + bin];
-                    }
-                }
-            }
-        }
-    }
-
-    /// Calls `write(index, value)` for every frequency of the half `k_last = 0..=K` with its
-    /// flat lattice index, deconvolved.
-    #[inline(always)]
-    fn deconvolved(&self, half: &[Complex64], mut write: impl FnMut(usize, Complex64)) {
-        let (d, k) = (self.dimension, self.kmax);
-        let side = 2 * k + 1;
-        for o in 0..side.pow(d as u32 - 1) {
-            let mut factor = 1.0;
-            let mut rest = o;
-            for _ in 0..d - 1 {
-                factor *= self.correction[rest % side];
-                rest /= side;
-            }
-            let row = &half[o * (k + 1)..][..k + 1];
-            for (t, v) in row.iter().enumerate() {
-                write(o * side + k + t, v * (factor * self.correction[k + t]));
+        self.fft.process_with_scratch(block, fft_scratch);
+        for o0 in 0..side {
+            let bin = self.bin(o0);
+            let (row, factor) = match middle {
+                None => (o0, self.correction[o0]),
+                Some(o1) => (o0 * side + o1, self.correction[o1] * self.correction[o0]),
+            };
+            for (j, line) in block.chunks_exact(g).enumerate() {
+                let t = first + j;
+                write(
+                    row * side + k + t,
+                    line[bin] * (factor * self.correction[k + t]),
+                );
             }
         }
     }
 
     /// Writes the full lattice from the half `k_last = 0..=K` with `S(-k) = conj S(k)`.
-    pub(super) fn unfold(&self, half: &[Complex64], out: &mut [Complex64]) {
+    pub(super) fn unfold(&self, scratch: &mut NufftScratch, out: &mut [Complex64]) {
         let len = out.len();
-        self.deconvolved(half, |i, v| {
+        self.fft_stage(scratch, |i, v| {
             out[i] = v;
             // -k: flat index len - 1 - i.
             out[len - 1 - i] = v.conj();
@@ -152,8 +189,15 @@ impl NufftPlan {
 
     /// Writes `|S|² · scale` at flat indices `0..=dc`: each frequency of the half
     /// `k_last = 0..=K`, or its mirror `-k`, whichever comes first in lattice order.
-    pub(super) fn unfold_half_power(&self, half: &[Complex64], scale: f64, out: &mut [f64]) {
+    pub(super) fn unfold_half_power(
+        &self,
+        scratch: &mut NufftScratch,
+        scale: f64,
+        out: &mut [f64],
+    ) {
         let len = self.output_len();
-        self.deconvolved(half, |i, v| out[i.min(len - 1 - i)] = v.norm_sqr() * scale);
+        self.fft_stage(scratch, |i, v| {
+            out[i.min(len - 1 - i)] = v.norm_sqr() * scale
+        });
     }
 }
