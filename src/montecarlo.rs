@@ -442,7 +442,7 @@ fn errors_in_range(
             for shift in 0..s {
                 shift_into(&base, &shift_of(params, d, p * s + shift), &mut shifted);
                 for (j, f) in integrands.iter().enumerate() {
-                    let sum: f64 = shifted.chunks_exact(d).map(|x| f.eval(x)).sum();
+                    let sum = f.sum_at(&shifted);
                     let e = sum / base.len() as f64 - truths[j];
                     sums[j].mean += e / s as f64;
                     sums[j].mean_square += e * e / s as f64;

@@ -128,6 +128,13 @@ pub(crate) fn check_dimension(d: usize) -> Result<()> {
 /// Reduces `x` into `[0, 1)`.
 #[inline]
 pub fn wrap(x: f64) -> f64 {
+    // A point plus a shift falls in [0, 2): a compare and a select instead of a call to
+    // `floor` (the baseline x86-64 target has no rounding instruction), with its bits
+    // (`+ 0.0` turns -0 into 0, as `x - floor(x)` does).
+    if (0.0..2.0).contains(&x) {
+        let whole = if x >= 1.0 { 1.0 } else { 0.0 };
+        return x - whole + 0.0;
+    }
     let y = x - x.floor();
     // x - floor(x) can round up to exactly 1.0 for tiny negative x.
     if y >= 1.0 {
