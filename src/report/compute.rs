@@ -16,11 +16,12 @@ use crate::predict::{
     polar_validity, predict_many, predict_polar, regular_grid_bias, PolarParams, PredictParams,
     Prediction, Problem, SpectrumSource,
 };
-use crate::progress::Progress;
+use crate::progress::{Progress, Silent};
 use crate::rate::{crossover, fit_low_band, run_study, SamplerSpectrum, Study, StudySeries};
 use crate::render::{measured_ratio, run_comparison, TALK_MSE};
 use crate::sampler::{Ccvt, Regular, Sampler, SamplerKind};
 use crate::spectrum::{periodogram, Engine};
+use rayon::prelude::*;
 use std::time::Instant;
 
 /// The closure table's seed streams, independent of the study's.
@@ -276,32 +277,20 @@ fn closure(
             .map(|&n| kind.nearest_count(n, 2))
             .collect();
         ns.dedup();
-        for n in ns {
-            let mut mc = McParams::pooled(kind, config.trials, seed ^ CLOSURE_MC_STREAM, true);
-            mc.budget = config.predict.budget;
-            progress.begin(
-                &format!("closure: monte carlo of {kind} at N = {n}"),
-                mc.patterns as u64,
-            );
-            let measured = empirical_variances(sampler.as_ref(), &f_refs, n, &mc, progress)?;
-            progress.end();
-            let problems = f_refs
-                .iter()
-                .map(|f| Problem::new(sampler.as_ref(), *f, n))
-                .collect::<Result<Vec<_>>>()?;
-            let predictions = predict_many(&problems, &params, progress)?;
-            for ((f, measured), prediction) in f_refs.iter().zip(measured).zip(predictions) {
-                let z = prediction.z_beyond_bounds(&measured);
-                rows.push(ClosureRow {
-                    sampler: kind,
-                    integrand: f.label(),
-                    n,
-                    prediction,
-                    measured,
-                    z,
-                    agrees: z.abs() <= Z_99,
-                });
-            }
+        // The counts run side by side (each is deterministic, and their rows are kept in
+        // order): one count's sequential steps overlap another's parallel ones.
+        progress.begin(&format!("closure: {kind}"), ns.len() as u64);
+        let cells: Vec<Result<Vec<ClosureRow>>> = ns
+            .par_iter()
+            .map(|&n| {
+                let cell = closure_cell(config, &params, seed, sampler.as_ref(), &f_refs, n);
+                progress.advance(1);
+                cell
+            })
+            .collect();
+        progress.end();
+        for cell in cells {
+            rows.extend(cell?);
         }
     }
     let misses = rows.iter().filter(|r| !r.agrees).count();
@@ -312,6 +301,46 @@ fn closure(
         misses,
         rows,
     })
+}
+
+/// One sampler at one count: Monte Carlo of every integrand on the same patterns, and their
+/// default predictions.
+fn closure_cell(
+    config: &ClosureConfig,
+    params: &PredictParams,
+    seed: u64,
+    sampler: &dyn Sampler,
+    integrands: &[&dyn Integrand],
+    n: usize,
+) -> Result<Vec<ClosureRow>> {
+    let kind = sampler
+        .kind()
+        .ok_or_else(|| crate::error::Error::Mismatch("a closure sampler without a kind".into()))?;
+    let mut mc = McParams::pooled(kind, config.trials, seed ^ CLOSURE_MC_STREAM, true);
+    mc.budget = config.predict.budget;
+    let measured = empirical_variances(sampler, integrands, n, &mc, &Silent)?;
+    let problems = integrands
+        .iter()
+        .map(|f| Problem::new(sampler, *f, n))
+        .collect::<Result<Vec<_>>>()?;
+    let predictions = predict_many(&problems, params, &Silent)?;
+    Ok(integrands
+        .iter()
+        .zip(measured)
+        .zip(predictions)
+        .map(|((f, measured), prediction)| {
+            let z = prediction.z_beyond_bounds(&measured);
+            ClosureRow {
+                sampler: kind,
+                integrand: f.label(),
+                n,
+                prediction,
+                measured,
+                z,
+                agrees: z.abs() <= Z_99,
+            }
+        })
+        .collect())
 }
 
 /// `P(X ≥ k)` for `X ~ Binomial(n, p)`.
