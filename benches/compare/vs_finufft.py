@@ -167,14 +167,14 @@ def main():
                 f_err = errors(f_sums, sets[0], freqs, kmax)
                 line = (f"| {d} | {n} | {kmax} | {threads} | {1e3 * f_time:.1f} ({up:g}) "
                         f"| {f_err[0]:.1e}, {f_err[1]:.1e} | {f_fft / f_time:.2f} ")
-                for tolerance in (TOLERANCE, matched, equal):
+                for column, tolerance in enumerate((TOLERANCE, matched, equal)):
                     info, s_sums = best_s[tolerance]
                     s_err = errors(s_sums, sets[0], freqs, kmax)
                     s_time = info["seconds_per_set"]
-                    label = "" if tolerance == TOLERANCE else f"{tolerance:.1e}, "
+                    label = "" if column == 0 else f"{tolerance:.1e}, "
                     line += (f"| {1e3 * s_time:.1f} ({label}{info['upsampling']:g}, "
                              f"{info['width']}) | {s_err[0]:.1e}, {s_err[1]:.1e} ")
-                    if tolerance == TOLERANCE:
+                    if column == 0:
                         line += f"| {info['fft_seconds_per_set'] / s_time:.2f} "
                     line += f"| {f_time / s_time:.2f}× "
                 print(line + "|")

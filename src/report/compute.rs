@@ -33,25 +33,50 @@ const CLOSURE_MC_STREAM: u64 = 0xC2;
 /// # Errors
 /// Any failure of the computations (the configuration is checked first by each part).
 pub fn compute(config: &ReportConfig, progress: &dyn Progress) -> Result<Report> {
-    let mut timings = Vec::new();
-    let mut timed = |stage: &str, start: Instant| {
-        timings.push(Timing {
-            stage: stage.to_string(),
-            seconds: start.elapsed().as_secs_f64(),
-        })
-    };
     let start = Instant::now();
     let study = run_study(&config.study, progress)?;
-    timed("rate study: spectra, predictions, Monte Carlo", start);
+    let mut timings = vec![Timing {
+        stage: "rate study: spectra, predictions, Monte Carlo".into(),
+        seconds: start.elapsed().as_secs_f64(),
+    }];
     let extras = extras(&study)?;
+    // The closure table (with the progress shown) runs alongside the edges and the renders
+    // (silent): each is deterministic on its own seeds, and together they keep both cores busy
+    // through each other's sequential steps.
     let start = Instant::now();
-    let closure = closure(
-        &config.closure,
-        config.seed,
-        config.cache.as_deref(),
-        progress,
-    )?;
-    timed("closure table: every sampler off the talk's setup", start);
+    let (closure, others) = rayon::join(
+        || {
+            let table = closure(
+                &config.closure,
+                config.seed,
+                config.cache.as_deref(),
+                progress,
+            );
+            (table, start.elapsed().as_secs_f64())
+        },
+        || -> Result<_> {
+            let edges = edges(&config.edges, config.seed, &Silent)?;
+            let edges_seconds = start.elapsed().as_secs_f64();
+            let run = run_comparison(&config.ambient, &Silent)?;
+            Ok((edges, edges_seconds, run, start.elapsed().as_secs_f64()))
+        },
+    );
+    let (closure, closure_seconds) = closure;
+    let closure = closure?;
+    let (edges, edges_seconds, run, ambient_seconds) = others?;
+    timings.push(Timing {
+        stage: "closure table: every sampler off the talk's setup".into(),
+        seconds: closure_seconds,
+    });
+    timings.push(Timing {
+        stage: "edges at any angle: orientation curves and rates (alongside the closure table)"
+            .into(),
+        seconds: edges_seconds,
+    });
+    timings.push(Timing {
+        stage: "ambient-occlusion renders (after the edges, alongside the closure table)".into(),
+        seconds: ambient_seconds - edges_seconds,
+    });
     let crossovers = crossovers(&study);
     let ccvt_low_band = study
         .spectra
@@ -65,12 +90,6 @@ pub fn compute(config: &ReportConfig, progress: &dyn Progress) -> Result<Report>
             )
         });
     let illustration = illustration()?;
-    let start = Instant::now();
-    let edges = edges(&config.edges, config.seed, progress)?;
-    timed("edges at any angle: orientation curves and rates", start);
-    let start = Instant::now();
-    let run = run_comparison(&config.ambient, progress)?;
-    timed("ambient-occlusion renders", start);
     let ambient = AmbientSection {
         width: config.ambient.width,
         height: config.ambient.height,
