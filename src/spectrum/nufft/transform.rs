@@ -63,26 +63,7 @@ impl NufftPlan {
             let pairs = BATCH.min((rows - first).div_ceil(2));
             for p in 0..pairs {
                 let line = &mut s.batch[p * g..][..g];
-                let (a, b) = (first + 2 * p, first + 2 * p + 1);
-                let (start_a, side) = (self.row_cells(a), self.layout.side);
-                if b >= rows {
-                    let cells_a = self.folded(&mut s.cells[start_a..][..side]);
-                    for (z, c) in line.iter_mut().zip(cells_a.iter()) {
-                        *z = Complex64::new(*c, 0.0);
-                    }
-                    cells_a.fill(0.0);
-                    continue;
-                }
-                // Rows a and b are disjoint and b comes later in the grid.
-                let start_b = self.row_cells(b);
-                let (low, high) = s.cells.split_at_mut(start_b);
-                let (row_a, row_b) = (&mut low[start_a..][..side], &mut high[..side]);
-                let (cells_a, cells_b) = (self.folded(row_a), self.folded(row_b));
-                for ((z, x), y) in line.iter_mut().zip(cells_a.iter()).zip(cells_b.iter()) {
-                    *z = Complex64::new(*x, *y);
-                }
-                cells_a.fill(0.0);
-                cells_b.fill(0.0);
+                self.pack_pair(&mut s.cells, line, first + 2 * p, rows);
             }
             self.fft
                 .process_with_scratch(&mut s.batch[..pairs * g], &mut s.fft);
@@ -103,6 +84,31 @@ impl NufftPlan {
                 }
             }
         }
+    }
+
+    /// Folds rows `a` and `a + 1` (the latter only if below `rows`), writes them into `line` as
+    /// its real and imaginary parts, and clears them.
+    fn pack_pair(&self, cells: &mut [f64], line: &mut [Complex64], a: usize, rows: usize) {
+        let (start_a, side) = (self.row_cells(a), self.layout.side);
+        if a + 1 >= rows {
+            let cells_a = self.folded(&mut cells[start_a..][..side]);
+            for (z, c) in line.iter_mut().zip(cells_a.iter()) {
+                *z = Complex64::new(*c, 0.0);
+            }
+            cells_a.fill(0.0);
+            return;
+        }
+        // Row a + 1 comes later in the grid than row a, and they do not overlap.
+        let (low, high) = cells.split_at_mut(self.row_cells(a + 1));
+        let (cells_a, cells_b) = (
+            self.folded(&mut low[start_a..][..side]),
+            self.folded(&mut high[..side]),
+        );
+        for ((z, x), y) in line.iter_mut().zip(cells_a.iter()).zip(cells_b.iter()) {
+            *z = Complex64::new(*x, *y);
+        }
+        cells_a.fill(0.0);
+        cells_b.fill(0.0);
     }
 
     /// The flat index of the first padded cell of periodic row `row`.
