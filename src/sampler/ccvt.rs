@@ -224,19 +224,29 @@ fn greedy_assignment(
             .fold(0, |acc, x| acc * g + ((x * g as f64) as usize).min(g - 1));
         buckets[flat].push(s as u32);
     }
-    let mut pairs: Vec<(f64, u32, u32)> = Vec::new();
+    // Each pair is one integer, (distance, point, site) from the most significant bits down:
+    // the bits of a non-negative f64 order as its value, so the integers sort in the order of
+    // distance, then point, then site, a total order that any sort reproduces, and integers
+    // sort faster than tuples under a comparison function.
+    let mut pairs: Vec<u128> = Vec::new();
     let mut candidates = Vec::new();
     for x in 0..m {
         let p = &points[x * d..(x + 1) * d];
         candidate_sites(p, g, &buckets, &mut candidates);
         for &s in &candidates {
-            pairs.push((toroidal_distance_sq(p, site(s as usize)), x as u32, s));
+            let distance = toroidal_distance_sq(p, site(s as usize)) + 0.0;
+            pairs.push(
+                (u128::from(distance.to_bits()) << 64)
+                    | (u128::from(x as u32) << 32)
+                    | u128::from(s),
+            );
         }
     }
-    pairs.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
+    pairs.sort_unstable();
     let mut owned: Vec<Vec<u32>> = vec![Vec::with_capacity(capacity); n];
     let mut assigned = vec![false; m];
-    for (_, x, s) in pairs {
+    for pair in pairs {
+        let (x, s) = ((pair >> 32) as u32, pair as u32);
         if !assigned[x as usize] && owned[s as usize].len() < capacity {
             assigned[x as usize] = true;
             owned[s as usize].push(x);
