@@ -225,9 +225,9 @@ fn greedy_assignment(
         buckets[flat].push(s as u32);
     }
     // Each pair is one integer, (distance, point, site) from the most significant bits down:
-    // the bits of a non-negative f64 order as its value, so the integers sort in the order of
-    // distance, then point, then site, a total order that any sort reproduces, and integers
-    // sort faster than tuples under a comparison function.
+    // the bits of a non-negative f64 order as its value (`+ 0.0` makes a -0 a +0), so the
+    // integers sort in the order of distance, then point, then site, a total order that any
+    // sort reproduces, and integers sort faster than tuples under a comparison function.
     let mut pairs: Vec<u128> = Vec::new();
     let mut candidates = Vec::new();
     for x in 0..m {
