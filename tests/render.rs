@@ -41,6 +41,35 @@ fn rays_hit_boxes_and_spheres_where_they_should() {
     assert!((0..frame.pixels()).all(|p| frame.point(p).is_some()));
 }
 
+/// Skipping the shapes beyond the maximum distance changes no ray's visibility, at distances
+/// from a sliver to the whole room, and it does skip shapes: rays from most points near the
+/// back wall cannot reach the open front.
+#[test]
+fn rays_skip_only_shapes_beyond_their_reach() {
+    let frame = Frame::new(Scene::cornell_box(), 24, 18).unwrap();
+    let scene = frame.scene();
+    let mut culled = 0;
+    for p in 0..frame.pixels() {
+        let point = frame.point(p).unwrap();
+        let everything = point.near(scene, 100.0);
+        for max_distance in [0.01, 0.05, 0.2, 0.35, 0.5, 2.0] {
+            let near = point.near(scene, max_distance);
+            culled += usize::from(near != everything);
+            for i in 0..24 {
+                for j in 0..12 {
+                    let u = [(i as f64 + 0.5) / 24.0, (j as f64 + 0.5) / 12.0];
+                    assert_eq!(
+                        point.visibility_near(scene, near, &u, max_distance),
+                        point.visibility(scene, &u, max_distance),
+                        "pixel {p}, distance {max_distance}, u = {u:?}"
+                    );
+                }
+            }
+        }
+    }
+    assert!(culled > frame.pixels(), "only {culled} culled sets");
+}
+
 /// A point on a floor with nothing above sees the whole hemisphere; at the foot of an infinite
 /// wall, the cosine-weighted visible fraction is exactly 1/2 by symmetry.
 #[test]

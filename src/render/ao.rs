@@ -7,7 +7,7 @@
 //! sampler's spectrum against `V`'s (lattice form), which is why `V` can be rasterized into a
 //! [`GridIntegrand`].
 
-use super::geometry::{Hit, Ray, Scene, Vec3};
+use super::geometry::{Hit, NearShapes, Ray, Scene, Vec3};
 use crate::error::Result;
 use crate::integrand::GridIntegrand;
 use crate::pointset::PointSet;
@@ -49,16 +49,34 @@ impl ShadingPoint {
 
     /// `V(u)`: 1 if the direction of `u` is free of surfaces up to `max_distance`, else 0.
     pub fn visibility(&self, scene: &Scene, u: &[f64], max_distance: f64) -> f64 {
-        let (sin_phi, cos_phi) = (2.0 * PI * u[1]).sin_cos();
-        self.visible(scene, u[0].sqrt(), cos_phi, sin_phi, max_distance)
+        self.visibility_near(scene, NearShapes::ALL, u, max_distance)
     }
 
-    fn visible(&self, scene: &Scene, r: f64, cos: f64, sin: f64, max_distance: f64) -> f64 {
+    /// The shapes this point's rays can meet within `max_distance`: computed once, it lets
+    /// [`visibility_near`](Self::visibility_near) skip the others for every ray.
+    pub fn near(&self, scene: &Scene, max_distance: f64) -> NearShapes {
+        scene.near(self.origin, max_distance)
+    }
+
+    /// As [`visibility`](Self::visibility), testing only the shapes of `near` (from
+    /// [`near`](Self::near) with the same scene and distance): the same value.
+    pub fn visibility_near(
+        &self,
+        scene: &Scene,
+        near: NearShapes,
+        u: &[f64],
+        max_distance: f64,
+    ) -> f64 {
+        let (sin_phi, cos_phi) = (2.0 * PI * u[1]).sin_cos();
         let ray = Ray {
             origin: self.origin,
-            direction: self.direction(r, cos, sin),
+            direction: self.direction(u[0].sqrt(), cos_phi, sin_phi),
         };
-        if scene.occluded(&ray, max_distance) {
+        Self::visible(scene, near, &ray, max_distance)
+    }
+
+    fn visible(scene: &Scene, near: NearShapes, ray: &Ray, max_distance: f64) -> f64 {
+        if scene.occluded_near(ray, max_distance, near) {
             0.0
         } else {
             1.0
@@ -67,9 +85,10 @@ impl ShadingPoint {
 
     /// The Monte Carlo estimate of the ambient occlusion: the mean of `V` over `points` (2D).
     pub fn estimate(&self, scene: &Scene, points: &PointSet, max_distance: f64) -> f64 {
+        let near = self.near(scene, max_distance);
         let total: f64 = points
             .points()
-            .map(|u| self.visibility(scene, u, max_distance))
+            .map(|u| self.visibility_near(scene, near, u, max_distance))
             .sum();
         total / points.len() as f64
     }
@@ -88,14 +107,17 @@ impl ShadingPoint {
         let centre = |i: usize| (i as f64 + 0.5) / resolution as f64;
         // Each row shares its φ and each column its radius: 2R transcendental calls, not 2R².
         let radii: Vec<f64> = (0..resolution).map(|x| centre(x).sqrt()).collect();
+        let near = self.near(scene, max_distance);
         let mut values = Vec::with_capacity(resolution * resolution);
         for y in 0..resolution {
             let (sin, cos) = (2.0 * PI * centre(y)).sin_cos();
-            values.extend(
-                radii
-                    .iter()
-                    .map(|&r| self.visible(scene, r, cos, sin, max_distance)),
-            );
+            values.extend(radii.iter().map(|&r| {
+                let ray = Ray {
+                    origin: self.origin,
+                    direction: self.direction(r, cos, sin),
+                };
+                Self::visible(scene, near, &ray, max_distance)
+            }));
         }
         GridIntegrand::new(resolution, resolution, values)
     }

@@ -152,6 +152,25 @@ impl Shape {
 }
 
 impl Shape {
+    /// The distance from `p` to the nearest point of the shape (0 inside it).
+    fn distance_from(&self, p: Vec3) -> f64 {
+        match *self {
+            Shape::Sphere { centre, radius } => {
+                let r = p - centre;
+                (r.dot(r).sqrt() - radius).max(0.0)
+            }
+            Shape::AxisBox { min, max } => {
+                let gaps = (0..3).map(|a| {
+                    let gap = (min.axis(a) - p.axis(a))
+                        .max(p.axis(a) - max.axis(a))
+                        .max(0.0);
+                    gap * gap
+                });
+                gaps.sum::<f64>().sqrt()
+            }
+        }
+    }
+
     /// Whether the ray meets the shape at some `t` in `(0, t_max)`: the decision of
     /// [`intersect`](Self::intersect), to the same bits, without the normal and with the
     /// direction's reciprocals computed once per ray by the caller.
@@ -239,6 +258,34 @@ pub struct Scene {
     pub camera: Camera,
 }
 
+/// Relative and absolute margin on the distance within which a shape counts as near.
+const NEAR_MARGIN: f64 = 1e-9;
+
+/// The shapes of a scene near one point, from [`Scene::near`]: a bit per shape (every shape
+/// beyond the first 64 counts as near).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct NearShapes {
+    mask: u64,
+    beyond: bool,
+}
+
+impl NearShapes {
+    /// Every shape.
+    pub const ALL: Self = Self {
+        mask: u64::MAX,
+        beyond: true,
+    };
+    const BITS: usize = 64;
+
+    fn holds(self, shape: usize) -> bool {
+        if shape >= Self::BITS {
+            self.beyond
+        } else {
+            (self.mask >> shape) & 1 == 1
+        }
+    }
+}
+
 impl Scene {
     /// A Cornell-box-like room `[0,1]³` open towards the camera (walls, floor and ceiling are
     /// slabs 0.1 thick), with a tall and a short block and two spheres, seen from
@@ -296,10 +343,36 @@ impl Scene {
 
     /// Whether any surface lies along `ray` closer than `max_distance`.
     pub fn occluded(&self, ray: &Ray, max_distance: f64) -> bool {
+        self.occluded_near(ray, max_distance, NearShapes::ALL)
+    }
+
+    /// The shapes that a ray from `origin` with a unit direction can meet closer than
+    /// `max_distance`: those within that distance of `origin`, with a margin far above the
+    /// rounding of a unit direction and of the slab tests. The others cannot block any such
+    /// ray, so [`occluded_near`](Self::occluded_near) skips them and decides as
+    /// [`occluded`](Self::occluded) does.
+    pub fn near(&self, origin: Vec3, max_distance: f64) -> NearShapes {
+        let reach = max_distance * (1.0 + NEAR_MARGIN) + NEAR_MARGIN;
+        let mut mask = 0u64;
+        for (i, shape) in self.shapes.iter().enumerate().take(NearShapes::BITS) {
+            if shape.distance_from(origin) <= reach {
+                mask |= 1 << i;
+            }
+        }
+        NearShapes {
+            mask,
+            beyond: self.shapes.len() > NearShapes::BITS,
+        }
+    }
+
+    /// As [`occluded`](Self::occluded) for a ray from the origin `near` was made for, testing
+    /// only the shapes it holds.
+    pub fn occluded_near(&self, ray: &Ray, max_distance: f64, near: NearShapes) -> bool {
         let d = ray.direction;
         let inverse = [1.0 / d.x, 1.0 / d.y, 1.0 / d.z];
         self.shapes
             .iter()
-            .any(|s| s.blocks(ray, inverse, max_distance))
+            .enumerate()
+            .any(|(i, s)| near.holds(i) && s.blocks(ray, inverse, max_distance))
     }
 }

@@ -244,11 +244,12 @@ fn shifted_estimate(
 ) -> f64 {
     let mut rng = realization_rng(params.seed, p as u64, Stream::Shift);
     let shift = [uniform(&mut rng), uniform(&mut rng)];
+    let near = point.near(scene, params.max_distance);
     let visible: f64 = pattern
         .points()
         .map(|u| {
             let v = [wrap(u[0] + shift[0]), wrap(u[1] + shift[1])];
-            point.visibility(scene, &v, params.max_distance)
+            point.visibility_near(scene, near, &v, params.max_distance)
         })
         .sum();
     visible / pattern.len() as f64
@@ -293,10 +294,11 @@ pub fn render_reference(
     let values = per_row(frame, progress, |p| {
         frame.point(p).map_or(1.0, |point| {
             let mut rng = realization_rng(seed, p as u64, Stream::Reference);
+            let near = point.near(frame.scene(), max_distance);
             let visible: f64 = (0..rays)
                 .map(|_| {
                     let u = [uniform(&mut rng), uniform(&mut rng)];
-                    point.visibility(frame.scene(), &u, max_distance)
+                    point.visibility_near(frame.scene(), near, &u, max_distance)
                 })
                 .sum();
             visible / rays as f64
