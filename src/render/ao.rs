@@ -68,15 +68,24 @@ impl ShadingPoint {
         max_distance: f64,
     ) -> f64 {
         let (sin_phi, cos_phi) = (2.0 * PI * u[1]).sin_cos();
-        let ray = Ray {
-            origin: self.origin,
-            direction: self.direction(u[0].sqrt(), cos_phi, sin_phi),
-        };
-        Self::visible(scene, near, &ray, max_distance)
+        self.visible(scene, near, u[0].sqrt(), cos_phi, sin_phi, max_distance)
     }
 
-    fn visible(scene: &Scene, near: NearShapes, ray: &Ray, max_distance: f64) -> f64 {
-        if scene.occluded_near(ray, max_distance, near) {
+    /// `V` along the direction with `sin θ = r` and `(cos φ, sin φ)`.
+    fn visible(
+        &self,
+        scene: &Scene,
+        near: NearShapes,
+        r: f64,
+        cos: f64,
+        sin: f64,
+        max_distance: f64,
+    ) -> f64 {
+        let ray = Ray {
+            origin: self.origin,
+            direction: self.direction(r, cos, sin),
+        };
+        if scene.occluded_near(&ray, max_distance, near) {
             0.0
         } else {
             1.0
@@ -111,13 +120,11 @@ impl ShadingPoint {
         let mut values = Vec::with_capacity(resolution * resolution);
         for y in 0..resolution {
             let (sin, cos) = (2.0 * PI * centre(y)).sin_cos();
-            values.extend(radii.iter().map(|&r| {
-                let ray = Ray {
-                    origin: self.origin,
-                    direction: self.direction(r, cos, sin),
-                };
-                Self::visible(scene, near, &ray, max_distance)
-            }));
+            values.extend(
+                radii
+                    .iter()
+                    .map(|&r| self.visible(scene, near, r, cos, sin, max_distance)),
+            );
         }
         GridIntegrand::new(resolution, resolution, values)
     }
