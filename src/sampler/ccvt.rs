@@ -11,6 +11,9 @@
 //! is stable), or `max_iterations`. Neighbouring pairs are the sites closer than
 //! `2 N^{-1/d}` (the Voronoi neighbours lie within about `1.5 N^{-1/d}`).
 
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+
 use super::{check_supported, uniform, PoissonDisk, Sampler, SamplerKind};
 use crate::error::{invalid, Result};
 use crate::pointset::{toroidal_delta, toroidal_distance_sq, wrap, PointSet};
@@ -42,7 +45,7 @@ pub struct CcvtStats {
     /// Whether the last iteration swapped nothing.
     pub converged: bool,
     /// Mean squared toroidal distance from each discrete point to its site, after each
-    /// iteration.
+    /// iteration (recorded by [`Ccvt::generate`]; a plain `sample` skips it).
     pub energy: Vec<f64>,
     /// The number of discrete points each site owns at the end.
     pub capacities: Vec<usize>,
@@ -98,6 +101,18 @@ impl Ccvt {
     /// # Errors
     /// `n = 0`.
     pub fn generate(&self, n: usize, seed: u64, realization: u64) -> Result<(PointSet, CcvtStats)> {
+        self.run(n, seed, realization, true)
+    }
+
+    /// The optimization; the energy after each iteration is recorded only when asked for
+    /// (it is a pass over every discrete point, which the pattern does not need).
+    fn run(
+        &self,
+        n: usize,
+        seed: u64,
+        realization: u64,
+        record_energy: bool,
+    ) -> Result<(PointSet, CcvtStats)> {
         self.check_count(n)?;
         let mut state = State::new(self.dimension, n, self.params.capacity, seed, realization);
         let mut energy = Vec::new();
@@ -107,7 +122,9 @@ impl Ccvt {
             iterations += 1;
             let swaps = state.swap_pass();
             state.move_sites();
-            energy.push(state.energy());
+            if record_energy {
+                energy.push(state.energy());
+            }
             if swaps == 0 {
                 converged = true;
                 break;
@@ -135,7 +152,7 @@ impl Sampler for Ccvt {
         Some(SamplerKind::Ccvt)
     }
     fn sample(&self, n: usize, seed: u64, realization: u64) -> Result<PointSet> {
-        self.generate(n, seed, realization).map(|(p, _)| p)
+        self.run(n, seed, realization, false).map(|(p, _)| p)
     }
 }
 
@@ -182,31 +199,81 @@ fn initial_sites(d: usize, n: usize, seed: u64, realization: u64) -> Vec<f64> {
     }
 }
 
-/// The sites in the 5^d grid cells around `p` (or all sites on a grid too small to have
-/// distinct neighbours).
-fn candidate_sites(p: &[f64], g: usize, buckets: &[Vec<u32>], out: &mut Vec<u32>) {
-    out.clear();
-    if g < 5 {
-        buckets.iter().for_each(|b| out.extend_from_slice(b));
-        return;
-    }
-    let d = p.len();
-    let c: Vec<usize> = p
-        .iter()
-        .map(|x| ((x * g as f64) as usize).min(g - 1))
-        .collect();
-    for o in 0..5usize.pow(d as u32) {
-        let mut rest = o;
-        let mut flat = 0;
-        for a in 0..d {
-            flat = flat * g + (c[a] + g + rest % 5 - 2) % g;
-            rest /= 5;
+/// The sites in a toroidal grid of `g^d` cells over the unit cube.
+struct SiteGrid {
+    d: usize,
+    g: usize,
+    cells: Vec<Vec<u32>>,
+}
+
+impl SiteGrid {
+    fn new(d: usize, g: usize, sites: &[f64]) -> Self {
+        let mut grid = Self {
+            d,
+            g,
+            cells: vec![Vec::new(); g.pow(d as u32)],
+        };
+        for (s, site) in sites.chunks_exact(d).enumerate() {
+            let c = grid.cell_of(site);
+            let flat = c[..d].iter().fold(0, |acc, &x| acc * g + x);
+            grid.cells[flat].push(s as u32);
         }
-        out.extend_from_slice(&buckets[flat]);
+        grid
+    }
+
+    fn cell_of(&self, p: &[f64]) -> [usize; 3] {
+        let mut c = [0; 3];
+        for (c, x) in c.iter_mut().zip(p) {
+            *c = ((x * self.g as f64) as usize).min(self.g - 1);
+        }
+        c
+    }
+
+    /// Calls `visit` with each site in the `(2 reach + 1)^d` cells around the cell of `p`,
+    /// the first axis's offset varying fastest, cell by cell in the order of their sites. The
+    /// cells are distinct when `2 reach < g`.
+    fn for_each_near(&self, p: &[f64], reach: usize, mut visit: impl FnMut(u32)) {
+        let (d, g) = (self.d, self.g);
+        let c = self.cell_of(p);
+        let side = 2 * reach + 1;
+        let mut offset = [0usize; 3];
+        for _ in 0..side.pow(d as u32) {
+            let mut flat = 0;
+            for a in 0..d {
+                // c + offset - reach lies in [-reach, g + reach): one wrap either way.
+                let x = c[a] + offset[a] + g - reach;
+                let x = if x >= 2 * g {
+                    x - 2 * g
+                } else if x >= g {
+                    x - g
+                } else {
+                    x
+                };
+                flat = flat * g + x;
+            }
+            self.cells[flat].iter().for_each(|&s| visit(s));
+            for o in offset[..d].iter_mut() {
+                *o += 1;
+                if *o < side {
+                    break;
+                }
+                *o = 0;
+            }
+        }
     }
 }
 
-/// Capacity-constrained greedy assignment of points to sites (see [`State::new`]).
+/// Capacity-constrained greedy assignment of points to sites (see [`State::new`]): the
+/// candidate pairs are taken by increasing key, a point by its first pair whose site still has
+/// room.
+///
+/// A key is one integer, (distance, point, site) from the most significant bits down: the bits
+/// of a non-negative f64 order as its value (`+ 0.0` makes a -0 a +0), so keys order by
+/// distance, then point, then site, a total order. Rather than sorting every pair, a heap holds
+/// each free point's smallest untried pair; when its site is full, the point's next pair goes
+/// in. This visits the pairs that matter in the same order as a sort of all of them, so the
+/// assignment is the same: every key popped is the smallest left (a point's next pair is
+/// larger than the pair just popped), and a full site stays full.
 fn greedy_assignment(
     d: usize,
     n: usize,
@@ -215,45 +282,33 @@ fn greedy_assignment(
     sites: &[f64],
 ) -> Vec<Vec<u32>> {
     let m = points.len() / d;
-    let site = |s: usize| &sites[s * d..(s + 1) * d];
     let g = ((n as f64).powf(1.0 / d as f64).floor() as usize).max(1);
-    let mut buckets: Vec<Vec<u32>> = vec![Vec::new(); g.pow(d as u32)];
-    for s in 0..n {
-        let flat = site(s)
-            .iter()
-            .fold(0, |acc, x| acc * g + ((x * g as f64) as usize).min(g - 1));
-        buckets[flat].push(s as u32);
-    }
-    // Each pair is one integer, (distance, point, site) from the most significant bits down:
-    // the bits of a non-negative f64 order as its value (`+ 0.0` makes a -0 a +0), so the
-    // integers sort in the order of distance, then point, then site, a total order that any
-    // sort reproduces, and integers sort faster than tuples under a comparison function.
-    let mut pairs: Vec<u128> = Vec::new();
-    let mut candidates = Vec::new();
-    for x in 0..m {
-        let p = &points[x * d..(x + 1) * d];
-        candidate_sites(p, g, &buckets, &mut candidates);
-        for &s in &candidates {
-            let distance = toroidal_distance_sq(p, site(s as usize)) + 0.0;
-            pairs.push(
-                (u128::from(distance.to_bits()) << 64)
-                    | (u128::from(x as u32) << 32)
-                    | u128::from(s),
-            );
-        }
-    }
-    pairs.sort_unstable();
+    let grid = SiteGrid::new(d, g, sites);
+    let choices = Choices {
+        d,
+        n,
+        points,
+        sites,
+        grid: &grid,
+    };
+    let firsts: Vec<Reverse<u128>> = (0..m)
+        .filter_map(|x| choices.next(x, None).map(Reverse))
+        .collect();
+    let mut heap = BinaryHeap::from(firsts);
     let mut owned: Vec<Vec<u32>> = vec![Vec::with_capacity(capacity); n];
     let mut assigned = vec![false; m];
-    for pair in pairs {
-        let (x, s) = ((pair >> 32) as u32, pair as u32);
-        if !assigned[x as usize] && owned[s as usize].len() < capacity {
-            assigned[x as usize] = true;
-            owned[s as usize].push(x);
+    while let Some(Reverse(key)) = heap.pop() {
+        let (x, s) = ((key >> 32) as u32 as usize, key as u32 as usize);
+        if owned[s].len() < capacity {
+            assigned[x] = true;
+            owned[s].push(x as u32);
+        } else if let Some(next) = choices.next(x, Some(key)) {
+            heap.push(Reverse(next));
         }
     }
     for x in (0..m).filter(|&x| !assigned[x]) {
         let p = &points[x * d..(x + 1) * d];
+        let site = |s: usize| &sites[s * d..(s + 1) * d];
         let nearest_with_room = (0..n)
             .filter(|&s| owned[s].len() < capacity)
             .min_by(|&a, &b| {
@@ -265,6 +320,40 @@ fn greedy_assignment(
         }
     }
     owned
+}
+
+/// The candidate pairs of each point in [`greedy_assignment`]: the sites in the 5^d grid cells
+/// around it (all sites on a grid too small to have 5 distinct cells a side), as
+/// (distance, point, site) keys.
+struct Choices<'a> {
+    d: usize,
+    n: usize,
+    points: &'a [f64],
+    sites: &'a [f64],
+    grid: &'a SiteGrid,
+}
+
+impl Choices<'_> {
+    /// Point `x`'s smallest key above `after` (or its smallest of all), if any is left.
+    fn next(&self, x: usize, after: Option<u128>) -> Option<u128> {
+        let d = self.d;
+        let p = &self.points[x * d..(x + 1) * d];
+        let mut best: Option<u128> = None;
+        let consider = |s: u32| {
+            let site = &self.sites[s as usize * d..(s as usize + 1) * d];
+            let distance = toroidal_distance_sq(p, site) + 0.0;
+            let key = (u128::from(distance.to_bits()) << 64) | ((x as u128) << 32) | u128::from(s);
+            if after.is_none_or(|a| key > a) && best.is_none_or(|b| key < b) {
+                best = Some(key);
+            }
+        };
+        if self.grid.g < 5 {
+            (0..self.n as u32).for_each(consider);
+        } else {
+            self.grid.for_each_near(p, 2, consider);
+        }
+        best
+    }
 }
 
 struct State {
@@ -333,32 +422,14 @@ impl State {
             }
             return pairs;
         }
-        let cell_of = |p: &[f64]| -> Vec<usize> {
-            p.iter()
-                .map(|c| ((c * g as f64) as usize).min(g - 1))
-                .collect()
-        };
-        let flat = |c: &[usize]| c.iter().fold(0, |acc, &x| acc * g + x);
-        let mut buckets: Vec<Vec<usize>> = vec![Vec::new(); g.pow(d as u32)];
-        for s in 0..self.n {
-            buckets[flat(&cell_of(self.site(s)))].push(s);
-        }
-        let offsets = 3usize.pow(d as u32);
+        let grid = SiteGrid::new(d, g, &self.sites);
         for i in 0..self.n {
-            let c = cell_of(self.site(i));
-            for o in 0..offsets {
-                let mut nc = c.clone();
-                let mut rest = o;
-                for x in nc.iter_mut() {
-                    *x = (*x + g + rest % 3 - 1) % g;
-                    rest /= 3;
+            grid.for_each_near(self.site(i), 1, |j| {
+                let j = j as usize;
+                if j > i && toroidal_distance_sq(self.site(i), self.site(j)) < reach2 {
+                    pairs.push((i, j));
                 }
-                for &j in &buckets[flat(&nc)] {
-                    if j > i && toroidal_distance_sq(self.site(i), self.site(j)) < reach2 {
-                        pairs.push((i, j));
-                    }
-                }
-            }
+            });
         }
         pairs
     }
