@@ -16,10 +16,11 @@ use crate::metrics::{
 use crate::montecarlo::{empirical_variances, McParams, McResult, Z_99};
 use crate::pointset::PointSet;
 use crate::predict::{predict_many, PredictParams, Prediction, Problem};
-use crate::progress::Progress;
+use crate::progress::{Progress, Silent};
 use crate::rate::{fit_alpha, theory_rate, AlphaFit};
 use crate::sampler::{Sampler, SamplerKind};
 use crate::spectrum::{estimate_with_progress, PatternSource, SpectrumEstimate, SpectrumParams};
+use rayon::prelude::*;
 use serde::Serialize;
 
 /// What the atlas computes.
@@ -139,11 +140,20 @@ pub fn compute_atlas(config: &AtlasConfig, progress: &dyn Progress) -> Result<At
         .iter()
         .map(|s| s.build(2))
         .collect::<Result<_>>()?;
+    // Each entry draws from its own seeds, so the samplers run side by side with the same
+    // result; the progress is one step per sampler (the stages inside would interleave).
+    progress.begin("atlas: samplers", config.samplers.len() as u64);
     let entries = config
         .samplers
-        .iter()
-        .map(|&kind| entry(kind, config, &fs, progress))
-        .collect::<Result<_>>()?;
+        .par_iter()
+        .map(|&kind| {
+            let e = entry(kind, config, &fs, &Silent);
+            progress.advance(1);
+            e
+        })
+        .collect::<Result<_>>();
+    progress.end();
+    let entries = entries?;
     Ok(Atlas {
         config: config.clone(),
         entries,
@@ -170,13 +180,15 @@ fn entry(
     };
     progress.begin(&format!("atlas: {kind}, patterns"), realizations as u64);
     let patterns = (0..realizations as u64)
+        .into_par_iter()
         .map(|r| {
             let p = sampler.sample(n, config.seed, r);
             progress.advance(1);
             p
         })
-        .collect::<Result<Vec<_>>>()?;
+        .collect::<Result<Vec<_>>>();
     progress.end();
+    let patterns = patterns?;
     let spectrum = spectrum_of(&patterns, n, progress)?;
     let alpha_fit = alpha_at(sampler.as_ref(), kind, config, progress);
     let known_alpha = kind.known_alpha();

@@ -168,34 +168,129 @@ impl Sampler for GaussianBlueNoise {
 }
 
 /// One Jacobi step: every point's new position from the old ones.
+///
+/// The points of one cell share their neighbourhood, so it is gathered once per cell into
+/// contiguous coordinates, in the order in which [`Cells::for_each_near`] visits it; each
+/// point's force then sums its neighbours in that order, the same sum term by term.
 fn descend(x: &[f64], cells: &Cells, sigma: f64, step: f64, out: &mut [f64]) {
     let d = cells.d;
-    let inv = -1.0 / (2.0 * sigma * sigma);
-    let cut2 = cells.reach * cells.reach;
-    out.par_chunks_mut(d).enumerate().for_each(|(i, new)| {
-        let xi = &x[i * d..(i + 1) * d];
-        let mut force = [0.0; MAX_DIMENSION];
-        cells.for_each_near(xi, |j| {
-            if j == i {
-                return;
-            }
-            let mut delta = [0.0; MAX_DIMENSION];
-            let mut r2 = 0.0;
-            for a in 0..d {
-                delta[a] = toroidal_delta(xi[a], x[j * d + a]);
-                r2 += delta[a] * delta[a];
-            }
-            if r2 < cut2 {
-                let w = (r2 * inv).exp();
+    let mut by_cell = vec![0.0; x.len()];
+    // The slices of the output, in the points' cell order, that each cell's points fill.
+    let mut rest = &mut by_cell[..];
+    let mut slices = Vec::with_capacity(cells.homes());
+    for h in 0..cells.homes() {
+        let (range_start, range_end) = cells.home_range(h);
+        let (head, tail) = rest.split_at_mut((range_end - range_start) * d);
+        slices.push((h, head));
+        rest = tail;
+    }
+    let force = Force::new(sigma, cells.reach);
+    slices.into_par_iter().for_each_init(
+        || Neighbourhood::new(d),
+        |block, (h, new)| {
+            block.gather(x, cells, h);
+            let (lo, _) = cells.home_range(h);
+            for (k, new) in new.chunks_exact_mut(d).enumerate() {
+                let i = cells.order[lo + k] as usize;
+                let xi = &x[i * d..(i + 1) * d];
+                let f = force.on(i, xi, block);
                 for a in 0..d {
-                    force[a] += delta[a] * w;
+                    new[a] = wrap(xi[a] + step * f[a]);
                 }
             }
-        });
-        for a in 0..d {
-            new[a] = wrap(xi[a] + step * force[a]);
+        },
+    );
+    for (k, &i) in cells.order.iter().enumerate() {
+        let i = i as usize;
+        out[i * d..(i + 1) * d].copy_from_slice(&by_cell[k * d..(k + 1) * d]);
+    }
+}
+
+/// The kernel's force on a point from a gathered neighbourhood.
+struct Force {
+    inv: f64,
+    cut2: f64,
+}
+
+impl Force {
+    fn new(sigma: f64, reach: f64) -> Self {
+        Self {
+            inv: -1.0 / (2.0 * sigma * sigma),
+            cut2: reach * reach,
         }
-    });
+    }
+
+    /// `Σ_j (x_i - x_j) exp(-|x_i - x_j|²/(2σ²))` over the neighbours within the cut-off, in
+    /// the neighbourhood's order; first the squared distances of all of them (a loop without
+    /// branches), then the kernel only where it is needed.
+    fn on(&self, i: usize, xi: &[f64], block: &mut Neighbourhood) -> [f64; MAX_DIMENSION] {
+        let d = block.d;
+        let len = block.ids.len();
+        block.r2.clear();
+        block.r2.resize(len, 0.0);
+        for a in 0..d {
+            let (column, r2) = (&block.coords[a * len..(a + 1) * len], &mut block.r2);
+            for (r, &xj) in r2.iter_mut().zip(column) {
+                let t = near_delta(xi[a], xj);
+                *r += t * t;
+            }
+        }
+        let mut force = [0.0; MAX_DIMENSION];
+        for (k, &r2) in block.r2.iter().enumerate() {
+            if r2 < self.cut2 && block.ids[k] as usize != i {
+                let w = (r2 * self.inv).exp();
+                for a in 0..d {
+                    force[a] += toroidal_delta(xi[a], block.coords[a * len + k]) * w;
+                }
+            }
+        }
+        force
+    }
+}
+
+/// [`toroidal_delta`] for coordinates in `[0, 1)`, the same value, computed without branches
+/// (so that a loop of them vectorizes): the difference lies in `(-1, 1)`, and subtracting or
+/// adding `0.0` leaves it as it is.
+#[inline]
+fn near_delta(a: f64, b: f64) -> f64 {
+    let t = a - b;
+    let down = if t >= 0.5 { 1.0 } else { 0.0 };
+    let up = if t < -0.5 { 1.0 } else { 0.0 };
+    t - down + up
+}
+
+/// The points around one cell, in visiting order: their indices and their coordinates, axis
+/// by axis.
+struct Neighbourhood {
+    d: usize,
+    ids: Vec<u32>,
+    coords: Vec<f64>,
+    r2: Vec<f64>,
+}
+
+impl Neighbourhood {
+    fn new(d: usize) -> Self {
+        Self {
+            d,
+            ids: Vec::new(),
+            coords: Vec::new(),
+            r2: Vec::new(),
+        }
+    }
+
+    fn gather(&mut self, x: &[f64], cells: &Cells, home: usize) {
+        let d = self.d;
+        self.ids.clear();
+        cells.for_each_near_home(home, |j| self.ids.push(j as u32));
+        let len = self.ids.len();
+        self.coords.clear();
+        self.coords.resize(len * d, 0.0);
+        for (k, &j) in self.ids.iter().enumerate() {
+            for a in 0..d {
+                self.coords[a * len + k] = x[j as usize * d + a];
+            }
+        }
+    }
 }
 
 /// Points sorted into `g^d` cells of side at least `reach` (a counting sort, stable in the
@@ -244,17 +339,44 @@ impl Cells {
         }
     }
 
+    /// The groups of points that share a neighbourhood: the cells, or, when the grid has
+    /// fewer than 3 cells per axis, all the points as one.
+    fn homes(&self) -> usize {
+        if self.g < 3 {
+            1
+        } else {
+            self.start.len() - 1
+        }
+    }
+
+    /// The positions in `order` of the points of group `h` (see [`Cells::homes`]).
+    fn home_range(&self, h: usize) -> (usize, usize) {
+        if self.g < 3 {
+            (0, self.order.len())
+        } else {
+            (self.start[h] as usize, self.start[h + 1] as usize)
+        }
+    }
+
     /// Calls `visit` with every point in the cells around `p` (every point, when the grid has
     /// fewer than 3 cells per axis), each once.
-    fn for_each_near(&self, p: &[f64], mut visit: impl FnMut(usize)) {
+    fn for_each_near(&self, p: &[f64], visit: impl FnMut(usize)) {
+        let home = if self.g < 3 { 0 } else { self.cell(p) };
+        self.for_each_near_home(home, visit);
+    }
+
+    /// [`Cells::for_each_near`] for the points of group `h`.
+    fn for_each_near_home(&self, h: usize, mut visit: impl FnMut(usize)) {
         if self.g < 3 {
             self.order.iter().for_each(|&j| visit(j as usize));
             return;
         }
         let g = self.g as isize;
         let mut home = [0isize; 3];
-        for a in 0..self.d {
-            home[a] = ((p[a] * self.g as f64) as isize).min(g - 1);
+        let mut rest = h;
+        for a in (0..self.d).rev() {
+            home[a] = (rest % self.g) as isize;
+            rest /= self.g;
         }
         let offsets = 3usize.pow(self.d as u32);
         for o in 0..offsets {
