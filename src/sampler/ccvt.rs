@@ -333,26 +333,47 @@ struct Choices<'a> {
     grid: &'a SiteGrid,
 }
 
+/// A squared distance below which a key found in the `3^d` cells around a point is smaller
+/// than any key in the ring of cells beyond them: a site there lies at least one cell side
+/// `1/g` away along some axis. The margin covers the rounding of the point's cell index and of
+/// the computed distances (a few units in the last place), with room to spare.
+fn inner_reach_sq(g: usize) -> f64 {
+    (1.0 - 1e-9) / (g * g) as f64
+}
+
 impl Choices<'_> {
     /// Point `x`'s smallest key above `after` (or its smallest of all), if any is left.
+    ///
+    /// The nearest cells are searched first, and the outer ring only when what they hold is
+    /// not closer than [`inner_reach_sq`]: the same key as a search of every candidate.
     fn next(&self, x: usize, after: Option<u128>) -> Option<u128> {
+        let p = &self.points[x * self.d..(x + 1) * self.d];
+        let mut best = None;
+        if self.grid.g < 5 {
+            (0..self.n as u32).for_each(|s| self.consider(x, s, after, &mut best));
+            return best;
+        }
+        self.grid
+            .for_each_near(p, 1, |s| self.consider(x, s, after, &mut best));
+        let distance = |key: u128| f64::from_bits((key >> 64) as u64);
+        if best.is_some_and(|b| distance(b) < inner_reach_sq(self.grid.g)) {
+            return best;
+        }
+        self.grid
+            .for_each_near(p, 2, |s| self.consider(x, s, after, &mut best));
+        best
+    }
+
+    /// Keeps the key of point `x` and site `s` in `best` if it is above `after` and smaller.
+    fn consider(&self, x: usize, s: u32, after: Option<u128>, best: &mut Option<u128>) {
         let d = self.d;
         let p = &self.points[x * d..(x + 1) * d];
-        let mut best: Option<u128> = None;
-        let consider = |s: u32| {
-            let site = &self.sites[s as usize * d..(s as usize + 1) * d];
-            let distance = toroidal_distance_sq(p, site) + 0.0;
-            let key = (u128::from(distance.to_bits()) << 64) | ((x as u128) << 32) | u128::from(s);
-            if after.is_none_or(|a| key > a) && best.is_none_or(|b| key < b) {
-                best = Some(key);
-            }
-        };
-        if self.grid.g < 5 {
-            (0..self.n as u32).for_each(consider);
-        } else {
-            self.grid.for_each_near(p, 2, consider);
+        let site = &self.sites[s as usize * d..(s as usize + 1) * d];
+        let distance = toroidal_distance_sq(p, site) + 0.0;
+        let key = (u128::from(distance.to_bits()) << 64) | ((x as u128) << 32) | u128::from(s);
+        if after.is_none_or(|a| key > a) && best.is_none_or(|b| key < b) {
+            *best = Some(key);
         }
-        best
     }
 }
 
@@ -546,5 +567,45 @@ impl State {
             })
             .sum();
         total / (self.points.len() / self.d) as f64
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A point's first keys, in order, are the same whether the search stops at the nearest
+    /// cells or always scans the whole `5^d` block (the greedy assignment seldom goes further
+    /// down a point's list).
+    #[test]
+    fn pruned_search_gives_the_keys_of_the_whole_block() {
+        for (d, n) in [(2, 200), (3, 250)] {
+            let sites = initial_sites(d, n, 7, 0);
+            let points = stratified_density(d, 16 * n, 7, 0);
+            let g = ((n as f64).powf(1.0 / d as f64).floor() as usize).max(1);
+            assert!(g >= 5);
+            let grid = SiteGrid::new(d, g, &sites);
+            let choices = Choices {
+                d,
+                n,
+                points: &points,
+                sites: &sites,
+                grid: &grid,
+            };
+            for x in 0..points.len() / d {
+                let p = &points[x * d..(x + 1) * d];
+                let mut after = None;
+                for _ in 0..6 {
+                    let mut whole = None;
+                    grid.for_each_near(p, 2, |s| choices.consider(x, s, after, &mut whole));
+                    let pruned = choices.next(x, after);
+                    assert_eq!(pruned, whole, "d = {d}, point {x}");
+                    match pruned {
+                        Some(key) => after = Some(key),
+                        None => break,
+                    }
+                }
+            }
+        }
     }
 }
