@@ -187,7 +187,8 @@ fn measured_jitter_slope_agrees_with_the_predicted_slope() {
 fn rates_command_library_and_report_give_identical_rows() {
     use specvar::progress::Silent;
     use specvar::report::{compute, ReportConfig};
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_specvar"))
+    // The command runs while the library computes the same study.
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_specvar"))
         .args([
             "rates",
             "--samplers",
@@ -203,14 +204,10 @@ fn rates_command_library_and_report_give_identical_rows() {
             "5",
             "--json",
         ])
-        .output()
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let cli: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let config = StudyConfig {
         samplers: vec![SamplerKind::Random, SamplerKind::Jitter],
         integrands: vec!["gaussian".parse().unwrap(), "disk:r=0.2".parse().unwrap()],
@@ -220,6 +217,13 @@ fn rates_command_library_and_report_give_identical_rows() {
         ..StudyConfig::in_dimension(2)
     };
     let library = serde_json::to_value(&run_study(&config, &Silent).unwrap().rows).unwrap();
+    let out = child.wait_with_output().unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let cli: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(cli["rows"], library);
     let mut report = ReportConfig::quick(5);
     report.study = config;
