@@ -158,9 +158,10 @@ impl Sampler for GaussianBlueNoise {
         let step = self.params.step / mass;
         let mut cells = Cells::new(d, CUTOFF_SIGMAS * sigma, n);
         let mut next = vec![0.0; n * d];
+        let mut by_cell = vec![0.0; n * d];
         for _ in 0..self.params.iterations {
             cells.sort(&x);
-            descend(&x, &cells, sigma, step, &mut next);
+            descend(&x, &cells, sigma, step, &mut by_cell, &mut next);
             std::mem::swap(&mut x, &mut next);
         }
         PointSet::new(d, x)
@@ -171,11 +172,11 @@ impl Sampler for GaussianBlueNoise {
 ///
 /// The points of one cell share their neighbourhood, so it is gathered once per cell into
 /// contiguous coordinates, in the order in which [`Cells::for_each_near`] visits it; each
-/// point's force then sums its neighbours in that order, the same sum term by term.
-fn descend(x: &[f64], cells: &Cells, sigma: f64, step: f64, out: &mut [f64]) {
+/// point's force then sums its neighbours in that order, the same sum term by term. The new
+/// positions go to `by_cell` in the points' cell order, then to `out` in theirs.
+fn descend(x: &[f64], cells: &Cells, sigma: f64, step: f64, by_cell: &mut [f64], out: &mut [f64]) {
     let d = cells.d;
-    let mut by_cell = vec![0.0; x.len()];
-    // The slices of the output, in the points' cell order, that each cell's points fill.
+    // The slices of `by_cell` that each cell's points fill.
     let mut rest = &mut by_cell[..];
     let mut slices = Vec::with_capacity(cells.homes());
     for h in 0..cells.homes() {
