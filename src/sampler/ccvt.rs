@@ -16,7 +16,7 @@ use std::collections::BinaryHeap;
 
 use super::{check_supported, uniform, PoissonDisk, Sampler, SamplerKind};
 use crate::error::{invalid, Result};
-use crate::pointset::{toroidal_delta, toroidal_distance_sq, wrap, PointSet};
+use crate::pointset::{near_delta, toroidal_delta, toroidal_distance_sq, wrap, PointSet};
 use crate::rng::{realization_rng, Stream};
 
 /// CCVT parameters.
@@ -496,7 +496,7 @@ impl State {
             let p = self.point(x);
             let mut dot = 0.0;
             for k in 0..d {
-                dot += toroidal_delta(p[k], a[k]) * e[k];
+                dot += near_delta(p[k], a[k]) * e[k];
             }
             let h = 2.0 * dot - ee;
             best = best.max(h);

@@ -17,7 +17,7 @@
 
 use super::{check_positive, check_supported, uniform, Sampler, SamplerKind};
 use crate::error::{invalid, Result};
-use crate::pointset::{toroidal_delta, wrap, PointSet, MAX_DIMENSION};
+use crate::pointset::{near_delta, toroidal_delta, wrap, PointSet, MAX_DIMENSION};
 use crate::rng::{realization_rng, Stream};
 use rayon::prelude::*;
 
@@ -247,17 +247,6 @@ impl Force {
         }
         force
     }
-}
-
-/// [`toroidal_delta`] for coordinates in `[0, 1)`, the same value, computed without branches
-/// (so that a loop of them vectorizes): the difference lies in `(-1, 1)`, and subtracting or
-/// adding `0.0` leaves it as it is.
-#[inline]
-fn near_delta(a: f64, b: f64) -> f64 {
-    let t = a - b;
-    let down = if t >= 0.5 { 1.0 } else { 0.0 };
-    let up = if t < -0.5 { 1.0 } else { 0.0 };
-    t - down + up
 }
 
 /// The points around one cell, in visiting order: their indices and their coordinates, axis
