@@ -85,7 +85,8 @@ pub fn sector_spectrum(
         if !(k[1] > 0 || (k[1] == 0 && k[0] > 0)) {
             continue;
         }
-        let b = (lattice.radius(i) / bin_width).floor() as usize;
+        // Non-negative: truncation is the floor, without a library call.
+        let b = (lattice.radius(i) / bin_width) as usize;
         if b >= rings {
             continue;
         }
