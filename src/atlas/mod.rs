@@ -147,7 +147,7 @@ pub fn compute_atlas(config: &AtlasConfig, progress: &dyn Progress) -> Result<At
         .samplers
         .par_iter()
         .map(|&kind| {
-            let e = entry(kind, config, &fs, &Silent);
+            let e = entry(kind, config, &fs);
             progress.advance(1);
             e
         })
@@ -160,12 +160,7 @@ pub fn compute_atlas(config: &AtlasConfig, progress: &dyn Progress) -> Result<At
     })
 }
 
-fn entry(
-    kind: SamplerKind,
-    config: &AtlasConfig,
-    fs: &[Box<dyn Integrand>],
-    progress: &dyn Progress,
-) -> Result<AtlasEntry> {
+fn entry(kind: SamplerKind, config: &AtlasConfig, fs: &[Box<dyn Integrand>]) -> Result<AtlasEntry> {
     let sampler = crate::cache::cached_sampler(
         kind,
         2,
@@ -178,19 +173,12 @@ fn entry(
     } else {
         config.realizations
     };
-    progress.begin(&format!("atlas: {kind}, patterns"), realizations as u64);
     let patterns = (0..realizations as u64)
         .into_par_iter()
-        .map(|r| {
-            let p = sampler.sample(n, config.seed, r);
-            progress.advance(1);
-            p
-        })
-        .collect::<Result<Vec<_>>>();
-    progress.end();
-    let patterns = patterns?;
-    let spectrum = spectrum_of(&patterns, n, progress)?;
-    let alpha_fit = alpha_at(sampler.as_ref(), kind, config, progress);
+        .map(|r| sampler.sample(n, config.seed, r))
+        .collect::<Result<Vec<_>>>()?;
+    let spectrum = spectrum_of(&patterns, n)?;
+    let alpha_fit = alpha_at(sampler.as_ref(), kind, config);
     let known_alpha = kind.known_alpha();
     let alpha = known_alpha.or(alpha_fit.as_ref().ok().map(|f| f.alpha));
     Ok(AtlasEntry {
@@ -200,7 +188,7 @@ fn entry(
         pcf: pair_correlation(&patterns, &PcfParams::default())?,
         discrepancies: discrepancy_means(&patterns)?,
         distances: distance_summary(&patterns)?,
-        rows: rows(sampler.as_ref(), kind, n, alpha, config, fs, progress)?,
+        rows: rows(sampler.as_ref(), kind, n, alpha, config, fs)?,
         points: patterns[0].clone(),
         spectrum,
         alpha_fit,
@@ -209,16 +197,12 @@ fn entry(
 }
 
 /// The spectrum at N up to `ν = 3`.
-fn spectrum_of(
-    patterns: &[PointSet],
-    n: usize,
-    progress: &dyn Progress,
-) -> Result<SpectrumEstimate> {
+fn spectrum_of(patterns: &[PointSet], n: usize) -> Result<SpectrumEstimate> {
     let params = SpectrumParams {
         kmax: (3.0 * (n as f64).sqrt()).ceil() as usize,
         ..SpectrumParams::default()
     };
-    estimate_with_progress(PatternSource::Sets(patterns), &params, progress)
+    estimate_with_progress(PatternSource::Sets(patterns), &params, &Silent)
 }
 
 /// `α` fitted on the rings below [`ALPHA_BAND`] at `alpha_n` points, or the reason it cannot be
@@ -227,7 +211,6 @@ fn alpha_at(
     sampler: &dyn Sampler,
     kind: SamplerKind,
     config: &AtlasConfig,
-    progress: &dyn Progress,
 ) -> std::result::Result<AlphaFit, String> {
     if kind.is_deterministic() {
         return Err(
@@ -255,11 +238,10 @@ fn alpha_at(
         n,
         seed: config.seed,
     };
-    let estimate = estimate_with_progress(source, &params, progress).map_err(|e| e.to_string())?;
+    let estimate = estimate_with_progress(source, &params, &Silent).map_err(|e| e.to_string())?;
     fit_alpha(&estimate.radial, 0.0, ALPHA_BAND).map_err(|e| e.to_string())
 }
 
-#[allow(clippy::too_many_arguments)]
 fn rows(
     sampler: &dyn Sampler,
     kind: SamplerKind,
@@ -267,14 +249,11 @@ fn rows(
     alpha: Option<f64>,
     config: &AtlasConfig,
     fs: &[Box<dyn Integrand>],
-    progress: &dyn Progress,
 ) -> Result<Vec<AtlasRow>> {
     let f_refs: Vec<&dyn Integrand> = fs.iter().map(|f| f.as_ref()).collect();
     let mut mc = McParams::pooled(kind, config.trials, config.seed ^ ATLAS_MC_STREAM, true);
     mc.budget = config.budget;
-    progress.begin(&format!("atlas: monte carlo of {kind}"), mc.patterns as u64);
-    let measured = empirical_variances(sampler, &f_refs, n, &mc, progress)?;
-    progress.end();
+    let measured = empirical_variances(sampler, &f_refs, n, &mc, &Silent)?;
     let problems = f_refs
         .iter()
         .map(|f| Problem::new(sampler, *f, n))
@@ -284,7 +263,7 @@ fn rows(
         budget: config.budget,
         ..PredictParams::default()
     };
-    let predictions = predict_many(&problems, &params, progress)?;
+    let predictions = predict_many(&problems, &params, &Silent)?;
     Ok(f_refs
         .iter()
         .zip(measured)
