@@ -33,16 +33,9 @@ const CLOSURE_MC_STREAM: u64 = 0xC2;
 /// # Errors
 /// Any failure of the computations (the configuration is checked first by each part).
 pub fn compute(config: &ReportConfig, progress: &dyn Progress) -> Result<Report> {
-    let start = Instant::now();
-    let study = run_study(&config.study, progress)?;
-    let mut timings = vec![Timing {
-        stage: "rate study: spectra, predictions, Monte Carlo".into(),
-        seconds: start.elapsed().as_secs_f64(),
-    }];
-    let extras = extras(&study)?;
-    // The closure table (with the progress shown) runs alongside the edges and the renders
-    // (silent): each is deterministic on its own seeds, and together they keep both cores busy
-    // through each other's sequential steps.
+    // The closure table (with the progress shown) runs alongside the rate study, the edges and
+    // the renders (silent, one after the other): each is deterministic on its own seeds, and
+    // together they keep both cores busy through each other's sequential steps.
     let start = Instant::now();
     let (closure, others) = rayon::join(
         || {
@@ -55,28 +48,41 @@ pub fn compute(config: &ReportConfig, progress: &dyn Progress) -> Result<Report>
             (table, start.elapsed().as_secs_f64())
         },
         || -> Result<_> {
+            let study = run_study(&config.study, &Silent)?;
+            let study_seconds = start.elapsed().as_secs_f64();
             let edges = edges(&config.edges, config.seed, &Silent)?;
             let edges_seconds = start.elapsed().as_secs_f64();
             let run = run_comparison(&config.ambient, &Silent)?;
-            Ok((edges, edges_seconds, run, start.elapsed().as_secs_f64()))
+            let seconds = [study_seconds, edges_seconds, start.elapsed().as_secs_f64()];
+            Ok((study, edges, run, seconds))
         },
     );
     let (closure, closure_seconds) = closure;
     let closure = closure?;
-    let (edges, edges_seconds, run, ambient_seconds) = others?;
-    timings.push(Timing {
-        stage: "closure table: every sampler off the talk's setup".into(),
-        seconds: closure_seconds,
-    });
-    timings.push(Timing {
-        stage: "edges at any angle: orientation curves and rates (alongside the closure table)"
-            .into(),
-        seconds: edges_seconds,
-    });
-    timings.push(Timing {
-        stage: "ambient-occlusion renders (after the edges, alongside the closure table)".into(),
-        seconds: ambient_seconds - edges_seconds,
-    });
+    let (study, edges, run, [study_seconds, edges_seconds, ambient_seconds]) = others?;
+    let extras = extras(&study)?;
+    let timings = vec![
+        Timing {
+            stage: "closure table: every sampler off the talk's setup".into(),
+            seconds: closure_seconds,
+        },
+        Timing {
+            stage: "rate study: spectra, predictions, Monte Carlo (alongside the closure table)"
+                .into(),
+            seconds: study_seconds,
+        },
+        Timing {
+            stage: "edges at any angle: orientation curves and rates (after the rate study, \
+                    alongside the closure table)"
+                .into(),
+            seconds: edges_seconds - study_seconds,
+        },
+        Timing {
+            stage: "ambient-occlusion renders (after the edges, alongside the closure table)"
+                .into(),
+            seconds: ambient_seconds - edges_seconds,
+        },
+    ];
     let crossovers = crossovers(&study);
     let ccvt_low_band = study
         .spectra
