@@ -4,8 +4,8 @@
 
 use crate::error::{invalid, Result};
 use crate::integrand::{Integrand, Polygon};
-use crate::montecarlo::{empirical_variances, McParams, McResult, Z_99};
-use crate::predict::{predict_many, PredictParams, Prediction, Problem};
+use crate::montecarlo::{McParams, McResult, Z_99};
+use crate::predict::{beside_monte_carlo, PredictParams, Prediction};
 use crate::progress::Progress;
 use crate::sampler::{Sampler, SamplerKind};
 use serde::Serialize;
@@ -128,23 +128,20 @@ pub fn variance_against_orientation(
     let fs: Vec<&dyn Integrand> = edges.iter().map(|e| e as &dyn Integrand).collect();
     let mut mc = McParams::pooled(kind, config.trials, config.seed, true);
     mc.budget = config.predict.budget;
-    progress.begin(
-        &format!("orientation: monte carlo of {kind}"),
-        mc.patterns as u64,
-    );
-    let measured = empirical_variances(sampler, &fs, config.n, &mc, progress)?;
-    progress.end();
-    let problems = fs
-        .iter()
-        .map(|f| Problem::new(sampler, *f, config.n))
-        .collect::<Result<Vec<_>>>()?;
-    let predictions = predict_many(&problems, &config.predict, progress)?;
+    let stage = format!("orientation: monte carlo of {kind}");
+    let results = beside_monte_carlo(
+        sampler,
+        &fs,
+        config.n,
+        &mc,
+        &config.predict,
+        (&stage, progress),
+    )?;
     Ok(config
         .angles
         .iter()
-        .zip(measured)
-        .zip(predictions)
-        .map(|((&angle, measured), predicted)| OrientationRow {
+        .zip(results)
+        .map(|(&angle, (measured, predicted))| OrientationRow {
             angle,
             z: predicted.z_beyond_bounds(&measured),
             predicted,

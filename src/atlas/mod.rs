@@ -13,9 +13,9 @@ use crate::metrics::{
     discrepancy_means, distance_summary, effective_nyquist, pair_correlation, DiscrepancyKind,
     Distances, Mean, Pcf, PcfParams,
 };
-use crate::montecarlo::{empirical_variances, McParams, McResult, Z_99};
+use crate::montecarlo::{McParams, McResult, Z_99};
 use crate::pointset::PointSet;
-use crate::predict::{predict_many, PredictParams, Prediction, Problem};
+use crate::predict::{beside_monte_carlo, PredictParams, Prediction};
 use crate::progress::{Progress, Silent};
 use crate::rate::{fit_alpha, theory_rate, AlphaFit};
 use crate::sampler::{Sampler, SamplerKind};
@@ -253,22 +253,16 @@ fn rows(
     let f_refs: Vec<&dyn Integrand> = fs.iter().map(|f| f.as_ref()).collect();
     let mut mc = McParams::pooled(kind, config.trials, config.seed ^ ATLAS_MC_STREAM, true);
     mc.budget = config.budget;
-    let measured = empirical_variances(sampler, &f_refs, n, &mc, &Silent)?;
-    let problems = f_refs
-        .iter()
-        .map(|f| Problem::new(sampler, *f, n))
-        .collect::<Result<Vec<_>>>()?;
     let params = PredictParams {
         seed: config.seed ^ ATLAS_PREDICT_STREAM,
         budget: config.budget,
         ..PredictParams::default()
     };
-    let predictions = predict_many(&problems, &params, &Silent)?;
+    let results = beside_monte_carlo(sampler, &f_refs, n, &mc, &params, ("", &Silent))?;
     Ok(f_refs
         .iter()
-        .zip(measured)
-        .zip(predictions)
-        .map(|((f, measured), predicted)| AtlasRow {
+        .zip(results)
+        .map(|(f, (measured, predicted))| AtlasRow {
             integrand: f.label(),
             z: predicted.z_beyond_bounds(&measured),
             rate: alpha.map(|a| theory_rate(a, f.decay_exponent(), 2)),

@@ -11,10 +11,10 @@ use crate::anisotropy::{
 use crate::cache::PATTERN_MEMORY;
 use crate::error::Result;
 use crate::integrand::{Gaussian, Integrand};
-use crate::montecarlo::{empirical_variances, McParams, McResult, Z_99};
+use crate::montecarlo::{McParams, McResult, Z_99};
 use crate::predict::{
-    polar_validity, predict_many, predict_polar, regular_grid_bias, PolarParams, PredictParams,
-    Prediction, Problem, SpectrumSource,
+    beside_monte_carlo, polar_validity, predict_polar, regular_grid_bias, PolarParams,
+    PredictParams, Prediction, SpectrumSource,
 };
 use crate::progress::{Progress, Silent};
 use crate::rate::{crossover, fit_low_band, run_study, SamplerSpectrum, Study, StudySeries};
@@ -308,7 +308,8 @@ fn closure(
         let cells: Vec<Result<Vec<ClosureRow>>> = ns
             .par_iter()
             .map(|&n| {
-                let cell = closure_cell(config, &params, seed, sampler.as_ref(), &f_refs, n);
+                let cell =
+                    closure_cell(config, &params, seed, (kind, sampler.as_ref()), &f_refs, n);
                 progress.advance(1);
                 cell
             })
@@ -334,26 +335,17 @@ fn closure_cell(
     config: &ClosureConfig,
     params: &PredictParams,
     seed: u64,
-    sampler: &dyn Sampler,
+    (kind, sampler): (SamplerKind, &dyn Sampler),
     integrands: &[&dyn Integrand],
     n: usize,
 ) -> Result<Vec<ClosureRow>> {
-    let kind = sampler
-        .kind()
-        .ok_or_else(|| crate::error::Error::Mismatch("a closure sampler without a kind".into()))?;
     let mut mc = McParams::pooled(kind, config.trials, seed ^ CLOSURE_MC_STREAM, true);
     mc.budget = config.predict.budget;
-    let measured = empirical_variances(sampler, integrands, n, &mc, &Silent)?;
-    let problems = integrands
-        .iter()
-        .map(|f| Problem::new(sampler, *f, n))
-        .collect::<Result<Vec<_>>>()?;
-    let predictions = predict_many(&problems, params, &Silent)?;
+    let results = beside_monte_carlo(sampler, integrands, n, &mc, params, ("", &Silent))?;
     Ok(integrands
         .iter()
-        .zip(measured)
-        .zip(predictions)
-        .map(|((f, measured), prediction)| {
+        .zip(results)
+        .map(|(f, (measured, prediction))| {
             let z = prediction.z_beyond_bounds(&measured);
             ClosureRow {
                 sampler: kind,
