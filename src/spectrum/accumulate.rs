@@ -248,9 +248,7 @@ impl<'a> SpectrumAccumulator<'a> {
         }
         // Everything is kept on the half lattice `0..=dc`: P(-k) = P(k).
         let half = lattice.dc_index() + 1;
-        let (mut assign, rings) = radial::ring_assignment(&lattice, params.bin_width);
-        assign.truncate(half);
-        assign[half - 1] = None;
+        let (ring_of, rings) = radial::ring_assignment(&lattice, params.bin_width, half);
         if rings == 0 {
             return Err(invalid(
                 "bin width",
@@ -259,8 +257,8 @@ impl<'a> SpectrumAccumulator<'a> {
             ));
         }
         let mut ring_count = vec![0.0; rings];
-        for b in assign.iter().flatten() {
-            ring_count[*b as usize] += 1.0;
+        for &b in ring_of.iter().filter(|&&b| (b as usize) < rings) {
+            ring_count[b as usize] += 1.0;
         }
         let weight_count = weights.len();
         let weights = weights.iter().map(|w| fold_weights(w)).collect();
@@ -270,7 +268,7 @@ impl<'a> SpectrumAccumulator<'a> {
             planned,
             geometry: Geometry {
                 lattice,
-                ring_of: assign.iter().map(|b| b.unwrap_or(rings as u32)).collect(),
+                ring_of,
                 ring_count,
                 rings,
             },
@@ -430,6 +428,7 @@ impl<'a> SpectrumAccumulator<'a> {
             &mean,
             n,
             m,
+            (&self.geometry.ring_of, self.geometry.rings),
             self.params.bin_width,
             &self.total.ring,
         );

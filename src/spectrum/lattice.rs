@@ -53,6 +53,26 @@ impl Lattice {
         let k = self.frequency(i);
         (k.iter().map(|&c| (c * c) as f64).sum::<f64>()).sqrt()
     }
+
+    /// Calls `visit(i, |k|²)` for the flat indices `i = 0..count` in order: the frequencies
+    /// are stepped like an odometer, without the divisions of [`frequency`](Self::frequency).
+    /// `(|k|² as f64).sqrt()` is [`radius`](Self::radius) to the bit (integer sums below
+    /// `2^53` are exact in either order).
+    pub fn for_each_squared_radius(&self, count: usize, mut visit: impl FnMut(usize, i64)) {
+        let (d, k) = (self.dimension, self.kmax as i64);
+        let mut c = [0i64; 3];
+        c[..d].fill(-k);
+        for i in 0..count.min(self.len()) {
+            visit(i, c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+            for a in (0..d).rev() {
+                if c[a] < k {
+                    c[a] += 1;
+                    break;
+                }
+                c[a] = -k;
+            }
+        }
+    }
 }
 
 /// Per-axis phase tables of the direct engine, reused across calls (see [`direct_sums_into`]).
@@ -203,4 +223,27 @@ pub fn naive_periodogram(points: &PointSet, kmax: usize) -> Vec<f64> {
             (re * re + im * im) / points.len() as f64
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The odometer visits every index once, in order, with the radius of `frequency`.
+    #[test]
+    fn squared_radii_follow_the_flat_order() {
+        for (dimension, kmax) in [(1, 7), (2, 5), (3, 3)] {
+            let lattice = Lattice { dimension, kmax };
+            let mut next = 0;
+            lattice.for_each_squared_radius(lattice.len(), |i, r2| {
+                assert_eq!(i, next);
+                assert_eq!((r2 as f64).sqrt().to_bits(), lattice.radius(i).to_bits());
+                next += 1;
+            });
+            assert_eq!(next, lattice.len());
+            let mut partial = 0;
+            lattice.for_each_squared_radius(lattice.len() / 2 + 1, |_, _| partial += 1);
+            assert_eq!(partial, lattice.len() / 2 + 1);
+        }
+    }
 }

@@ -42,47 +42,50 @@ pub struct RadialSpectrum {
     pub dc_limit: f64,
 }
 
-/// Which ring each lattice point falls in (`None` for DC and for rings that leave the cube).
-pub(crate) fn ring_assignment(lattice: &Lattice, width: f64) -> (Vec<Option<u32>>, usize) {
+/// The ring of each of the first `count` lattice frequencies in flat order, and the number of
+/// complete rings `R`; DC and frequencies in no complete ring get `R` (a spare slot).
+pub(crate) fn ring_assignment(lattice: &Lattice, width: f64, count: usize) -> (Vec<u32>, usize) {
     // A ring is complete only if every direction fits in the cube: its outer radius ≤ K.
     let rings = (lattice.kmax as f64 / width).floor() as usize;
-    let assign = (0..lattice.len())
-        .map(|i| {
-            let r = lattice.radius(i);
-            // r / width ≥ 0: truncation is the floor, without a library call per frequency
-            // (the baseline x86-64 target has no rounding instruction).
-            let b = (r / width) as usize;
-            (i != lattice.dc_index() && b < rings).then_some(b as u32)
-        })
-        .collect();
+    let dc = lattice.dc_index();
+    let mut assign = Vec::with_capacity(count);
+    lattice.for_each_squared_radius(count, |i, r2| {
+        // r / width ≥ 0: truncation is the floor, without a library call per frequency
+        // (the baseline x86-64 target has no rounding instruction).
+        let b = ((r2 as f64).sqrt() / width) as usize;
+        assign.push(if i != dc && b < rings { b } else { rings } as u32);
+    });
     (assign, rings)
 }
 
 impl RadialSpectrum {
-    /// Assembles a radial spectrum from the expected lattice spectrum and, per ring, the sum
-    /// and sum of squares of each realization's ring mean.
+    /// Assembles a radial spectrum from the expected lattice spectrum, the ring of each
+    /// frequency of the half lattice `0..=dc` from [`ring_assignment`] (the other half mirrors
+    /// it, `-k` at `len - 1 - i`), and per ring the sum and sum of squares of each realization's
+    /// ring mean.
     pub(crate) fn from_parts(
         lattice: &Lattice,
         mean: &[f64],
         n: usize,
         realizations: usize,
+        (half_rings, rings): (&[u32], usize),
         width: f64,
         ring_moments: &[(f64, f64)],
     ) -> Self {
-        let (assign, rings) = ring_assignment(lattice, width);
         let mut radius_sum = vec![0.0; rings];
         let mut count = vec![0usize; rings];
         let mut power_sum = vec![0.0; rings];
         let mut power_sq = vec![0.0; rings];
-        for (i, b) in assign.iter().enumerate() {
-            if let Some(b) = b {
-                let b = *b as usize;
-                radius_sum[b] += lattice.radius(i);
+        let len = lattice.len();
+        lattice.for_each_squared_radius(len, |i, r2| {
+            let b = half_rings[i.min(len - 1 - i)] as usize;
+            if b < rings {
+                radius_sum[b] += (r2 as f64).sqrt();
                 count[b] += 1;
                 power_sum[b] += mean[i];
                 power_sq[b] += mean[i] * mean[i];
             }
-        }
+        });
         let scale = (n as f64).powf(1.0 / lattice.dimension as f64);
         let m = realizations as f64;
         let bins = (0..rings)

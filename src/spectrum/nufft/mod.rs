@@ -172,7 +172,7 @@ impl NufftPlan {
         let spare = if d == 3 { side * (k + 1) * g } else { 0 };
         NufftScratch {
             shape: self.shape(),
-            cells: vec![0.0; self.layout.len()],
+            cells: written_zeros(self.layout.len()),
             rows: vec![zero; rows * (k + 1)],
             spare: vec![zero; spare],
             fft: vec![zero; self.fft.get_inplace_scratch_len()],
@@ -315,6 +315,17 @@ pub struct NufftScratch {
     /// Lines transformed together.
     batch: Vec<Complex64>,
     sort: SortScratch,
+}
+
+/// `len` zeros, written rather than allocated zeroed. The spreading adds into cells it has
+/// not written yet: on zeroed pages fresh from the system each first addition is a read fault
+/// onto the shared zero page and then a copy-on-write fault, whose TLB flush interrupts every
+/// other thread of the process (on a virtual machine, an exit to the hypervisor each).
+/// Written pages fault once, on the write.
+fn written_zeros(len: usize) -> Vec<f64> {
+    let mut cells = Vec::with_capacity(len);
+    cells.resize(len, 0.0);
+    cells
 }
 
 fn check_band(dimension: usize, kmax: usize) -> Result<()> {
