@@ -8,6 +8,8 @@
 //! plan, and the same bits, on every machine.
 
 use super::kernel::{tensor_error, EsKernel, MAX_WIDTH};
+use super::spread::Padded;
+use super::stream::grid_bytes;
 use crate::error::{Error, Result};
 
 /// The upsampling factors tried, from the cheapest FFT to the cheapest spreading.
@@ -114,15 +116,15 @@ impl Choice {
         (spread + padded + fft) * 1e-9
     }
 
-    /// Bytes of one transform's scratch: the padded grid and the half-spectrum buffers.
+    /// Bytes of one transform's scratch: the grid's slabs in flight and the half-spectrum
+    /// buffers.
     pub fn scratch_bytes(&self, dimension: usize, kmax: usize) -> f64 {
-        let (d, w, g) = (
-            dimension as i32,
-            self.kernel.width as f64,
-            self.kernel.grid as f64,
-        );
-        let rows = g.powi(d - 1);
-        (g + w + 1.0).powi(d) * 8.0 + 2.0 * rows * (kmax + 1) as f64 * 16.0 + 4.0 * g * 16.0
+        let g = self.kernel.grid as f64;
+        let rows = g.powi(dimension as i32 - 1);
+        let layout = Padded::new(dimension, self.kernel.grid, self.kernel.width);
+        grid_bytes(&layout, self.kernel.width)
+            + 2.0 * rows * (kmax + 1) as f64 * 16.0
+            + 4.0 * g * 16.0
     }
 }
 

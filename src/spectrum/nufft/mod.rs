@@ -16,6 +16,7 @@
 pub mod choice;
 pub mod kernel;
 mod spread;
+mod stream;
 mod transform;
 
 use crate::error::{invalid, Result};
@@ -26,6 +27,7 @@ use num_complex::Complex64;
 use rustfft::{Fft, FftPlanner};
 use spread::{Padded, SortScratch};
 use std::sync::Arc;
+use stream::Ring;
 
 /// The tolerance of [`Engine::fast`](super::Engine::fast): `|δP| ≤ 2ε√(NP) + ε²N` keeps
 /// `|P_fast - P_direct|` below `1e-8` for every `P ≤ 10` up to `N = 10^5` points.
@@ -160,10 +162,16 @@ impl NufftPlan {
         self.choice.error
     }
 
-    /// Scratch space for [`sums_with_scratch`](Self::sums_with_scratch): the padded grid,
-    /// the half spectra of the rows, the FFTs' buffers and the spreading order, about
-    /// `8 (g + w + 1)^d + 16 g^{d-1} (K + 1)` bytes and as much again in 3D.
+    /// Scratch space for [`sums_with_scratch`](Self::sums_with_scratch): the slabs of the
+    /// padded grid in flight (see the `stream` module), the half spectra of the rows, the FFTs'
+    /// buffers and the spreading order, about `16 g^{d-1} (K + 1)` bytes and as much again in
+    /// 3D, plus `8 (g + w + 1)^{d-1}` per slab in flight (`72 + w` slabs in 2D, `37 + w` in 3D
+    /// at most).
     pub fn make_scratch(&self) -> NufftScratch {
+        self.scratch_with_ring((self.dimension > 1).then(|| Ring::new(&self.layout, self.width())))
+    }
+
+    fn scratch_with_ring(&self, ring: Option<Ring>) -> NufftScratch {
         let (d, g, k) = (self.dimension, self.grid_size(), self.kmax);
         let rows = g.pow(d as u32 - 1);
         let side = 2 * k + 1;
@@ -172,7 +180,9 @@ impl NufftPlan {
         let spare = if d == 3 { side * (k + 1) * g } else { 0 };
         NufftScratch {
             shape: self.shape(),
-            cells: written_zeros(self.layout.len()),
+            ring,
+            cells: written_zeros(ring.map_or(self.layout.side, |r| r.cells())),
+            parked: ring.map_or(Vec::new(), |r| vec![0.0; r.parked_cells(&self.layout)]),
             rows: vec![zero; rows * (k + 1)],
             spare: vec![zero; spare],
             fft: vec![zero; self.fft.get_inplace_scratch_len()],
@@ -235,7 +245,7 @@ impl NufftPlan {
         out: &mut [f64],
     ) -> Result<()> {
         self.check_buffers(points, scratch, out.len(), self.output_len() / 2 + 1)?;
-        self.grid_stage(points, scratch);
+        self.spread_rows(points, scratch);
         self.unfold_half_power(scratch, 1.0 / points.len() as f64, out);
         Ok(())
     }
@@ -253,7 +263,7 @@ impl NufftPlan {
         out: &mut [Complex64],
     ) -> Result<()> {
         self.check_buffers(points, scratch, out.len(), self.output_len())?;
-        self.grid_stage(points, scratch);
+        self.spread_rows(points, scratch);
         self.unfold(scratch, out);
         Ok(())
     }
@@ -284,18 +294,6 @@ impl NufftPlan {
         }
         Ok(())
     }
-
-    /// Spreads and folds all but the last axis (the row pass of the FFT stage folds the last).
-    fn grid_stage(&self, points: &PointSet, scratch: &mut NufftScratch) {
-        spread::spread(
-            &self.table,
-            &self.layout,
-            points,
-            &mut scratch.cells,
-            &mut scratch.sort,
-        );
-        spread::fold(&self.layout, &mut scratch.cells, self.dimension - 1);
-    }
 }
 
 /// Caller-owned buffers of a [`NufftPlan`] (from [`NufftPlan::make_scratch`]), reused across
@@ -304,8 +302,13 @@ impl NufftPlan {
 pub struct NufftScratch {
     /// The plan's dimension, band, grid and width: what the buffers are sized for.
     shape: [usize; 4],
-    /// The padded grid.
+    /// The slabs of the padded grid in flight along the first axis (2D, 3D), or the padded
+    /// row (1D).
+    ring: Option<Ring>,
+    /// The ring's cells, or the padded row.
     cells: Vec<f64>,
+    /// Parked slabs: the padding before the grid, then the first periodic slabs.
+    parked: Vec<f64>,
     /// The rows' half spectra, `K + 1` per row, and in 3D the second column pass's output.
     rows: Vec<Complex64>,
     /// The first column pass's output.

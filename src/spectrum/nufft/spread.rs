@@ -1,21 +1,23 @@
 //! Spreading unit masses onto the oversampled grid.
 //!
 //! Each point adds the tensor product of its kernel values to a `w^d` block of cells. The grid
-//! is padded by `w + 1` cells per axis, so every block is contiguous and no index wraps in the
-//! inner loop; [`fold`] then adds the padding onto the periodic grid. The points are visited in
-//! order of their cell block (a counting sort), so that consecutive blocks share cache lines.
-//! The kernel width is a compile-time constant of the inner loops, which the compiler unrolls
-//! and vectorizes.
+//! is padded by `w + 1` cells per axis, so every block is contiguous along the last axes and no
+//! index wraps in the inner loop; the padding is folded back onto the periodic grid afterwards.
+//! Along the first axis the grid may be held as a ring of slabs (see `stream`): a point's
+//! slab `p` then sits in slot `p mod slots`. The points are visited in order of their cell block
+//! (a counting sort), so that consecutive blocks share cache lines and the first axis' blocks
+//! come in order. The kernel width is a compile-time constant of the inner loops, which the
+//! compiler unrolls and vectorizes.
 
 use super::kernel::{KernelTable, MAX_WIDTH};
 use crate::pointset::PointSet;
 
 /// Side of the blocks of cells that order the points, in cells: 32 cells of 8 bytes fill four
 /// cache lines per row of a block.
-const SORT_BLOCK: usize = 32;
+pub(super) const SORT_BLOCK: usize = 32;
 
 /// The padded grid: `side = g + w + 1` cells per axis, with the periodic cell `c` stored at
-/// `c + offset` (and the padding folded back onto it by [`fold`]).
+/// `c + offset` (and the padding folded back onto it).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Padded {
     /// The periodic grid size `g`.
@@ -39,26 +41,6 @@ impl Padded {
             dimension,
         }
     }
-
-    /// The number of cells.
-    pub fn len(&self) -> usize {
-        self.side.pow(self.dimension as u32)
-    }
-
-    /// The flat index of the first cell of periodic row `row` (the row-major index over the
-    /// first `d - 1` axes of the periodic grid).
-    pub fn row_start(&self, row: usize) -> usize {
-        let mut digits = [0usize; 2];
-        let mut rest = row;
-        for a in (0..self.dimension - 1).rev() {
-            digits[a] = rest % self.grid;
-            rest /= self.grid;
-        }
-        digits[..self.dimension - 1]
-            .iter()
-            .fold(0, |flat, &c| (flat + c + self.offset) * self.side)
-            + self.offset
-    }
 }
 
 /// Caller-owned buffers of the sort.
@@ -67,25 +49,49 @@ pub struct SortScratch {
     order: Vec<u32>,
     keys: Vec<u32>,
     counts: Vec<u32>,
+    /// Where each block row (the blocks at one index of the first axis) ends in `order`.
+    row_ends: Vec<u32>,
 }
 
-/// Spreads unit masses at `points` onto the padded grid `cells`, which must be zero (as
-/// [`fold`] and the row transforms leave it).
+impl SortScratch {
+    /// The points, in block order.
+    pub fn order(&self) -> &[u32] {
+        &self.order
+    }
+
+    /// The number of block rows (the blocks at one index of the first axis).
+    pub fn block_row_count(&self) -> usize {
+        self.row_ends.len()
+    }
+
+    /// The range of [`order`](Self::order) holding block row `b`. The first axis' blocks come
+    /// in increasing order, and the points of block row `b` have their first cell at padded
+    /// index `SORT_BLOCK · b - 1` or beyond along the first axis (the cell of `x` is `⌊x g⌋`,
+    /// less one for the rounding of `x g / SORT_BLOCK`; the first cell is `offset` before it).
+    pub fn block_row(&self, b: usize) -> std::ops::Range<usize> {
+        let start = if b == 0 { 0 } else { self.row_ends[b - 1] };
+        start as usize..self.row_ends[b] as usize
+    }
+}
+
+/// Spreads unit masses at `points`, in `order`, onto `cells`: the padded grid, or a ring of
+/// `slots` slabs along the first axis (`slots = side` for the whole grid). The cells must be
+/// zero where the points land (as folding and the row transforms leave them).
 pub fn spread(
     kernel: &KernelTable,
     layout: &Padded,
     points: &PointSet,
+    order: &[u32],
     cells: &mut [f64],
-    sort: &mut SortScratch,
+    slots: usize,
 ) {
-    block_order(layout, points, sort);
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx") {
         // SAFETY: the CPU has AVX, checked just above.
-        unsafe { spread_avx(kernel, layout, points, &sort.order, cells) };
+        unsafe { spread_avx(kernel, layout, points, order, cells, slots) };
         return;
     }
-    spread_any(kernel, layout, points, &sort.order, cells);
+    spread_any(kernel, layout, points, order, cells, slots);
 }
 
 /// [`spread_any`] compiled for AVX: wider vectors for the same operations. Without FMA the
@@ -102,8 +108,9 @@ unsafe fn spread_avx(
     points: &PointSet,
     order: &[u32],
     cells: &mut [f64],
+    slots: usize,
 ) {
-    spread_any(kernel, layout, points, order, cells);
+    spread_any(kernel, layout, points, order, cells, slots);
 }
 
 /// Spreads in the order `order`, with the width as a compile-time constant.
@@ -114,13 +121,14 @@ fn spread_any(
     points: &PointSet,
     order: &[u32],
     cells: &mut [f64],
+    slots: usize,
 ) {
     macro_rules! dispatch {
         ($($w:literal)*) => {
             match (layout.dimension, kernel.kernel().width) {
                 $((1, $w) => spread_1d::<$w>(kernel, layout, points, order, cells),)*
-                $((2, $w) => spread_2d::<$w>(kernel, layout, points, order, cells),)*
-                $((3, $w) => spread_3d::<$w>(kernel, layout, points, order, cells),)*
+                $((2, $w) => spread_2d::<$w>(kernel, layout, points, order, cells, slots),)*
+                $((3, $w) => spread_3d::<$w>(kernel, layout, points, order, cells, slots),)*
                 (d, w) => unreachable!("a plan has 1 to 3 dimensions and widths 2 to {MAX_WIDTH}, not {d}, {w}"),
             }
         };
@@ -128,8 +136,9 @@ fn spread_any(
     dispatch!(2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20);
 }
 
-/// Orders the points by the block of [`SORT_BLOCK`] cells per axis that holds them.
-fn block_order(layout: &Padded, points: &PointSet, sort: &mut SortScratch) {
+/// Orders the points by the block of [`SORT_BLOCK`] cells per axis that holds them, the first
+/// axis slowest.
+pub fn block_order(layout: &Padded, points: &PointSet, sort: &mut SortScratch) {
     let d = layout.dimension;
     let blocks = layout.grid.div_ceil(SORT_BLOCK);
     let scale = layout.grid as f64 / SORT_BLOCK as f64;
@@ -154,6 +163,11 @@ fn block_order(layout: &Padded, points: &PointSet, sort: &mut SortScratch) {
         sort.order[*slot as usize] = i as u32;
         *slot += 1;
     }
+    // Each count now holds the end of its block.
+    let per_row = blocks.pow(d as u32 - 1);
+    sort.row_ends.clear();
+    sort.row_ends
+        .extend((1..=blocks).map(|b| sort.counts[b * per_row - 1]));
 }
 
 /// The kernel values of a point along one axis and the padded index of its first cell.
@@ -185,6 +199,18 @@ fn spread_1d<const W: usize>(
     }
 }
 
+/// The slot of the first-axis slab `first + a` in a ring of `slots`, given `start`, the slot of
+/// `first`: a compare instead of a division per slab.
+#[inline(always)]
+fn slot(start: usize, a: usize, slots: usize) -> usize {
+    let s = start + a;
+    if s >= slots {
+        s - slots
+    } else {
+        s
+    }
+}
+
 #[inline(always)]
 fn spread_2d<const W: usize>(
     kernel: &KernelTable,
@@ -192,15 +218,16 @@ fn spread_2d<const W: usize>(
     points: &PointSet,
     order: &[u32],
     cells: &mut [f64],
+    slots: usize,
 ) {
     let side = layout.side;
     let (mut kx, mut ky) = ([0.0; W], [0.0; W]);
     for &i in order {
         let p = points.point(i as usize);
-        let fx = axis(kernel, layout, p[0], &mut kx);
+        let fx = axis(kernel, layout, p[0], &mut kx) % slots;
         let fy = axis(kernel, layout, p[1], &mut ky);
         for (a, &vx) in kx.iter().enumerate() {
-            let start = (fx + a) * side + fy;
+            let start = slot(fx, a, slots) * side + fy;
             let row: &mut [f64; W] = (&mut cells[start..start + W]).try_into().expect("W cells");
             for (c, vy) in row.iter_mut().zip(&ky) {
                 *c += vx * vy;
@@ -216,17 +243,19 @@ fn spread_3d<const W: usize>(
     points: &PointSet,
     order: &[u32],
     cells: &mut [f64],
+    slots: usize,
 ) {
     let side = layout.side;
     let (mut kx, mut ky, mut kz) = ([0.0; W], [0.0; W], [0.0; W]);
     for &i in order {
         let p = points.point(i as usize);
-        let fx = axis(kernel, layout, p[0], &mut kx);
+        let fx = axis(kernel, layout, p[0], &mut kx) % slots;
         let fy = axis(kernel, layout, p[1], &mut ky);
         let fz = axis(kernel, layout, p[2], &mut kz);
         for (a, &vx) in kx.iter().enumerate() {
+            let plane = slot(fx, a, slots) * side;
             for (b, &vy) in ky.iter().enumerate() {
-                let start = ((fx + a) * side + fy + b) * side + fz;
+                let start = (plane + fy + b) * side + fz;
                 let row: &mut [f64; W] =
                     (&mut cells[start..start + W]).try_into().expect("W cells");
                 let vxy = vx * vy;
@@ -238,41 +267,8 @@ fn spread_3d<const W: usize>(
     }
 }
 
-/// Adds the padding onto the periodic grid and clears it, axis by axis: padded cell
-/// `p < offset` is periodic cell `p - offset + g`, stored at `p + g`; padded cell
-/// `p ≥ offset + g` is stored at `p - g`. Axis `a` is folded only within the periodic part of
-/// the axes before it, whose padding is already folded and cleared. Only the first `axes`
-/// axes are folded: the last is folded row by row where the rows are transformed
-/// ([`fold_row`]), while each row is in cache.
-pub fn fold(layout: &Padded, cells: &mut [f64], axes: usize) {
-    let (side, g, o, d) = (layout.side, layout.grid, layout.offset, layout.dimension);
-    for axis in 0..axes {
-        let stride = side.pow((d - 1 - axis) as u32);
-        for outer in 0..g.pow(axis as u32) {
-            // The padded index of the periodic position `outer` over axes 0..axis.
-            let mut rest = outer;
-            let mut base = 0;
-            let mut scale = 1;
-            for _ in 0..axis {
-                base += (rest % g + o) * scale;
-                rest /= g;
-                scale *= side;
-            }
-            let block = &mut cells[base * side * stride..][..side * stride];
-            for p in 0..o {
-                let (low, high) = block.split_at_mut((p + g) * stride);
-                add_and_clear(&mut low[p * stride..][..stride], &mut high[..stride]);
-            }
-            for p in o + g..side {
-                let (low, high) = block.split_at_mut(p * stride);
-                add_and_clear(&mut high[..stride], &mut low[(p - g) * stride..][..stride]);
-            }
-        }
-    }
-}
-
 /// `to += from; from = 0`.
-fn add_and_clear(from: &mut [f64], to: &mut [f64]) {
+pub fn add_and_clear(from: &mut [f64], to: &mut [f64]) {
     for (t, f) in to.iter_mut().zip(from.iter_mut()) {
         *t += *f;
         *f = 0.0;
@@ -310,10 +306,25 @@ mod tests {
             let points = Random::new(d).unwrap().sample(500, 3, 0).unwrap();
             let mut sort = SortScratch::default();
             block_order(&layout, &points, &mut sort);
-            let mut portable = vec![0.0; layout.len()];
-            spread_any(&table, &layout, &points, &sort.order, &mut portable);
-            let mut dispatched = vec![0.0; layout.len()];
-            spread(&table, &layout, &points, &mut dispatched, &mut sort);
+            let cells = layout.side.pow(d as u32);
+            let mut portable = vec![0.0; cells];
+            spread_any(
+                &table,
+                &layout,
+                &points,
+                &sort.order,
+                &mut portable,
+                layout.side,
+            );
+            let mut dispatched = vec![0.0; cells];
+            spread(
+                &table,
+                &layout,
+                &points,
+                &sort.order,
+                &mut dispatched,
+                layout.side,
+            );
             assert!(portable
                 .iter()
                 .zip(&dispatched)

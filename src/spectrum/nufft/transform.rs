@@ -3,29 +3,32 @@
 //!
 //! Rows (the last axis) are real: two rows ride in one complex FFT, `z = a + i b`, and
 //! separate as `A(k) = (Z(k) + conj Z(-k)) / 2`, `B(k) = (Z(k) - conj Z(-k)) / 2i`; only
-//! `k = 0..=K` is kept. The other axes transform only the lines that crop keeps. Every pass
-//! stores its output transposed, so that the next axis's lines are contiguous: they are
-//! transformed in place, [`BATCH`] at a time, and each batch is cropped into the next layout
-//! (or, after the first axis, written deconvolved) while it is in cache.
+//! `k = 0..=K` is kept. The rows are transformed as the spreading completes them (see
+//! `stream`). The other axes transform only the lines that crop keeps. Every pass stores its
+//! output transposed, so that the next axis's lines are contiguous: they are transformed in
+//! place, [`BATCH`] at a time, and each batch is cropped into the next layout (or, after the
+//! first axis, written deconvolved) while it is in cache.
 
 use super::spread::fold_row;
+use super::stream::Ring;
 use super::{NufftPlan, NufftScratch};
 use num_complex::Complex64;
+use std::ops::Range;
 
 /// Lines transformed together.
 pub(super) const BATCH: usize = 16;
 
 impl NufftPlan {
-    /// Transforms the grid in `scratch.cells` (folded but for the last axis) and calls
-    /// `write(index, value)` for every frequency of the half `k_last = 0..=K` with its flat
-    /// lattice index, deconvolved. Leaves the grid cleared.
+    /// Transforms the rows' half spectra in `scratch.rows` (from
+    /// [`spread_rows`](Self::spread_rows)) along the other axes and calls `write(index, value)`
+    /// for every frequency of the half `k_last = 0..=K` with its flat lattice index,
+    /// deconvolved.
     pub(super) fn fft_stage(
         &self,
         scratch: &mut NufftScratch,
         mut write: impl FnMut(usize, Complex64),
     ) {
         let (g, keep) = (self.grid_size(), self.kmax + 1);
-        self.rows(scratch);
         match self.dimension {
             1 => {
                 for (t, v) in scratch.rows[..keep].iter().enumerate() {
@@ -52,18 +55,25 @@ impl NufftPlan {
         }
     }
 
-    /// The last axis: folds each row, transforms rows in pairs, keeps `k = 0..=K` of each in
-    /// `scratch.rows`, transposed (value `t` of row `r` at `t · rows + r`), and clears the grid
-    /// row by row while it is in cache.
-    fn rows(&self, scratch: &mut NufftScratch) {
+    /// The last axis, for the periodic rows `range` (in pairs from an even row): folds each
+    /// row, transforms rows in pairs, keeps `k = 0..=K` of each in `scratch.rows`, transposed
+    /// (value `t` of row `r` at `t · rows + r`), and clears the rows while they are in cache.
+    pub(super) fn transform_rows(&self, scratch: &mut NufftScratch, range: Range<usize>) {
         let (d, g, k) = (self.dimension, self.grid_size(), self.kmax);
         let (keep, rows) = (k + 1, g.pow(d as u32 - 1));
         let s = &mut *scratch;
-        for first in (0..rows).step_by(2 * BATCH) {
-            let pairs = BATCH.min((rows - first).div_ceil(2));
+        for first in range.clone().step_by(2 * BATCH) {
+            let pairs = BATCH.min((range.end - first).div_ceil(2));
             for p in 0..pairs {
+                let a = first + 2 * p;
+                let (start_a, start_b) = (self.row_cells(s.ring, a), self.row_cells(s.ring, a + 1));
                 let line = &mut s.batch[p * g..][..g];
-                self.pack_pair(&mut s.cells, line, first + 2 * p, rows);
+                self.pack_pair(
+                    &mut s.cells,
+                    line,
+                    start_a,
+                    (a + 1 < rows).then_some(start_b),
+                );
             }
             self.fft
                 .process_with_scratch(&mut s.batch[..pairs * g], &mut s.fft);
@@ -86,34 +96,43 @@ impl NufftPlan {
         }
     }
 
-    /// Folds rows `a` and `a + 1` (the latter only if below `rows`), writes them into `line` as
-    /// its real and imaginary parts, and clears them.
-    fn pack_pair(&self, cells: &mut [f64], line: &mut [Complex64], a: usize, rows: usize) {
-        let (start_a, side) = (self.row_cells(a), self.layout.side);
-        if a + 1 >= rows {
-            let cells_a = self.folded(&mut cells[start_a..][..side]);
+    /// Where the padded cells of periodic row `row` start in `scratch.cells`: the row's slab in
+    /// the ring, then the row within the slab in 3D (in 1D the grid is the one row).
+    fn row_cells(&self, ring: Option<Ring>, row: usize) -> usize {
+        let (g, o, side) = (self.grid_size(), self.layout.offset, self.layout.side);
+        match (self.dimension, ring) {
+            (2, Some(ring)) => ring.start(row + o),
+            (3, Some(ring)) => ring.start(row / g + o) + (row % g + o) * side,
+            _ => 0,
+        }
+    }
+
+    /// Folds the padded rows starting at `a` and `b` (if any) in `cells`, writes them into
+    /// `line` as its real and imaginary parts, and clears them.
+    fn pack_pair(&self, cells: &mut [f64], line: &mut [Complex64], a: usize, b: Option<usize>) {
+        let side = self.layout.side;
+        let Some(b) = b else {
+            let cells_a = self.folded(&mut cells[a..][..side]);
             for (z, c) in line.iter_mut().zip(cells_a.iter()) {
                 *z = Complex64::new(*c, 0.0);
             }
             cells_a.fill(0.0);
             return;
-        }
-        // Row a + 1 comes later in the grid than row a, and they do not overlap.
-        let (low, high) = cells.split_at_mut(self.row_cells(a + 1));
-        let (cells_a, cells_b) = (
-            self.folded(&mut low[start_a..][..side]),
-            self.folded(&mut high[..side]),
-        );
+        };
+        // Two distinct rows of the ring, in either order.
+        let (row_a, row_b) = if a < b {
+            let (low, high) = cells.split_at_mut(b);
+            (&mut low[a..][..side], &mut high[..side])
+        } else {
+            let (low, high) = cells.split_at_mut(a);
+            (&mut high[..side], &mut low[b..][..side])
+        };
+        let (cells_a, cells_b) = (self.folded(row_a), self.folded(row_b));
         for ((z, x), y) in line.iter_mut().zip(cells_a.iter()).zip(cells_b.iter()) {
             *z = Complex64::new(*x, *y);
         }
         cells_a.fill(0.0);
         cells_b.fill(0.0);
-    }
-
-    /// The flat index of the first padded cell of periodic row `row`.
-    fn row_cells(&self, row: usize) -> usize {
-        self.layout.row_start(row) - self.layout.offset
     }
 
     /// Folds the padding of one padded row onto its periodic cells and returns them.
