@@ -165,8 +165,8 @@ impl NufftPlan {
     /// Scratch space for [`sums_with_scratch`](Self::sums_with_scratch): the slabs of the
     /// padded grid in flight (see the `stream` module), the half spectra of the rows, the FFTs'
     /// buffers and the spreading order, about `16 g^{d-1} (K + 1)` bytes and as much again in
-    /// 3D, plus `8 (g + w + 1)^{d-1}` per slab in flight (`72 + w` slabs in 2D, `37 + w` in 3D
-    /// at most).
+    /// 3D, plus `8 (g + w + 1)^{d-1}` per slab in flight (`68 + w` slabs in 2D and `9 + w` in
+    /// 3D on grids of 32 cells or more).
     pub fn make_scratch(&self) -> NufftScratch {
         self.scratch_with_ring((self.dimension > 1).then(|| Ring::new(&self.layout, self.width())))
     }

@@ -17,7 +17,7 @@
 //! afterwards, and the row pairs of the transform are the same, so the bits are those of the
 //! whole grid.
 
-use super::spread::{self, add_and_clear, Padded, SORT_BLOCK};
+use super::spread::{self, add_and_clear, first_axis_block, Padded};
 use super::transform::BATCH;
 use super::{NufftPlan, NufftScratch};
 use crate::pointset::PointSet;
@@ -45,9 +45,9 @@ impl Ring {
         let whole = Self::whole(layout, width);
         // Rows wait in batches: fewer than `2 BATCH` rows' slabs at a time.
         let waiting = (2 * BATCH).div_ceil(whole.rows_per_slab);
-        // A block row spans SORT_BLOCK slabs and its kernels W more; one slab on each side
+        // A block row spans B slabs and its kernels W more; one slab on each side
         // for the rounding of the block index and of the first cell, and two of margin.
-        let in_flight = SORT_BLOCK + width + 4 + waiting;
+        let in_flight = first_axis_block(layout.dimension) + width + 4 + waiting;
         Self {
             slots: in_flight.min(layout.side),
             ..whole
@@ -105,6 +105,7 @@ impl NufftPlan {
             completed: 0,
             ready: ring.parked_start..ring.parked_start,
         };
+        let block = first_axis_block(self.dimension);
         for b in 0..scratch.sort.block_row_count() {
             let order = &scratch.sort.order()[scratch.sort.block_row(b)];
             spread::spread(
@@ -115,7 +116,7 @@ impl NufftPlan {
                 &mut scratch.cells,
                 ring.slots,
             );
-            self.advance(scratch, &ring, &mut front, SORT_BLOCK * (b + 1) - 1);
+            self.advance(scratch, &ring, &mut front, block * (b + 1) - 1);
         }
         self.advance(scratch, &ring, &mut front, layout.side);
         self.transform_ready(scratch, &ring, &mut front, true);
@@ -223,7 +224,8 @@ mod tests {
     fn stress_sets(d: usize, grid: usize) -> Vec<PointSet> {
         let random = Random::new(d).unwrap().sample(3000, 11, 0).unwrap();
         let edge = |i: usize| {
-            let b = (i % (grid / SORT_BLOCK + 1)) * SORT_BLOCK;
+            let block = first_axis_block(d);
+            let b = (i % (grid / block + 1)) * block;
             let nudge = [-1e-12, 0.0, 1e-12][i % 3];
             ((b as f64 / grid as f64) + nudge)
                 .rem_euclid(1.0)
