@@ -46,17 +46,19 @@ impl Padded {
 /// Caller-owned buffers of the sort.
 #[derive(Debug, Clone, Default)]
 pub struct SortScratch {
-    order: Vec<u32>,
+    /// The points' coordinates in block order, so that spreading reads them in sequence.
+    coords: Vec<f64>,
     keys: Vec<u32>,
     counts: Vec<u32>,
-    /// Where each block row (the blocks at one index of the first axis) ends in `order`.
+    /// Where each block row (the blocks at one index of the first axis) ends, in points.
     row_ends: Vec<u32>,
+    dimension: usize,
 }
 
 impl SortScratch {
-    /// The points, in block order.
-    pub fn order(&self) -> &[u32] {
-        &self.order
+    /// The coordinates of all the points, in block order.
+    pub fn sorted(&self) -> &[f64] {
+        &self.coords
     }
 
     /// The number of block rows (the blocks at one index of the first axis).
@@ -64,35 +66,36 @@ impl SortScratch {
         self.row_ends.len()
     }
 
-    /// The range of [`order`](Self::order) holding block row `b`. The first axis' blocks come
-    /// in increasing order, and the points of block row `b` have their first cell at padded
-    /// index `B b - 1` or beyond along the first axis, for blocks of `B` cells along it
+    /// The coordinates of the points of block row `b`, in block order. The first axis' blocks
+    /// come in increasing order, and the points of block row `b` have their first cell at
+    /// padded index `B b - 1` or beyond along the first axis, for blocks of `B` cells along it
     /// ([`first_axis_block`]): the cell of `x` is `⌊x g⌋`, less one for the rounding of
     /// `x g / B`, and the first cell is `offset` before it.
-    pub fn block_row(&self, b: usize) -> std::ops::Range<usize> {
+    pub fn block_row(&self, b: usize) -> &[f64] {
         let start = if b == 0 { 0 } else { self.row_ends[b - 1] };
-        start as usize..self.row_ends[b] as usize
+        let d = self.dimension;
+        &self.coords[start as usize * d..self.row_ends[b] as usize * d]
     }
 }
 
-/// Spreads unit masses at `points`, in `order`, onto `cells`: the padded grid, or a ring of
+/// Spreads unit masses at the points whose coordinates are `coords` (`d` per point, in
+/// order) onto `cells`: the padded grid, or a ring of
 /// `slots` slabs along the first axis (`slots = side` for the whole grid). The cells must be
 /// zero where the points land (as folding and the row transforms leave them).
 pub fn spread(
     kernel: &KernelTable,
     layout: &Padded,
-    points: &PointSet,
-    order: &[u32],
+    coords: &[f64],
     cells: &mut [f64],
     slots: usize,
 ) {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx") {
         // SAFETY: the CPU has AVX, checked just above.
-        unsafe { spread_avx(kernel, layout, points, order, cells, slots) };
+        unsafe { spread_avx(kernel, layout, coords, cells, slots) };
         return;
     }
-    spread_any(kernel, layout, points, order, cells, slots);
+    spread_any(kernel, layout, coords, cells, slots);
 }
 
 /// [`spread_any`] compiled for AVX: wider vectors for the same operations. Without FMA the
@@ -106,30 +109,28 @@ pub fn spread(
 unsafe fn spread_avx(
     kernel: &KernelTable,
     layout: &Padded,
-    points: &PointSet,
-    order: &[u32],
+    coords: &[f64],
     cells: &mut [f64],
     slots: usize,
 ) {
-    spread_any(kernel, layout, points, order, cells, slots);
+    spread_any(kernel, layout, coords, cells, slots);
 }
 
-/// Spreads in the order `order`, with the width as a compile-time constant.
+/// Spreads the points in order, with the width as a compile-time constant.
 #[inline(always)]
 fn spread_any(
     kernel: &KernelTable,
     layout: &Padded,
-    points: &PointSet,
-    order: &[u32],
+    coords: &[f64],
     cells: &mut [f64],
     slots: usize,
 ) {
     macro_rules! dispatch {
         ($($w:literal)*) => {
             match (layout.dimension, kernel.kernel().width) {
-                $((1, $w) => spread_1d::<$w>(kernel, layout, points, order, cells),)*
-                $((2, $w) => spread_2d::<$w>(kernel, layout, points, order, cells, slots),)*
-                $((3, $w) => spread_3d::<$w>(kernel, layout, points, order, cells, slots),)*
+                $((1, $w) => spread_1d::<$w>(kernel, layout, coords, cells),)*
+                $((2, $w) => spread_2d::<$w>(kernel, layout, coords, cells, slots),)*
+                $((3, $w) => spread_3d::<$w>(kernel, layout, coords, cells, slots),)*
                 (d, w) => unreachable!("a plan has 1 to 3 dimensions and widths 2 to {MAX_WIDTH}, not {d}, {w}"),
             }
         };
@@ -161,11 +162,12 @@ pub fn block_order(layout: &Padded, points: &PointSet, sort: &mut SortScratch) {
     for b in 1..sort.counts.len() {
         sort.counts[b] += sort.counts[b - 1];
     }
-    sort.order.clear();
-    sort.order.resize(points.len(), 0);
-    for (i, &k) in sort.keys.iter().enumerate() {
+    sort.dimension = d;
+    sort.coords.clear();
+    sort.coords.resize(points.len() * d, 0.0);
+    for (p, &k) in points.points().zip(&sort.keys) {
         let slot = &mut sort.counts[k as usize];
-        sort.order[*slot as usize] = i as u32;
+        sort.coords[*slot as usize * d..][..d].copy_from_slice(p);
         *slot += 1;
     }
     // Each count now holds the end of its block.
@@ -202,13 +204,12 @@ fn axis<const W: usize>(
 fn spread_1d<const W: usize>(
     kernel: &KernelTable,
     layout: &Padded,
-    points: &PointSet,
-    order: &[u32],
+    coords: &[f64],
     cells: &mut [f64],
 ) {
     let mut kx = [0.0; W];
-    for &i in order {
-        let first = axis(kernel, layout, points.point(i as usize)[0], &mut kx);
+    for &x in coords {
+        let first = axis(kernel, layout, x, &mut kx);
         let block: &mut [f64; W] = (&mut cells[first..first + W]).try_into().expect("W cells");
         for (c, v) in block.iter_mut().zip(&kx) {
             *c += v;
@@ -232,15 +233,13 @@ fn slot(start: usize, a: usize, slots: usize) -> usize {
 fn spread_2d<const W: usize>(
     kernel: &KernelTable,
     layout: &Padded,
-    points: &PointSet,
-    order: &[u32],
+    coords: &[f64],
     cells: &mut [f64],
     slots: usize,
 ) {
     let side = layout.side;
     let (mut kx, mut ky) = ([0.0; W], [0.0; W]);
-    for &i in order {
-        let p = points.point(i as usize);
+    for p in coords.chunks_exact(2) {
         let fx = axis(kernel, layout, p[0], &mut kx) % slots;
         let fy = axis(kernel, layout, p[1], &mut ky);
         for (a, &vx) in kx.iter().enumerate() {
@@ -257,15 +256,13 @@ fn spread_2d<const W: usize>(
 fn spread_3d<const W: usize>(
     kernel: &KernelTable,
     layout: &Padded,
-    points: &PointSet,
-    order: &[u32],
+    coords: &[f64],
     cells: &mut [f64],
     slots: usize,
 ) {
     let side = layout.side;
     let (mut kx, mut ky, mut kz) = ([0.0; W], [0.0; W], [0.0; W]);
-    for &i in order {
-        let p = points.point(i as usize);
+    for p in coords.chunks_exact(3) {
         let fx = axis(kernel, layout, p[0], &mut kx) % slots;
         let fy = axis(kernel, layout, p[1], &mut ky);
         let fz = axis(kernel, layout, p[2], &mut kz);
@@ -325,23 +322,9 @@ mod tests {
             block_order(&layout, &points, &mut sort);
             let cells = layout.side.pow(d as u32);
             let mut portable = vec![0.0; cells];
-            spread_any(
-                &table,
-                &layout,
-                &points,
-                &sort.order,
-                &mut portable,
-                layout.side,
-            );
+            spread_any(&table, &layout, sort.sorted(), &mut portable, layout.side);
             let mut dispatched = vec![0.0; cells];
-            spread(
-                &table,
-                &layout,
-                &points,
-                &sort.order,
-                &mut dispatched,
-                layout.side,
-            );
+            spread(&table, &layout, sort.sorted(), &mut dispatched, layout.side);
             assert!(portable
                 .iter()
                 .zip(&dispatched)

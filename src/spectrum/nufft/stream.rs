@@ -96,8 +96,8 @@ impl NufftPlan {
         spread::block_order(layout, points, &mut scratch.sort);
         let Some(ring) = scratch.ring else {
             // 1D: one row, the whole grid.
-            let order = scratch.sort.order();
-            spread::spread(&self.table, layout, points, order, &mut scratch.cells, 1);
+            let coords = scratch.sort.sorted();
+            spread::spread(&self.table, layout, coords, &mut scratch.cells, 1);
             self.transform_rows(scratch, 0..1);
             return;
         };
@@ -107,15 +107,8 @@ impl NufftPlan {
         };
         let block = first_axis_block(self.dimension);
         for b in 0..scratch.sort.block_row_count() {
-            let order = &scratch.sort.order()[scratch.sort.block_row(b)];
-            spread::spread(
-                &self.table,
-                layout,
-                points,
-                order,
-                &mut scratch.cells,
-                ring.slots,
-            );
+            let coords = scratch.sort.block_row(b);
+            spread::spread(&self.table, layout, coords, &mut scratch.cells, ring.slots);
             self.advance(scratch, &ring, &mut front, block * (b + 1) - 1);
         }
         self.advance(scratch, &ring, &mut front, layout.side);
