@@ -120,11 +120,17 @@ impl Choice {
     /// buffers.
     pub fn scratch_bytes(&self, dimension: usize, kmax: usize) -> f64 {
         let g = self.kernel.grid as f64;
-        let rows = g.powi(dimension as i32 - 1);
+        let half = (kmax + 1) as f64;
+        // The rows' half spectra (one plane's in 3D), the second axis' output in 3D, the FFT
+        // batch and scratch.
+        let rows = if dimension == 1 { half } else { g * half };
+        let spare = if dimension == 3 {
+            (2 * kmax + 1) as f64 * half * g
+        } else {
+            0.0
+        };
         let layout = Padded::new(dimension, self.kernel.grid, self.kernel.width);
-        grid_bytes(&layout, self.kernel.width)
-            + 2.0 * rows * (kmax + 1) as f64 * 16.0
-            + 4.0 * g * 16.0
+        grid_bytes(&layout, self.kernel.width) + (rows + spare + 4.0 * g) * 16.0
     }
 }
 

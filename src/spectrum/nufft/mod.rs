@@ -164,16 +164,18 @@ impl NufftPlan {
 
     /// Scratch space for [`sums_with_scratch`](Self::sums_with_scratch): the slabs of the
     /// padded grid in flight (see the `stream` module), the half spectra of the rows, the FFTs'
-    /// buffers and the spreading order, about `16 g^{d-1} (K + 1)` bytes and as much again in
-    /// 3D, plus `8 (g + w + 1)^{d-1}` per slab in flight (`68 + w` slabs in 2D and `9 + w` in
-    /// 3D on grids of 32 cells or more).
+    /// buffers and the spreading order: about `16 g (K + 1)` bytes (in 3D, `16 g (K + 1)
+    /// (2K + 1)` more for the second axis' output), plus `8 (g + w + 1)^{d-1}` per slab in
+    /// flight (`68 + w` slabs in 2D and `9 + w` in 3D on grids of 32 cells or more).
     pub fn make_scratch(&self) -> NufftScratch {
         self.scratch_with_ring((self.dimension > 1).then(|| Ring::new(&self.layout, self.width())))
     }
 
     fn scratch_with_ring(&self, ring: Option<Ring>) -> NufftScratch {
         let (d, g, k) = (self.dimension, self.grid_size(), self.kmax);
-        let rows = g.pow(d as u32 - 1);
+        // The rows' half spectra: of the one row in 1D, of every row in 2D, of one plane's
+        // rows in 3D.
+        let rows = if d == 1 { 1 } else { g };
         let side = 2 * k + 1;
         let zero = Complex64::new(0.0, 0.0);
         // In 3D, the middle axis' cropped output: (side, K+1, g).
@@ -309,9 +311,9 @@ pub struct NufftScratch {
     cells: Vec<f64>,
     /// Parked slabs: the padding before the grid, then the first periodic slabs.
     parked: Vec<f64>,
-    /// The rows' half spectra, `K + 1` per row, and in 3D the second column pass's output.
+    /// The rows' half spectra, `K + 1` per row (in 3D, of one plane's rows).
     rows: Vec<Complex64>,
-    /// The first column pass's output.
+    /// In 3D, the second axis' output, cropped.
     spare: Vec<Complex64>,
     /// The FFT's own scratch.
     fft: Vec<Complex64>,

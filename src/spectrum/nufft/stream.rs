@@ -161,8 +161,22 @@ impl NufftPlan {
             slabs -= slabs % 2;
         }
         let first = front.ready.start;
-        self.transform_rows(s, first * rps..(first + slabs) * rps);
+        self.transform_slabs(s, ring, first..first + slabs);
         front.ready.start += slabs;
+    }
+
+    /// Transforms the rows of the periodic slabs `slabs`, and in 3D each plane's lines along
+    /// the second axis after its rows.
+    fn transform_slabs(&self, s: &mut NufftScratch, ring: &Ring, slabs: Range<usize>) {
+        let rps = ring.rows_per_slab;
+        if self.dimension == 3 {
+            for q in slabs {
+                self.transform_rows(s, q * rps..(q + 1) * rps);
+                self.middle_plane(s, q);
+            }
+        } else {
+            self.transform_rows(s, slabs.start * rps..slabs.end * rps);
+        }
     }
 
     /// After the last point: the first periodic slabs, with the padding after the grid folded
@@ -176,7 +190,7 @@ impl NufftPlan {
                 fold_second_axis(&self.layout, slab);
             }
         }
-        self.transform_rows(s, 0..ring.parked_start * ring.rows_per_slab);
+        self.transform_slabs(s, ring, 0..ring.parked_start);
     }
 }
 

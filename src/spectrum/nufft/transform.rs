@@ -43,7 +43,6 @@ impl NufftPlan {
                 }
             }
             _ => {
-                self.middle_axis(scratch);
                 for o1 in 0..2 * self.kmax + 1 {
                     for first in (0..keep).step_by(BATCH) {
                         let lines = BATCH.min(keep - first);
@@ -55,12 +54,19 @@ impl NufftPlan {
         }
     }
 
-    /// The last axis, for the periodic rows `range` (in pairs from an even row): folds each
-    /// row, transforms rows in pairs, keeps `k = 0..=K` of each in `scratch.rows`, transposed
-    /// (value `t` of row `r` at `t · rows + r`), and clears the rows while they are in cache.
+    /// The last axis, for the periodic rows `range` (in pairs from an even row; in 3D the rows
+    /// of one plane): folds each row, transforms rows in pairs, keeps `k = 0..=K` of each in
+    /// `scratch.rows`, transposed (value `t` of row `r` at `t · g + r`, `r` counted within
+    /// the plane in 3D), and clears the rows while they are in cache.
     pub(super) fn transform_rows(&self, scratch: &mut NufftScratch, range: Range<usize>) {
         let (d, g, k) = (self.dimension, self.grid_size(), self.kmax);
         let (keep, rows) = (k + 1, g.pow(d as u32 - 1));
+        let (stride, base) = match d {
+            1 => (1, 0),
+            2 => (g, 0),
+            _ => (g, range.start - range.start % g),
+        };
+        debug_assert!(d < 3 || range.end <= base + g, "one plane at a time in 3D");
         let s = &mut *scratch;
         for first in range.clone().step_by(2 * BATCH) {
             let pairs = BATCH.min((range.end - first).div_ceil(2));
@@ -77,7 +83,7 @@ impl NufftPlan {
             }
             self.fft
                 .process_with_scratch(&mut s.batch[..pairs * g], &mut s.fft);
-            let index = |row: usize, t: usize| t * rows + row;
+            let index = |row: usize, t: usize| t * stride + row - base;
             // Frequency-major, so that transposed writes of one frequency are contiguous.
             for t in 0..keep {
                 let mirror = if t == 0 { 0 } else { g - t };
@@ -151,23 +157,20 @@ impl NufftPlan {
         }
     }
 
-    /// In 3D: transforms axis 1, whose lines are contiguous in `scratch.rows` (laid out
-    /// `(t, a0, a1)` by [`rows`](Self::rows)), and crops it into `scratch.spare` laid out
-    /// `(o1, t, a0)`: lines along axis 0, contiguous for consecutive `t`.
-    fn middle_axis(&self, scratch: &mut NufftScratch) {
+    /// In 3D, after the rows of plane `plane` (index along axis 0): transforms axis 1, whose
+    /// lines (one per `t`) are contiguous in `scratch.rows`, and crops it into
+    /// `scratch.spare` laid out `(o1, t, a0)`: lines along axis 0, contiguous for consecutive
+    /// `t`. The plane's lines are in cache, and the writes of consecutive planes share theirs.
+    pub(super) fn middle_plane(&self, scratch: &mut NufftScratch, plane: usize) {
         let (g, keep, side) = (self.grid_size(), self.kmax + 1, 2 * self.kmax + 1);
         let s = &mut *scratch;
-        for t in 0..keep {
-            for first in (0..g).step_by(BATCH) {
-                let lines = BATCH.min(g - first);
-                let block = &mut s.rows[(t * g + first) * g..][..lines * g];
-                self.fft.process_with_scratch(block, &mut s.fft);
+        for first in (0..keep).step_by(BATCH) {
+            let lines = BATCH.min(keep - first);
+            let block = &mut s.rows[first * g..][..lines * g];
+            self.fft.process_with_scratch(block, &mut s.fft);
+            for (j, line) in block.chunks_exact(g).enumerate() {
                 for o1 in 0..side {
-                    let bin = self.bin(o1);
-                    let dst = &mut s.spare[(o1 * keep + t) * g + first..][..lines];
-                    for (j, v) in dst.iter_mut().enumerate() {
-                        *v = block[j * g + bin];
-                    }
+                    s.spare[(o1 * keep + first + j) * g + plane] = line[self.bin(o1)];
                 }
             }
         }
