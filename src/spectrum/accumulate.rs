@@ -406,31 +406,40 @@ impl<'a> SpectrumAccumulator<'a> {
         let m = self.realizations;
         let mf = m as f64;
         let half_mean: Vec<f64> = self.total.sum.iter().map(|s| s / mf).collect();
-        let half_stderr: Vec<f64> = self
-            .total
-            .sum_sq
-            .iter()
-            .zip(&half_mean)
-            .map(|(s2, mu)| {
-                if m > 1 {
-                    ((s2 / mf - mu * mu).max(0.0) / (mf - 1.0)).sqrt()
-                } else {
-                    f64::NAN
-                }
-            })
-            .collect();
         let lattice = self.geometry.lattice;
-        let mean = super::mirror(&half_mean, lattice.len());
-        let stderr = super::mirror(&half_stderr, lattice.len());
         let n = self.source.points();
-        let radial = RadialSpectrum::from_parts(
-            &lattice,
-            &mean,
-            n,
-            m,
-            (&self.geometry.ring_of, self.geometry.rings),
-            self.params.bin_width,
-            &self.total.ring,
+        // The lattice's mean and standard error, and the rings: independent, side by side.
+        let ((mean, stderr), radial) = rayon::join(
+            || {
+                let half_stderr: Vec<f64> = self
+                    .total
+                    .sum_sq
+                    .iter()
+                    .zip(&half_mean)
+                    .map(|(s2, mu)| {
+                        if m > 1 {
+                            ((s2 / mf - mu * mu).max(0.0) / (mf - 1.0)).sqrt()
+                        } else {
+                            f64::NAN
+                        }
+                    })
+                    .collect();
+                (
+                    super::mirror(&half_mean, lattice.len()),
+                    super::mirror(&half_stderr, lattice.len()),
+                )
+            },
+            || {
+                RadialSpectrum::from_parts(
+                    &lattice,
+                    &half_mean,
+                    n,
+                    m,
+                    (&self.geometry.ring_of, self.geometry.rings),
+                    self.params.bin_width,
+                    &self.total.ring,
+                )
+            },
         );
         SpectrumEstimate {
             lattice: LatticeSpectrum {

@@ -59,13 +59,13 @@ pub(crate) fn ring_assignment(lattice: &Lattice, width: f64, count: usize) -> (V
 }
 
 impl RadialSpectrum {
-    /// Assembles a radial spectrum from the expected lattice spectrum, the ring of each
-    /// frequency of the half lattice `0..=dc` from [`ring_assignment`] (the other half mirrors
-    /// it, `-k` at `len - 1 - i`), and per ring the sum and sum of squares of each realization's
-    /// ring mean.
+    /// Assembles a radial spectrum from the expected lattice spectrum and the ring of each
+    /// frequency, both on the half lattice `0..=dc` (the other half mirrors them, `-k` at
+    /// `len - 1 - i`; rings from [`ring_assignment`]), and per ring the sum and sum of squares
+    /// of each realization's ring mean.
     pub(crate) fn from_parts(
         lattice: &Lattice,
-        mean: &[f64],
+        half_mean: &[f64],
         n: usize,
         realizations: usize,
         (half_rings, rings): (&[u32], usize),
@@ -78,12 +78,14 @@ impl RadialSpectrum {
         let mut power_sq = vec![0.0; rings];
         let len = lattice.len();
         lattice.for_each_squared_radius(len, |i, r2| {
-            let b = half_rings[i.min(len - 1 - i)] as usize;
+            let half = i.min(len - 1 - i);
+            let b = half_rings[half] as usize;
             if b < rings {
+                let mean = half_mean[half];
                 radius_sum[b] += (r2 as f64).sqrt();
                 count[b] += 1;
-                power_sum[b] += mean[i];
-                power_sq[b] += mean[i] * mean[i];
+                power_sum[b] += mean;
+                power_sq[b] += mean * mean;
             }
         });
         let scale = (n as f64).powf(1.0 / lattice.dimension as f64);

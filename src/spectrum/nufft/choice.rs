@@ -11,6 +11,7 @@ use super::kernel::{tensor_error, EsKernel, MAX_WIDTH};
 use super::spread::Padded;
 use super::stream::grid_bytes;
 use crate::error::{Error, Result};
+use rayon::prelude::*;
 
 /// The upsampling factors tried, from the cheapest FFT to the cheapest spreading.
 pub const UPSAMPLINGS: [f64; 3] = [1.25, 1.5, 2.0];
@@ -79,9 +80,14 @@ impl Choice {
     /// # Errors
     /// [`Error::OutsideValidity`] when no kernel reaches the tolerance.
     pub fn cheapest(dimension: usize, kmax: usize, points: usize, tolerance: f64) -> Result<Self> {
-        UPSAMPLINGS
-            .iter()
-            .filter_map(|&s| Self::narrowest(dimension, kmax, s, tolerance))
+        // Each upsampling's kernels are measured on their own: in parallel.
+        let candidates: Vec<Option<Self>> = UPSAMPLINGS
+            .par_iter()
+            .map(|&s| Self::narrowest(dimension, kmax, s, tolerance))
+            .collect();
+        candidates
+            .into_iter()
+            .flatten()
             .min_by(|a, b| {
                 let (ca, cb) = (
                     a.seconds(dimension, kmax, points),

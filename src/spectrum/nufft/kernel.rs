@@ -10,6 +10,7 @@
 
 use crate::quadrature::gauss_legendre;
 use num_complex::Complex64;
+use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
 use std::sync::{Mutex, OnceLock};
@@ -69,31 +70,45 @@ impl EsKernel {
     /// `ψ(x) = φ(2gx / w)`. With `z = sin θ` the integrand is analytic, so Gauss–Legendre
     /// converges geometrically.
     pub fn fourier(&self, k: f64) -> f64 {
-        let (nodes, weights) = quadrature_rule();
-        self.fourier_with(k, nodes, weights)
+        self.fourier_with(k, &self.fourier_nodes())
     }
 
-    fn fourier_with(&self, k: f64, nodes: &[f64], weights: &[f64]) -> f64 {
+    /// Per quadrature node `θ = π/4 (s + 1)`: the weight times `φ(cos θ)`, `sin θ` and
+    /// `cos θ`, which do not depend on `k`.
+    fn fourier_nodes(&self) -> Vec<[f64; 3]> {
+        let (nodes, weights) = quadrature_rule();
+        nodes
+            .iter()
+            .zip(weights)
+            .map(|(s, w)| {
+                let theta = PI / 4.0 * (s + 1.0); // [-1, 1] → [0, π/2]
+                let (sin, cos) = theta.sin_cos();
+                let phi = (self.beta * (cos - 1.0)).exp();
+                [w * phi, sin, cos]
+            })
+            .collect()
+    }
+
+    fn fourier_with(&self, k: f64, nodes: &[[f64; 3]]) -> f64 {
         let half = self.width as f64 / 2.0;
         let a = 2.0 * PI * k * half / self.grid as f64;
         let mut integral = 0.0;
-        for (s, w) in nodes.iter().zip(weights) {
-            let theta = PI / 4.0 * (s + 1.0); // [-1, 1] → [0, π/2]
-            let (sin, cos) = theta.sin_cos();
-            let phi = (self.beta * (cos - 1.0)).exp();
-            integral += w * phi * (a * sin).cos() * cos;
+        for &[weighted_phi, sin, cos] in nodes {
+            integral += weighted_phi * (a * sin).cos() * cos;
         }
         // ∫_{-1}^{1} φ(z) cos(a z) dz = 2 ∫_0^{π/2} …, and dx = (w / 2g) dz.
         2.0 * (PI / 4.0) * integral * half / self.grid as f64
     }
 
-    /// The deconvolution factors `1 / (g ψ̂(k))` for `k = -K..=K`.
+    /// The deconvolution factors `1 / (g ψ̂(k))` for `k = -K..=K` (computed in parallel: a
+    /// quadrature each, a few milliseconds in all for a large band).
     pub fn correction(&self, kmax: usize) -> Vec<f64> {
-        let (nodes, weights) = quadrature_rule();
+        let nodes = self.fourier_nodes();
         (0..=2 * kmax)
+            .into_par_iter()
             .map(|t| {
                 let k = t as f64 - kmax as f64;
-                1.0 / (self.grid as f64 * self.fourier_with(k, nodes, weights))
+                1.0 / (self.grid as f64 * self.fourier_with(k, &nodes))
             })
             .collect()
     }
@@ -132,7 +147,7 @@ impl EsKernel {
     }
 
     fn point_error_of(&self, kmax: usize, values_at: impl Fn(f64, &mut [f64]) -> isize) -> f64 {
-        let (nodes, weights) = quadrature_rule();
+        let nodes = self.fourier_nodes();
         let g = self.grid as f64;
         let half = self.width as f64 / 2.0;
         let mut values = [0.0; MAX_WIDTH];
@@ -140,7 +155,7 @@ impl EsKernel {
         let edge = (kmax.saturating_sub(3)..=kmax).chain([0, kmax / 2]);
         for k in edge {
             let kf = k as f64;
-            let correction = 1.0 / (g * self.fourier_with(kf, nodes, weights));
+            let correction = 1.0 / (g * self.fourier_with(kf, &nodes));
             // The phases of the w cells, e^{-2πik i/g}.
             let step = Complex64::from_polar(1.0, -2.0 * PI * kf / g);
             for s in 0..OFFSETS {
@@ -220,6 +235,11 @@ impl KernelTable {
                 chebyshev[n][j] = up - chebyshev[n - 2][j];
             }
         }
+        let angle = |m: usize| PI * (m as f64 + 0.5) / nodes as f64;
+        // cos(n θ_m), the same for every cell.
+        let cosines: Vec<f64> = (0..nodes)
+            .flat_map(|n| (0..nodes).map(move |m| (n as f64 * angle(m)).cos()))
+            .collect();
         let mut coefficients = vec![0.0; nodes * w];
         for i in 0..w {
             let f = |u: f64| {
@@ -227,13 +247,12 @@ impl KernelTable {
                 let z = (t + i as f64) / half - 1.0;
                 (kernel.beta * ((1.0 - z * z).max(0.0).sqrt() - 1.0)).exp()
             };
-            let angle = |m: usize| PI * (m as f64 + 0.5) / nodes as f64;
             let samples: Vec<f64> = (0..nodes).map(|m| f(angle(m).cos())).collect();
             for n in 0..nodes {
                 let mut a: f64 = samples
                     .iter()
-                    .enumerate()
-                    .map(|(m, v)| v * (n as f64 * angle(m)).cos())
+                    .zip(&cosines[n * nodes..][..nodes])
+                    .map(|(v, c)| v * c)
                     .sum::<f64>()
                     * 2.0
                     / nodes as f64;
