@@ -148,9 +148,20 @@ impl Moments {
             *s += v;
             *s2 += v * v;
         }
+        // Neighbouring frequencies fall in the same ring in runs: a run is summed in a
+        // register, in the same order as one by one (the same bits), instead of through memory,
+        // where each addition waited for the store of the one before.
+        let mut ring = geometry.ring_of.first().map_or(0, |&b| b as usize);
+        let mut run = 0.0;
         for (&b, &v) in geometry.ring_of.iter().zip(p) {
-            self.ring_sum[b as usize] += v;
+            let b = b as usize;
+            if b != ring {
+                self.ring_sum[ring] = run;
+                (ring, run) = (b, self.ring_sum[b]);
+            }
+            run += v;
         }
+        self.ring_sum[ring] = run;
         for (b, s) in self.ring_sum[..geometry.rings].iter().enumerate() {
             if geometry.ring_count[b] > 0.0 {
                 let mean = s / geometry.ring_count[b];
