@@ -178,12 +178,17 @@ impl Moments {
     }
 
     fn merge(&mut self, other: &Moments) {
-        for (a, b) in self.sum.iter_mut().zip(&other.sum) {
-            *a += b;
-        }
-        for (a, b) in self.sum_sq.iter_mut().zip(&other.sum_sq) {
-            *a += b;
-        }
+        // The merges run between batches of realizations, with the other threads idle: the two
+        // large sums are added side by side (element by element, so the same bits).
+        let add = |to: &mut [f64], from: &[f64]| {
+            for (a, b) in to.iter_mut().zip(from) {
+                *a += b;
+            }
+        };
+        rayon::join(
+            || add(&mut self.sum, &other.sum),
+            || add(&mut self.sum_sq, &other.sum_sq),
+        );
         for (a, b) in self.ring.iter_mut().zip(&other.ring) {
             a.0 += b.0;
             a.1 += b.1;
