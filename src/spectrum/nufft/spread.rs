@@ -79,9 +79,9 @@ impl SortScratch {
 }
 
 /// Spreads unit masses at the points whose coordinates are `coords` (`d` per point, in
-/// order) onto `cells`: the padded grid, or a ring of
-/// `slots` slabs along the first axis (`slots = side` for the whole grid). The cells must be
-/// zero where the points land (as folding and the row transforms leave them).
+/// order) onto `cells`: the padded grid, or a ring of `slots` slabs along the first axis
+/// (`slots = side` for the whole grid). The cells must be zero where the points land (as
+/// folding and the row transforms leave them).
 pub fn spread(
     kernel: &KernelTable,
     layout: &Padded,
@@ -180,7 +180,7 @@ pub fn block_order(layout: &Padded, points: &PointSet, sort: &mut SortScratch) {
 /// Spreading streams through the first axis one block row at a time (see `stream`); in 3D a
 /// block row of 4 planes keeps the slabs in flight near `w + 9` planes, and a block's cells,
 /// `(4 + w) (32 + w)²` (a quarter of a megabyte at `w = 12`), within a core's cache, where
-/// 32 planes let both spill: a third less time for the 3D transform at N = 32768, K = 40.
+/// 32 planes let both spill: a quarter less time for the 3D transform at N = 32768, K = 40.
 pub(super) fn first_axis_block(dimension: usize) -> usize {
     if dimension == 3 {
         4

@@ -97,7 +97,7 @@ impl NufftPlan {
         let Some(ring) = scratch.ring else {
             // 1D: one row, the whole grid.
             let coords = scratch.sort.sorted();
-            spread::spread(&self.table, layout, coords, &mut scratch.cells, 1);
+            spread::spread(&self.table, layout, coords, &mut scratch.cells, layout.side);
             self.transform_rows(scratch, 0..1);
             return;
         };
