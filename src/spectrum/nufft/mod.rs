@@ -168,7 +168,7 @@ impl NufftPlan {
     /// (2K + 1)` more for the second axis' output), plus `8 (g + w + 1)^{d-1}` per slab in
     /// flight (`68 + w` slabs in 2D and `9 + w` in 3D on grids of 32 cells or more).
     pub fn make_scratch(&self) -> NufftScratch {
-        self.scratch_with_ring((self.dimension > 1).then(|| Ring::new(&self.layout, self.width())))
+        self.scratch_with_ring(Ring::for_layout(&self.layout, self.width()))
     }
 
     fn scratch_with_ring(&self, ring: Option<Ring>) -> NufftScratch {

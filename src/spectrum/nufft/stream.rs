@@ -39,6 +39,11 @@ pub(super) struct Ring {
 }
 
 impl Ring {
+    /// The ring a plan's scratch holds: none in 1D, whose grid is one padded row.
+    pub fn for_layout(layout: &Padded, width: usize) -> Option<Self> {
+        (layout.dimension > 1).then(|| Self::new(layout, width))
+    }
+
     /// The ring for `layout` (2D or 3D) and a kernel of `width` cells: slabs from the oldest
     /// still waiting for its row transform to the last one the current block row can touch.
     pub fn new(layout: &Padded, width: usize) -> Self {
@@ -211,12 +216,8 @@ fn fold_second_axis(layout: &Padded, slab: &mut [f64]) {
 /// Bytes of the grid's buffers for a plan: the ring and the parked slabs in 2D and 3D, the
 /// padded row in 1D.
 pub(super) fn grid_bytes(layout: &Padded, width: usize) -> f64 {
-    let cells = if layout.dimension == 1 {
-        layout.side
-    } else {
-        let ring = Ring::new(layout, width);
-        ring.cells() + ring.parked_cells(layout)
-    };
+    let cells = Ring::for_layout(layout, width)
+        .map_or(layout.side, |ring| ring.cells() + ring.parked_cells(layout));
     cells as f64 * 8.0
 }
 
