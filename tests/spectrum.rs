@@ -503,3 +503,46 @@ fn sector_spectra_average_the_right_frequencies() {
     assert!(s.rings[1].power[0] < s.rings[1].power[1]);
     assert!(sector_spectrum(&spectrum, 0, 1.0).is_err());
 }
+
+/// An estimate extended in uneven steps is the same bits as one reached in a single call, and
+/// so are its weighted sums: each realization joins the sums after the ones before it.
+#[test]
+fn an_estimate_extended_in_steps_is_the_same_bits() {
+    let sampler = Jitter::new(2).unwrap();
+    let params = SpectrumParams {
+        kmax: 12,
+        realizations: 11,
+        seed: 5,
+        ..Default::default()
+    };
+    let source = PatternSource::Sampler {
+        sampler: &sampler,
+        n: 64,
+        seed: 5,
+    };
+    let side = 2 * params.kmax + 1;
+    let weights = vec![(0..side * side).map(|i| (i % 7) as f64).collect::<Vec<_>>()];
+    let silent = specvar::progress::Silent;
+    let mut once = SpectrumAccumulator::new(source, &params, weights.clone()).unwrap();
+    once.extend_to(11, &silent).unwrap();
+    let mut steps = SpectrumAccumulator::new(source, &params, weights).unwrap();
+    for target in [1, 3, 3, 2, 7, 11] {
+        steps.extend_to(target, &silent).unwrap();
+    }
+    assert_eq!(steps.realizations(), 11);
+    let bits = |e: &SpectrumEstimate, w: &[WeightedMean]| {
+        let lattice = e.lattice.mean.iter().chain(&e.lattice.stderr);
+        let rings = e.radial.bins.iter().flat_map(|b| [b.power, b.stderr]);
+        let weighted = w.iter().flat_map(|w| [w.mean, w.stderr]);
+        lattice
+            .copied()
+            .chain(rings)
+            .chain(weighted)
+            .map(f64::to_bits)
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(
+        bits(&once.estimate(), &once.weighted()),
+        bits(&steps.estimate(), &steps.weighted())
+    );
+}

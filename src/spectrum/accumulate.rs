@@ -7,6 +7,7 @@
 //! correlation between frequencies included (a per-frequency error propagation would treat them
 //! as independent).
 
+use super::in_order::InOrder;
 use super::{radial, Lattice, LatticeSpectrum, Planned, RadialSpectrum, SpectrumEstimate};
 use super::{SpectrumParams, Workspace};
 use crate::error::{invalid, Error, Result};
@@ -15,10 +16,8 @@ use crate::progress::Progress;
 use crate::sampler::Sampler;
 use rayon::prelude::*;
 use serde::Serialize;
-use std::sync::Mutex;
-
-/// Realizations per chunk of the deterministic reduction.
-const REDUCE_CHUNK: usize = 4;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Mutex, MutexGuard, PoisonError};
 
 /// Where the patterns of an estimate come from.
 #[derive(Clone, Copy)]
@@ -110,93 +109,192 @@ pub struct WeightedMean {
     pub realizations: usize,
 }
 
+/// One realization's contribution, summarized by the thread that transformed it: its
+/// periodogram on the half lattice, its mean power per ring, and its weighted sums.
+struct Realization {
+    power: Vec<f64>,
+    ring_means: Vec<f64>,
+    weighted: Vec<f64>,
+}
+
+impl Realization {
+    /// Summarizes `power`, a periodogram on the half lattice (`0..=dc`, DC last), by the
+    /// rings and by the weights folded onto the same half; `ring_sum` is scratch of one slot
+    /// per ring and a spare one.
+    fn new(
+        power: Vec<f64>,
+        geometry: &Geometry,
+        weights: &[Vec<f64>],
+        ring_sum: &mut [f64],
+    ) -> Self {
+        ring_sum.fill(0.0);
+        // Neighbouring frequencies fall in the same ring in runs: a run is summed in a
+        // register, in the same order as one by one, instead of through memory, where each
+        // addition waited for the store of the one before. Frequencies in no ring go to the
+        // spare slot.
+        let mut ring = geometry.ring_of.first().map_or(0, |&b| b as usize);
+        let mut run = 0.0;
+        for (&b, &v) in geometry.ring_of.iter().zip(&power) {
+            let b = b as usize;
+            if b != ring {
+                ring_sum[ring] = run;
+                (ring, run) = (b, ring_sum[b]);
+            }
+            run += v;
+        }
+        ring_sum[ring] = run;
+        let ring_means = ring_sum[..geometry.rings]
+            .iter()
+            .zip(&geometry.ring_count)
+            .map(|(s, &count)| if count > 0.0 { s / count } else { 0.0 })
+            .collect();
+        // The folded weights are zero at DC.
+        let weighted = weights
+            .iter()
+            .map(|w| w.iter().zip(&power).map(|(w, p)| w * p).sum())
+            .collect();
+        Self {
+            power,
+            ring_means,
+            weighted,
+        }
+    }
+}
+
 /// Running sums over realizations: per frequency, per ring, and per weight vector.
 struct Moments {
     sum: Vec<f64>,
     sum_sq: Vec<f64>,
     ring: Vec<(f64, f64)>,
     weighted: Vec<(f64, f64)>,
-    /// Scratch: one realization's ring sums.
-    ring_sum: Vec<f64>,
 }
 
 impl Moments {
     fn new(len: usize, rings: usize, weights: usize) -> Self {
         Self {
-            sum: vec![0.0; len],
-            sum_sq: vec![0.0; len],
+            sum: super::written_zeros(len),
+            sum_sq: super::written_zeros(len),
             ring: vec![(0.0, 0.0); rings],
             weighted: vec![(0.0, 0.0); weights],
-            ring_sum: vec![0.0; rings + 1],
         }
     }
 
-    fn clear(&mut self) {
-        self.sum.fill(0.0);
-        self.sum_sq.fill(0.0);
-        self.ring.fill((0.0, 0.0));
-        self.weighted.fill((0.0, 0.0));
-    }
-
-    /// Adds one realization's periodogram on the half lattice (`0..=dc`, DC last), with the
-    /// rings' assignment and the weights folded onto the same half.
-    fn add(&mut self, p: &[f64], geometry: &Geometry, weights: &[Vec<f64>]) {
-        self.ring_sum.fill(0.0);
-        // Two passes: the first vectorizes, the second scatters into the rings (frequencies in
-        // no ring go to the spare last slot).
-        for ((s, s2), &v) in self.sum.iter_mut().zip(self.sum_sq.iter_mut()).zip(p) {
+    /// Adds one realization (rings holding no frequency are left out).
+    fn add(&mut self, r: &Realization, ring_count: &[f64]) {
+        for ((s, s2), &v) in self
+            .sum
+            .iter_mut()
+            .zip(self.sum_sq.iter_mut())
+            .zip(&r.power)
+        {
             *s += v;
             *s2 += v * v;
         }
-        // Neighbouring frequencies fall in the same ring in runs: a run is summed in a
-        // register, in the same order as one by one (the same bits), instead of through memory,
-        // where each addition waited for the store of the one before.
-        let mut ring = geometry.ring_of.first().map_or(0, |&b| b as usize);
-        let mut run = 0.0;
-        for (&b, &v) in geometry.ring_of.iter().zip(p) {
-            let b = b as usize;
-            if b != ring {
-                self.ring_sum[ring] = run;
-                (ring, run) = (b, self.ring_sum[b]);
-            }
-            run += v;
-        }
-        self.ring_sum[ring] = run;
-        for (b, s) in self.ring_sum[..geometry.rings].iter().enumerate() {
-            if geometry.ring_count[b] > 0.0 {
-                let mean = s / geometry.ring_count[b];
-                self.ring[b].0 += mean;
-                self.ring[b].1 += mean * mean;
+        for ((acc, &mean), &count) in self.ring.iter_mut().zip(&r.ring_means).zip(ring_count) {
+            if count > 0.0 {
+                acc.0 += mean;
+                acc.1 += mean * mean;
             }
         }
-        for (w, acc) in weights.iter().zip(self.weighted.iter_mut()) {
-            // The folded weights are zero at DC.
-            let value: f64 = w.iter().zip(p).map(|(w, p)| w * p).sum();
+        for (acc, &value) in self.weighted.iter_mut().zip(&r.weighted) {
             acc.0 += value;
             acc.1 += value * value;
         }
     }
+}
 
-    fn merge(&mut self, other: &Moments) {
-        // The merges run between batches of realizations, with the other threads idle: the two
-        // large sums are added side by side (element by element, so the same bits).
-        let add = |to: &mut [f64], from: &[f64]| {
-            for (a, b) in to.iter_mut().zip(from) {
-                *a += b;
+/// Buffers kept between realizations and between extensions: fresh buffers of megabytes
+/// cost more in page faults than a transform.
+#[derive(Default)]
+struct Pools {
+    workspaces: Mutex<Vec<Workspace>>,
+    power: Mutex<Vec<Vec<f64>>>,
+}
+
+impl Pools {
+    fn take_workspace(&self, planned: &Planned) -> Workspace {
+        let spare = lock(&self.workspaces).pop();
+        spare.unwrap_or_else(|| planned.workspace())
+    }
+
+    fn give_back(&self, work: Workspace) {
+        lock(&self.workspaces).push(work);
+    }
+
+    /// A buffer of `len` values for a periodogram (which overwrites all of them).
+    fn take_power(&self, len: usize) -> Vec<f64> {
+        let spare = lock(&self.power).pop();
+        spare.unwrap_or_else(|| vec![0.0; len])
+    }
+
+    fn recycle_power(&self, power: Vec<f64>) {
+        lock(&self.power).push(power);
+    }
+}
+
+fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// One extension of an estimate, shared by the threads that transform its realizations.
+struct Extension<'r, 'a> {
+    source: &'r PatternSource<'a>,
+    planned: &'r Planned,
+    geometry: &'r Geometry,
+    weights: &'r [Vec<f64>],
+    pools: &'r Pools,
+    progress: &'r dyn Progress,
+    /// The next realization to hand out.
+    next: AtomicUsize,
+    target: usize,
+    /// The earliest realization that failed, with its error.
+    failure: Mutex<Option<(usize, Error)>>,
+    total: InOrder<Realization, &'r mut Moments>,
+}
+
+impl Extension<'_, '_> {
+    /// Transforms realizations, handed out in order, until none is left, one fails, or more
+    /// than `backlog` finished ones wait for an earlier one (which bounds the memory they
+    /// hold; the threads still working finish the rest).
+    fn work(&self, backlog: usize) {
+        let mut work = self.pools.take_workspace(self.planned);
+        let mut ring_sum = vec![0.0; self.geometry.rings + 1];
+        while self.total.parked() <= backlog && lock(&self.failure).is_none() {
+            let r = self.next.fetch_add(1, Ordering::Relaxed);
+            if r >= self.target {
+                break;
             }
-        };
-        rayon::join(
-            || add(&mut self.sum, &other.sum),
-            || add(&mut self.sum_sq, &other.sum_sq),
-        );
-        for (a, b) in self.ring.iter_mut().zip(&other.ring) {
-            a.0 += b.0;
-            a.1 += b.1;
+            match self.realize(r, &mut work, &mut ring_sum) {
+                Ok(done) => {
+                    self.total.offer(r, done, |total, done| {
+                        total.add(&done, &self.geometry.ring_count);
+                        self.pools.recycle_power(done.power);
+                    });
+                    self.progress.advance(1);
+                }
+                Err(e) => {
+                    let mut failure = lock(&self.failure);
+                    if failure.as_ref().is_none_or(|(first, _)| r < *first) {
+                        *failure = Some((r, e));
+                    }
+                    break;
+                }
+            }
         }
-        for (a, b) in self.weighted.iter_mut().zip(&other.weighted) {
-            a.0 += b.0;
-            a.1 += b.1;
-        }
+        self.pools.give_back(work);
+    }
+
+    fn realize(&self, r: usize, work: &mut Workspace, ring_sum: &mut [f64]) -> Result<Realization> {
+        self.planned
+            .half_periodogram(&self.source.realization(r)?, work)?;
+        let len = work.half_power.len();
+        let power = std::mem::replace(&mut work.half_power, self.pools.take_power(len));
+        Ok(Realization::new(
+            power,
+            self.geometry,
+            self.weights,
+            ring_sum,
+        ))
     }
 }
 
@@ -211,7 +309,7 @@ struct Geometry {
 
 /// A spectrum estimate that can be extended with more realizations. The result for `M`
 /// realizations is the same bits however it was reached (one call or several, any thread
-/// count): realizations are reduced in fixed chunks, in order.
+/// count): each realization is added to the sums after every realization before it.
 pub struct SpectrumAccumulator<'a> {
     source: PatternSource<'a>,
     params: SpectrumParams,
@@ -220,8 +318,7 @@ pub struct SpectrumAccumulator<'a> {
     weights: Vec<Vec<f64>>,
     total: Moments,
     realizations: usize,
-    workspaces: Mutex<Vec<Workspace>>,
-    spare_moments: Mutex<Vec<Moments>>,
+    pools: Pools,
 }
 
 impl<'a> SpectrumAccumulator<'a> {
@@ -291,8 +388,7 @@ impl<'a> SpectrumAccumulator<'a> {
             weights,
             total: Moments::new(half, rings, weight_count),
             realizations: 0,
-            workspaces: Mutex::new(Vec::new()),
-            spare_moments: Mutex::new(Vec::new()),
+            pools: Pools::default(),
         })
     }
 
@@ -301,12 +397,12 @@ impl<'a> SpectrumAccumulator<'a> {
         self.realizations
     }
 
-    /// Adds realizations until there are `target` (a multiple of the reduction chunk of 4
-    /// unless it is the last), advancing `progress` by one per realization.
+    /// Adds realizations until there are `target`, advancing `progress` by one per
+    /// realization. A target at or below the realizations so far adds none.
     ///
     /// # Errors
-    /// A sampler error, more realizations than the given sets hold, or a target below the
-    /// realizations already accumulated that is not a continuation.
+    /// A sampler or engine error, or more realizations than the given sets hold. The
+    /// realizations before the first that failed stay accumulated.
     pub fn extend_to(&mut self, target: usize, progress: &dyn Progress) -> Result<()> {
         if let Some(available) = self.source.available() {
             if target > available {
@@ -320,14 +416,10 @@ impl<'a> SpectrumAccumulator<'a> {
         if target == 0 && self.realizations == 0 {
             return Err(invalid("realizations", 0, "at least 1"));
         }
-        if !self.realizations.is_multiple_of(REDUCE_CHUNK) && target > self.realizations {
-            return Err(invalid(
-                "realizations",
-                self.realizations,
-                "a multiple of 4 before an estimate is extended",
-            ));
-        }
         let more = target.saturating_sub(self.realizations);
+        if more == 0 {
+            return Ok(());
+        }
         let per_pattern = self.source.pattern_needs().work_seconds;
         let (d, n) = (self.geometry.lattice.dimension, self.source.points());
         let engine = self.planned.engine();
@@ -338,60 +430,31 @@ impl<'a> SpectrumAccumulator<'a> {
             crate::budget::Needs::work(work),
             "lower the realizations, kmax or N",
         )?;
-        let first_chunk = self.realizations / REDUCE_CHUNK;
-        let chunk_count = target.div_ceil(REDUCE_CHUNK);
-        let g = &self.geometry;
-        // Chunks are merged in their own order, so the sums do not depend on the thread count; a
-        // batch of chunks at a time bounds the memory to a few sets of moments per thread. The
-        // workspaces are pooled: fresh buffers of tens of MB cost more in page faults than a
-        // transform.
-        let batch = 2 * rayon::current_num_threads().max(1);
-        for first in (first_chunk..chunk_count).step_by(batch) {
-            let chunks: Vec<Result<Moments>> = (first..(first + batch).min(chunk_count))
-                .into_par_iter()
-                .map(|c| {
-                    let mut work = self.take_workspace();
-                    let mut moments = self.take_moments();
-                    for r in c * REDUCE_CHUNK..((c + 1) * REDUCE_CHUNK).min(target) {
-                        self.planned
-                            .half_periodogram(&self.source.realization(r)?, &mut work)?;
-                        moments.add(&work.half_power, g, &self.weights);
-                        progress.advance(1);
-                    }
-                    self.give_back(work);
-                    Ok(moments)
-                })
-                .collect();
-            for c in chunks {
-                let c = c?;
-                self.total.merge(&c);
-                if let Ok(mut spare) = self.spare_moments.lock() {
-                    spare.push(c);
-                }
-            }
-        }
-        self.realizations = target.max(self.realizations);
-        Ok(())
-    }
-
-    fn take_workspace(&self) -> Workspace {
-        let spare = self.workspaces.lock().ok().and_then(|mut s| s.pop());
-        spare.unwrap_or_else(|| self.planned.workspace())
-    }
-
-    fn take_moments(&self) -> Moments {
-        let spare = self.spare_moments.lock().ok().and_then(|mut s| s.pop());
-        let mut moments = spare.unwrap_or_else(|| {
-            let g = &self.geometry;
-            Moments::new(g.lattice.dc_index() + 1, g.rings, self.weights.len())
-        });
-        moments.clear();
-        moments
-    }
-
-    fn give_back(&self, work: Workspace) {
-        if let Ok(mut s) = self.workspaces.lock() {
-            s.push(work);
+        let workers = rayon::current_num_threads().clamp(1, more);
+        let extension = Extension {
+            source: &self.source,
+            planned: &self.planned,
+            geometry: &self.geometry,
+            weights: &self.weights,
+            pools: &self.pools,
+            progress,
+            next: AtomicUsize::new(self.realizations),
+            target,
+            failure: Mutex::new(None),
+            total: InOrder::new(self.realizations, &mut self.total),
+        };
+        // Each worker holds a workspace; a few finished realizations at most wait per worker.
+        (0..workers)
+            .into_par_iter()
+            .for_each(|_| extension.work(2 * workers));
+        // Whatever workers stopping at their backlog left, here.
+        extension.work(usize::MAX);
+        let failure = lock(&extension.failure).take();
+        let (added, _) = extension.total.into_inner();
+        self.realizations = added;
+        match failure {
+            Some((_, e)) => Err(e),
+            None => Ok(()),
         }
     }
 

@@ -14,6 +14,7 @@
 mod accumulate;
 mod closed;
 pub mod export;
+mod in_order;
 pub mod lattice;
 pub mod nufft;
 mod radial;
@@ -416,4 +417,15 @@ pub fn transform_needs(
         memory_bytes: threads * (len * 40.0 + scratch) + 2.0 * threads * len * 16.0,
         work_seconds: realizations as f64 * per_pattern,
     }
+}
+
+/// `len` zeros, written rather than allocated zeroed, for buffers that are added into before
+/// they are written (the spreading's cells, the sums over realizations): on zeroed pages fresh
+/// from the system each first addition is a read fault onto the shared zero page and then a
+/// copy-on-write fault, whose TLB flush interrupts every other thread of the process (on a
+/// virtual machine, an exit to the hypervisor each). Written pages fault once, on the write.
+pub(crate) fn written_zeros(len: usize) -> Vec<f64> {
+    let mut zeros = Vec::with_capacity(len);
+    zeros.resize(len, 0.0);
+    zeros
 }

@@ -183,7 +183,7 @@ impl NufftPlan {
         NufftScratch {
             shape: self.shape(),
             ring,
-            cells: written_zeros(ring.map_or(self.layout.side, |r| r.cells())),
+            cells: super::written_zeros(ring.map_or(self.layout.side, |r| r.cells())),
             parked: ring.map_or(Vec::new(), |r| vec![0.0; r.parked_cells(&self.layout)]),
             rows: vec![zero; rows * (k + 1)],
             spare: vec![zero; spare],
@@ -320,17 +320,6 @@ pub struct NufftScratch {
     /// Lines transformed together.
     batch: Vec<Complex64>,
     sort: SortScratch,
-}
-
-/// `len` zeros, written rather than allocated zeroed. The spreading adds into cells it has
-/// not written yet: on zeroed pages fresh from the system each first addition is a read fault
-/// onto the shared zero page and then a copy-on-write fault, whose TLB flush interrupts every
-/// other thread of the process (on a virtual machine, an exit to the hypervisor each).
-/// Written pages fault once, on the write.
-fn written_zeros(len: usize) -> Vec<f64> {
-    let mut cells = Vec::with_capacity(len);
-    cells.resize(len, 0.0);
-    cells
 }
 
 fn check_band(dimension: usize, kmax: usize) -> Result<()> {
