@@ -16,7 +16,7 @@ use num_complex::Complex64;
 use std::ops::Range;
 
 /// Lines transformed together.
-pub(super) const BATCH: usize = 16;
+pub(super) const BATCH: usize = 32;
 
 impl NufftPlan {
     /// Transforms the rows' half spectra in `scratch.rows` (from
@@ -83,22 +83,18 @@ impl NufftPlan {
             }
             self.fft
                 .process_with_scratch(&mut s.batch[..pairs * g], &mut s.fft);
-            let index = |row: usize, t: usize| t * stride + row - base;
-            // Frequency-major, so that transposed writes of one frequency are contiguous.
-            for t in 0..keep {
-                let mirror = if t == 0 { 0 } else { g - t };
-                for p in 0..pairs {
-                    let z = &s.batch[p * g..][..g];
-                    let (zk, zn) = (z[t], z[mirror].conj());
-                    let (a, b) = (first + 2 * p, first + 2 * p + 1);
-                    s.rows[index(a, t)] = (zk + zn) * 0.5;
-                    if b < rows {
-                        // (zk - zn) / 2i
-                        let diff = zk - zn;
-                        s.rows[index(b, t)] = Complex64::new(diff.im * 0.5, -diff.re * 0.5);
-                    }
+            if rows == 1 {
+                // 1D: the one row, alone in its line.
+                let z = &s.batch[..g];
+                for (t, out) in s.rows[..keep].iter_mut().enumerate() {
+                    let mirror = if t == 0 { 0 } else { g - t };
+                    *out = (z[t] + z[mirror].conj()) * 0.5;
                 }
+                continue;
             }
+            // Grids are even: every row has its pair.
+            let lines = &s.batch[..pairs * g];
+            split_pairs(lines, g, keep, &mut s.rows, stride, first - base);
         }
     }
 
@@ -227,5 +223,67 @@ impl NufftPlan {
         self.fft_stage(scratch, |i, v| {
             out[i.min(len - 1 - i)] = v.norm_sqr() * scale
         });
+    }
+}
+
+/// Separates the transforms of row pairs, `Z = A + i B` (`lines`, `g` values each), into
+/// their rows' half spectra `A(t) = (Z(t) + conj Z(-t)) / 2`, `B(t) = (Z(t) - conj Z(-t)) / 2i`
+/// for `t < keep`, written transposed: the rows of pair `p` at `t · stride + offset + 2p` and
+/// the next cell, so that each frequency's writes are contiguous.
+fn split_pairs(
+    lines: &[Complex64],
+    g: usize,
+    keep: usize,
+    out: &mut [Complex64],
+    stride: usize,
+    offset: usize,
+) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx") {
+        // SAFETY: the CPU has AVX, checked just above.
+        unsafe { split_pairs_avx(lines, g, keep, out, stride, offset) };
+        return;
+    }
+    split_pairs_any(lines, g, keep, out, stride, offset);
+}
+
+/// [`split_pairs_any`] compiled for AVX: two values per vector, the same operations, the
+/// same bits.
+///
+/// # Safety
+/// The CPU must support AVX.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+unsafe fn split_pairs_avx(
+    lines: &[Complex64],
+    g: usize,
+    keep: usize,
+    out: &mut [Complex64],
+    stride: usize,
+    offset: usize,
+) {
+    split_pairs_any(lines, g, keep, out, stride, offset);
+}
+
+#[inline(always)]
+fn split_pairs_any(
+    lines: &[Complex64],
+    g: usize,
+    keep: usize,
+    out: &mut [Complex64],
+    stride: usize,
+    offset: usize,
+) {
+    assert!(keep <= g && lines.len() % g == 0);
+    let pairs = lines.len() / g;
+    for t in 0..keep {
+        let mirror = if t == 0 { 0 } else { g - t };
+        let cells = &mut out[t * stride + offset..][..2 * pairs];
+        for (pair, z) in cells.chunks_exact_mut(2).zip(lines.chunks_exact(g)) {
+            let (zk, zn) = (z[t], z[mirror].conj());
+            pair[0] = (zk + zn) * 0.5;
+            let diff = zk - zn;
+            pair[1] = Complex64::new(diff.im * 0.5, -diff.re * 0.5);
+        }
     }
 }
