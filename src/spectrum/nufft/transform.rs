@@ -274,7 +274,7 @@ fn split_pairs_any(
     stride: usize,
     offset: usize,
 ) {
-    assert!(keep <= g && lines.len() % g == 0);
+    assert!(keep <= g && lines.len().is_multiple_of(g));
     let pairs = lines.len() / g;
     for t in 0..keep {
         let mirror = if t == 0 { 0 } else { g - t };
