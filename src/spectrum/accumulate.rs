@@ -484,34 +484,31 @@ impl<'a> SpectrumAccumulator<'a> {
     pub fn estimate(&self) -> SpectrumEstimate {
         let m = self.realizations;
         let mf = m as f64;
-        let half_mean: Vec<f64> = self.total.sum.iter().map(|s| s / mf).collect();
         let lattice = self.geometry.lattice;
         let n = self.source.points();
-        // The lattice's mean and standard error, and the rings: independent, side by side.
-        let ((mean, stderr), radial) = rayon::join(
+        // The lattice's mean and standard error, written on the half lattice and mirrored, in
+        // place (no half-lattice copies, whose fresh pages would cost more than the arithmetic).
+        let len = lattice.len();
+        let half = self.total.sum.len();
+        let mut mean = Vec::with_capacity(len);
+        mean.extend(self.total.sum.iter().map(|s| s / mf));
+        let (stderr, radial) = rayon::join(
             || {
-                let half_stderr: Vec<f64> = self
-                    .total
-                    .sum_sq
-                    .iter()
-                    .zip(&half_mean)
-                    .map(|(s2, mu)| {
-                        if m > 1 {
-                            ((s2 / mf - mu * mu).max(0.0) / (mf - 1.0)).sqrt()
-                        } else {
-                            f64::NAN
-                        }
-                    })
-                    .collect();
-                (
-                    super::mirror(&half_mean, lattice.len()),
-                    super::mirror(&half_stderr, lattice.len()),
-                )
+                let mut stderr = Vec::with_capacity(len);
+                stderr.extend(self.total.sum_sq.iter().zip(&mean).map(|(s2, mu)| {
+                    if m > 1 {
+                        ((s2 / mf - mu * mu).max(0.0) / (mf - 1.0)).sqrt()
+                    } else {
+                        f64::NAN
+                    }
+                }));
+                super::mirror_in_place(&mut stderr, len);
+                stderr
             },
             || {
                 RadialSpectrum::from_parts(
                     &lattice,
-                    &half_mean,
+                    &mean[..half],
                     n,
                     m,
                     (&self.geometry.ring_of, self.geometry.rings),
@@ -520,6 +517,7 @@ impl<'a> SpectrumAccumulator<'a> {
                 )
             },
         );
+        super::mirror_in_place(&mut mean, len);
         SpectrumEstimate {
             lattice: LatticeSpectrum {
                 lattice,

@@ -229,13 +229,18 @@ pub fn periodogram(points: &PointSet, kmax: usize, engine: Engine) -> Result<Vec
     let planned = Planned::new(d, n, kmax, engine)?;
     let mut work = planned.workspace();
     planned.half_periodogram(points, &mut work)?;
-    Ok(mirror(&work.half_power, planned.lattice().len()))
+    let mut power = std::mem::take(&mut work.half_power);
+    mirror_in_place(&mut power, planned.lattice().len());
+    Ok(power)
 }
 
-/// The whole lattice from its half `0..=dc`, with `P(-k) = P(k)` (flat index `i` ↔
-/// `len - 1 - i`).
-pub(crate) fn mirror(half: &[f64], len: usize) -> Vec<f64> {
-    (0..len).map(|i| half[i.min(len - 1 - i)]).collect()
+/// Extends `values`, the half lattice `0..=dc`, to the whole lattice of `len` frequencies with
+/// `v(-k) = v(k)` (flat index `i` ↔ `len - 1 - i`).
+pub(crate) fn mirror_in_place(values: &mut Vec<f64>, len: usize) {
+    let half = values.len();
+    debug_assert_eq!(half, len / 2 + 1);
+    values.extend_from_within(..len - half);
+    values[half..].reverse();
 }
 
 /// An engine with its plan, reusable across realizations.

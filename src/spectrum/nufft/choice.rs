@@ -12,6 +12,8 @@ use super::spread::Padded;
 use super::stream::grid_bytes;
 use crate::error::{Error, Result};
 use rayon::prelude::*;
+use std::collections::HashMap;
+use std::sync::{Mutex, OnceLock, PoisonError};
 
 /// The upsampling factors tried, from the cheapest FFT to the cheapest spreading.
 pub const UPSAMPLINGS: [f64; 3] = [1.25, 1.5, 2.0];
@@ -80,11 +82,7 @@ impl Choice {
     /// # Errors
     /// [`Error::OutsideValidity`] when no kernel reaches the tolerance.
     pub fn cheapest(dimension: usize, kmax: usize, points: usize, tolerance: f64) -> Result<Self> {
-        // Each upsampling's kernels are measured on their own: in parallel.
-        let candidates: Vec<Option<Self>> = UPSAMPLINGS
-            .par_iter()
-            .map(|&s| Self::narrowest(dimension, kmax, s, tolerance))
-            .collect();
+        let candidates = narrowest_per_upsampling(dimension, kmax, tolerance);
         candidates
             .into_iter()
             .flatten()
@@ -138,6 +136,33 @@ impl Choice {
         let layout = Padded::new(dimension, self.kernel.grid, self.kernel.width);
         grid_bytes(&layout, self.kernel.width) + (rows + spare + 4.0 * g) * 16.0
     }
+}
+
+/// The narrowest kernel at each upsampling of [`UPSAMPLINGS`] for a band and tolerance,
+/// remembered: finding them measures dozens of kernels (milliseconds), and one estimate asks
+/// for the same choice several times (to pick its engine, to size its budget, to plan).
+fn narrowest_per_upsampling(dimension: usize, kmax: usize, tolerance: f64) -> Vec<Option<Choice>> {
+    type Key = (usize, usize, u64);
+    /// Bands and tolerances remembered at most; beyond, the memory starts afresh.
+    const REMEMBERED: usize = 256;
+    static MADE: OnceLock<Mutex<HashMap<Key, Vec<Option<Choice>>>>> = OnceLock::new();
+    let made = MADE.get_or_init(Default::default);
+    let key = (dimension, kmax, tolerance.to_bits());
+    let lock = || made.lock().unwrap_or_else(PoisonError::into_inner);
+    if let Some(found) = lock().get(&key) {
+        return found.clone();
+    }
+    // Each upsampling's kernels are measured on their own: in parallel.
+    let candidates: Vec<Option<Choice>> = UPSAMPLINGS
+        .par_iter()
+        .map(|&s| Choice::narrowest(dimension, kmax, s, tolerance))
+        .collect();
+    let mut made = lock();
+    if made.len() >= REMEMBERED {
+        made.clear();
+    }
+    made.insert(key, candidates.clone());
+    candidates
 }
 
 /// Full complex FFTs of length `g` per transform: the real FFT of each of the `g^{d-1}` rows
