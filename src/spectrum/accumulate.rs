@@ -285,10 +285,14 @@ impl Extension<'_, '_> {
     }
 
     fn realize(&self, r: usize, work: &mut Workspace, ring_sum: &mut [f64]) -> Result<Realization> {
+        if work.half_power.is_empty() {
+            // The last realization's buffer went to the sums. Taken only now, the buffer is
+            // likely the one this thread just added, still in its cache.
+            work.half_power = self.pools.take_power(self.geometry.lattice.dc_index() + 1);
+        }
         self.planned
             .half_periodogram(&self.source.realization(r)?, work)?;
-        let len = work.half_power.len();
-        let power = std::mem::replace(&mut work.half_power, self.pools.take_power(len));
+        let power = std::mem::take(&mut work.half_power);
         Ok(Realization::new(
             power,
             self.geometry,
