@@ -81,7 +81,7 @@ fn every_upsampling_meets_its_own_bound() {
     for (d, kmax) in [(1, 100), (2, 16), (3, 6)] {
         let set = Random::new(d).unwrap().sample(300, 5, 0).unwrap();
         let exact = direct_sums(&set, kmax);
-        for sigma in [1.25, 1.5, 2.0] {
+        for sigma in specvar::spectrum::nufft::choice::UPSAMPLINGS {
             for width in [4, 8, 12, 16] {
                 let plan = NufftPlan::with_kernel(d, kmax, sigma, width).unwrap();
                 let err = max_error_over_n(&plan.sums(&set).unwrap(), &exact, 300);
