@@ -7,7 +7,7 @@
 //! correlation between frequencies included (a per-frequency error propagation would treat them
 //! as independent).
 
-use super::in_order::InOrder;
+use super::in_order::{lock, InOrder};
 use super::{radial, Lattice, LatticeSpectrum, Planned, RadialSpectrum, SpectrumEstimate};
 use super::{SpectrumParams, Workspace};
 use crate::error::{invalid, Error, Result};
@@ -17,7 +17,7 @@ use crate::sampler::Sampler;
 use rayon::prelude::*;
 use serde::Serialize;
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::{Mutex, MutexGuard, PoisonError};
+use std::sync::Mutex;
 
 /// Where the patterns of an estimate come from.
 #[derive(Clone, Copy)]
@@ -230,10 +230,6 @@ impl Pools {
     fn recycle_power(&self, power: Vec<f64>) {
         lock(&self.power).push(power);
     }
-}
-
-fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
-    m.lock().unwrap_or_else(PoisonError::into_inner)
 }
 
 /// One extension of an estimate, shared by the threads that transform its realizations.

@@ -67,7 +67,9 @@ impl<T, S> InOrder<T, S> {
     }
 }
 
-fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+/// The guarded value, also when another thread panicked while holding the lock: that panic is
+/// reported where it happened, not a second time here.
+pub(super) fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
     m.lock().unwrap_or_else(PoisonError::into_inner)
 }
 
