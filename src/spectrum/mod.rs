@@ -335,7 +335,7 @@ impl Planned {
 /// realizations `0..M` of `params.seed`. The patterns are used as the sampler gives them; wrap
 /// it in [`crate::sampler::Homogenized`] for shifted patterns (the spectrum is shift-invariant,
 /// so it makes no difference here). Parallel over realizations, and identical for any thread
-/// count (the reduction runs in fixed chunks in a fixed order).
+/// count (each realization joins the sums after every realization before it).
 ///
 /// # Errors
 /// A sampler error, a dimension above 3, or bad parameters.
