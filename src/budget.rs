@@ -100,11 +100,15 @@ impl Budget {
     }
 }
 
-fn bytes(b: f64) -> String {
+/// A size in words: MiB below a GiB, GiB above, with at most three significant digits (very
+/// large sizes in exponent notation).
+pub(crate) fn bytes(b: f64) -> String {
     if !b.is_finite() {
         return "an unbounded amount of memory".into();
     }
-    if b >= GIB {
+    if b >= 1e6 * GIB {
+        format!("{:.2e} GiB", b / GIB)
+    } else if b >= GIB {
         format!("{:.1} GiB", b / GIB)
     } else {
         format!("{:.0} MiB", b / (1u64 << 20) as f64)
@@ -114,6 +118,8 @@ fn bytes(b: f64) -> String {
 fn seconds(s: f64) -> String {
     if !s.is_finite() {
         "unbounded work".into()
+    } else if s >= 3.6e9 {
+        format!("about {:.1e} hours of work", s / 3600.0)
     } else if s >= 7200.0 {
         format!("about {:.0} hours of work", s / 3600.0)
     } else if s >= 120.0 {
@@ -121,4 +127,28 @@ fn seconds(s: f64) -> String {
     } else {
         format!("about {s:.0} s of work")
     }
+}
+
+/// A vector of `len` copies of `value`, allocated fallibly: a refusal by the system becomes
+/// [`Error::OutOfMemory`] naming `what`, instead of aborting the process. Sizes that overflow
+/// the address space are refused the same way.
+///
+/// # Errors
+/// [`Error::OutOfMemory`] when the allocation fails.
+///
+/// # Examples
+/// ```
+/// let v = specvar::budget::try_filled(4, 0.0f64, "a small buffer")?;
+/// assert_eq!(v, vec![0.0; 4]);
+/// assert!(specvar::budget::try_filled(usize::MAX / 2, 0.0f64, "a huge buffer").is_err());
+/// # Ok::<(), specvar::Error>(())
+/// ```
+pub fn try_filled<T: Clone>(len: usize, value: T, what: &str) -> Result<Vec<T>> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(len).map_err(|_| Error::OutOfMemory {
+        what: what.to_string(),
+        needed: bytes(len as f64 * std::mem::size_of::<T>() as f64),
+    })?;
+    v.resize(len, value);
+    Ok(v)
 }

@@ -97,6 +97,22 @@ pub enum Error {
         /// What to lower (or how to raise the budget).
         advice: String,
     },
+    /// The system refused memory that the budget allowed (an allocation failed).
+    #[error("{what} could not allocate {needed}: the system has less memory free than the budget allows; lower the size or --budget-memory")]
+    OutOfMemory {
+        /// What was being allocated.
+        what: String,
+        /// The size asked for, in words.
+        needed: String,
+    },
+    /// An output would replace a file that specvar did not write.
+    #[error("{path} exists and was not written by specvar (it is not in {manifest}); move it, or choose another output directory")]
+    WouldOverwrite {
+        /// The file that would be replaced.
+        path: String,
+        /// The manifest that lists specvar's own files in that directory.
+        manifest: String,
+    },
     /// A result that cannot be represented (infinite or not a number), with the reason.
     #[error("no finite answer: {0}")]
     NotFinite(String),

@@ -14,13 +14,13 @@ const PICTURE: usize = 200;
 #[cfg(feature = "plot")]
 const SPECTRUM_MAX: f64 = 4.0;
 
-/// Writes `atlas.md`, `atlas.json` and the figures into `dir`, replacing what was there only
-/// once all of it is written.
+/// Writes `atlas.md`, `atlas.json` and the figures into `dir`, replacing specvar's earlier
+/// output there only once all of it is written (the user's own files stay).
 ///
 /// # Errors
 /// An unwritable directory or file.
 pub fn write_atlas(atlas: &Atlas, dir: &Path) -> Result<()> {
-    crate::output::replace_dir(dir, |tmp| {
+    crate::output::write_dir(dir, |tmp| {
         #[cfg(feature = "plot")]
         figures(atlas, tmp)?;
         let json =

@@ -1,5 +1,5 @@
-//! Writing the report: plots, `report.md` and `report.json`, into a fresh directory that
-//! replaces the old one only when complete.
+//! Writing the report: plots, `report.md` and `report.json`, staged and moved into the output
+//! directory only when complete ([`crate::output::write_dir`]: files of the user's there stay).
 
 use super::compute::talk_mse;
 use super::model::{
@@ -101,13 +101,13 @@ fn stem(study: &Study, index: usize) -> String {
     }
 }
 
-/// Writes every file of the report into `dir`, replacing what was there only once all of it
-/// is written: `report.md`, `report.json`, the plots, and the renders under `ao/`.
+/// Writes every file of the report into `dir`, replacing specvar's earlier output there only
+/// once all of it is written (the user's own files stay): `report.md`, `report.json`, the plots, and the renders under `ao/`.
 ///
 /// # Errors
 /// An unwritable directory or file.
 pub fn write(report: &Report, dir: &Path) -> Result<()> {
-    crate::output::replace_dir(dir, |tmp| {
+    crate::output::write_dir(dir, |tmp| {
         variance_plots(tmp, report)?;
         spectrum_plots(tmp, report)?;
         edge_plots(tmp, &report.edges)?;

@@ -116,12 +116,16 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
     if args.json {
         return super::write_output(None, &(super::to_json(&rows)? + "\n"));
     }
-    println!(
+    outln!(
         "{:>7} {:>12} {:>12} {:>25} {:>7}",
-        "angle", "predicted", "Monte Carlo", "99% interval", "z"
-    );
+        "angle",
+        "predicted",
+        "Monte Carlo",
+        "99% interval",
+        "z"
+    )?;
     for r in &rows {
-        println!(
+        outln!(
             "{:>7.1} {:>12.4e} {:>12.4e} [{:>10.4e}, {:>10.4e}] {:>+7.2}{}",
             r.angle,
             r.predicted.variance,
@@ -130,7 +134,7 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
             r.measured.ci_high,
             r.z,
             if r.agrees() { "" } else { "  miss" }
-        );
+        )?;
     }
     Ok(())
 }
@@ -147,12 +151,14 @@ fn rates(args: &Args, sampler: &dyn specvar::Sampler, config: &OrientationConfig
     if args.json {
         return super::write_output(None, &(super::to_json(&rates)? + "\n"));
     }
-    println!(
+    outln!(
         "{:>7} {:>22} {:>32}",
-        "angle", "predicted slope", "Monte Carlo slope [99%]"
-    );
+        "angle",
+        "predicted slope",
+        "Monte Carlo slope [99%]"
+    )?;
     for r in &rates {
-        println!(
+        outln!(
             "{:>7.1} {:>13.3} ± {:<6.3} {:>10.3} [{:.3}, {:.3}]",
             r.angle,
             r.predicted.slope,
@@ -160,7 +166,7 @@ fn rates(args: &Args, sampler: &dyn specvar::Sampler, config: &OrientationConfig
             r.measured.slope,
             r.measured.ci.0,
             r.measured.ci.1
-        );
+        )?;
     }
     Ok(())
 }

@@ -9,7 +9,8 @@ use std::path::PathBuf;
 /// Arguments of `specvar atlas`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Output directory (replaced only once the new atlas is complete).
+    /// Output directory: specvar's earlier atlas there is replaced once the new one is
+    /// complete; other files stay.
     #[arg(long, default_value = "atlas")]
     pub out: PathBuf,
     /// The short run (16 patterns, α at N = 1024, 4000 Monte Carlo evaluations).
@@ -53,6 +54,7 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
     }
     config.cache = ctx.cache.clone();
     config.budget = ctx.budget;
+    specvar::output::check_output_dir(&args.out)?;
     let start = std::time::Instant::now();
     let atlas = compute_atlas(&config, &super::bars::Bars::default())?;
     write_atlas(&atlas, &args.out)?;
@@ -63,13 +65,13 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
         .filter(|r| !r.agrees())
         .count();
     let rows: usize = atlas.entries.iter().map(|e| e.rows.len()).sum();
-    println!(
+    outln!(
         "atlas of {} samplers written to {}/atlas.md in {:.0} s: {} of {rows} predictions inside \
          Monte Carlo's 99% interval",
         atlas.entries.len(),
         args.out.display(),
         start.elapsed().as_secs_f64(),
         rows - misses
-    );
+    )?;
     Ok(())
 }

@@ -85,18 +85,21 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
         method,
     };
     if args.json {
-        println!("{}", super::to_json(&doc)?);
+        outln!("{}", super::to_json(&doc)?)?;
     } else {
-        println!(
+        outln!(
             "bias of the fixed {} pattern, N = {}, on {}",
-            doc.sampler, doc.n, doc.integrand
-        );
-        println!("μ_N - I (exact):        {:.9e}", b.bias);
-        println!(
+            doc.sampler,
+            doc.n,
+            doc.integrand
+        )?;
+        outln!("μ_N - I (exact):        {:.9e}", b.bias)?;
+        outln!(
             "spectral sum:           {:.9e} ({method}, {} terms)",
-            b.spectral, b.terms
-        );
-        println!("left by the truncation: {:.3e}", b.remainder);
+            b.spectral,
+            b.terms
+        )?;
+        outln!("left by the truncation: {:.3e}", b.remainder)?;
     }
     Ok(())
 }

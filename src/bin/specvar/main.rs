@@ -2,6 +2,23 @@
 //! prints the result. Every decision of substance (routes, reference N, lattice extents,
 //! pools) is the library's.
 
+/// `println!` that returns a [`specvar::Error`] instead of panicking when standard output fails
+/// (a full device); a closed pipe ends the process quietly (see [`quiet_on_closed_pipe`]).
+macro_rules! outln {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        writeln!(std::io::stdout().lock(), $($arg)*).map_err($crate::stdout_error)
+    }};
+}
+
+/// `print!` that returns a [`specvar::Error`] instead of panicking, as [`outln!`].
+macro_rules! out {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        write!(std::io::stdout().lock(), $($arg)*).map_err($crate::stdout_error)
+    }};
+}
+
 mod anisotropy;
 mod atlas;
 mod bars;
@@ -94,13 +111,13 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    quiet_on_closed_pipe();
     let parsed = match Cli::try_parse() {
         Ok(c) => c,
         Err(e) => {
             use clap::error::ErrorKind;
             if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion) {
-                print!("{e}");
-                return ExitCode::SUCCESS;
+                return finish(out!("{e}").and_then(|()| flush_stdout()));
             }
             // One clear line: clap's first line names the problem.
             let text = e.to_string();
@@ -123,13 +140,47 @@ fn main() -> ExitCode {
         Some(Command::RenderAo(a)) => render_ao::run(&a, &ctx),
         None => report::run(&report::Args::default(), &ctx),
     });
+    finish(result.and_then(|()| flush_stdout()))
+}
+
+/// The exit code of a run: success; quiet success when standard output was closed by its
+/// reader (as `cat` and `grep` end); otherwise one error line and 2.
+fn finish(result: specvar::Result<()>) -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        Err(specvar::Error::Io { source, .. })
+            if source.kind() == std::io::ErrorKind::BrokenPipe =>
+        {
+            ExitCode::SUCCESS
+        }
         Err(e) => {
             eprintln!("error: {e}");
             ExitCode::from(2)
         }
     }
+}
+
+/// Lets a write to a closed pipe end the process as it ends `cat` (by the default action of
+/// SIGPIPE, which Rust's runtime ignores so that writes fail with `BrokenPipe` instead; where
+/// that cannot be set, [`finish`] ends quietly on `BrokenPipe`).
+fn quiet_on_closed_pipe() {
+    #[cfg(target_os = "linux")]
+    // SAFETY: resetting a signal's disposition to its default has no preconditions, and it
+    // runs before any other thread exists.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+}
+
+/// The error of a failed write to standard output.
+fn stdout_error(e: std::io::Error) -> specvar::Error {
+    specvar::Error::io(Path::new("standard output"), e)
+}
+
+/// Flushes standard output, so that a full device is reported rather than lost at exit.
+fn flush_stdout() -> specvar::Result<()> {
+    use std::io::Write;
+    std::io::stdout().flush().map_err(stdout_error)
 }
 
 /// The context from the global flags.

@@ -58,14 +58,14 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
     specvar::progress::Progress::end(&bars);
     let r = result?.remove(0);
     if args.json {
-        println!(
+        outln!(
             "{}",
             super::to_json(&Doc {
                 sampler: source.label(),
                 integrand: f.label(),
                 result: &r
             })?
-        );
+        )?;
         return Ok(());
     }
     let how = if r.homogenized {
@@ -78,17 +78,20 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
     } else {
         format!("{} trials", r.trials)
     };
-    println!(
+    outln!(
         "{} ({how}), N = {}, {units} on {}",
         source.label(),
         r.n,
         f.label()
-    );
-    println!(
+    )?;
+    outln!(
         "variance {:.6e}, 99% interval [{:.6e}, {:.6e}] ({:?})",
-        r.variance, r.ci_low, r.ci_high, r.interval
-    );
-    println!("bias     {:.3e} ± {:.1e}", r.bias, r.bias_stderr);
+        r.variance,
+        r.ci_low,
+        r.ci_high,
+        r.interval
+    )?;
+    outln!("bias     {:.3e} ± {:.1e}", r.bias, r.bias_stderr)?;
     Ok(())
 }
 

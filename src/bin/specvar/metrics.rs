@@ -94,9 +94,9 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
         line_plot(path, &axes, &[series])?;
     }
     if args.json {
-        println!("{}", super::to_json(&summary)?);
+        outln!("{}", super::to_json(&summary)?)?;
     } else {
-        print_summary(&summary);
+        print_summary(&summary)?;
     }
     Ok(())
 }
@@ -147,11 +147,14 @@ fn summarize(label: &str, patterns: &[PointSet], ctx: &super::Context) -> Result
     })
 }
 
-fn print_summary(s: &Summary) {
-    println!(
+fn print_summary(s: &Summary) -> Result<()> {
+    outln!(
         "{}: N = {}, {}D, {} patterns",
-        s.source, s.n, s.dimension, s.patterns
-    );
+        s.source,
+        s.n,
+        s.dimension,
+        s.patterns
+    )?;
     for (
         kind,
         Mean {
@@ -160,26 +163,28 @@ fn print_summary(s: &Summary) {
         },
     ) in &s.discrepancies
     {
-        println!(
+        outln!(
             "  {:<22} {mean:.6e} ± {error:.1e}",
             format!("{} discrepancy²", kind.name())
-        );
+        )?;
     }
-    println!(
+    outln!(
         "  {:<22} {:.4} (of the densest packing's)",
-        "min distance", s.min_distance
-    );
-    println!("  {:<22} {:.4}", "mean min distance", s.mean_min_distance);
+        "min distance",
+        s.min_distance
+    )?;
+    outln!("  {:<22} {:.4}", "mean min distance", s.mean_min_distance)?;
     match (s.effective_nyquist, s.effective_nyquist_over_hexagonal) {
-        (Some(nu), Some(rel)) => println!(
+        (Some(nu), Some(rel)) => outln!(
             "  {:<22} ν = {nu:.3} ({:.1}% of the hexagonal lattice's)",
             "effective Nyquist",
             100.0 * rel
-        ),
-        (Some(nu), None) => println!("  {:<22} ν = {nu:.3}", "effective Nyquist"),
-        _ => println!(
+        )?,
+        (Some(nu), None) => outln!("  {:<22} ν = {nu:.3}", "effective Nyquist")?,
+        _ => outln!(
             "  {:<22} none (the spectrum is above 0.1 from the first ring)",
             "effective Nyquist"
-        ),
+        )?,
     }
+    Ok(())
 }

@@ -92,12 +92,12 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
     };
     let p = predict_with(&problem, &params, &super::bars::Bars::default())?;
     if args.json {
-        println!(
+        outln!(
             "{}",
             super::to_json(&Doc::new(&source.label(), &f.label(), &p))?
-        );
+        )?;
     } else {
-        print_text(&source.label(), &f.label(), &p);
+        print_text(&source.label(), &f.label(), &p)?;
     }
     Ok(())
 }
@@ -147,22 +147,24 @@ impl<'a> Doc<'a> {
     }
 }
 
-fn print_text(sampler: &str, integrand: &str, p: &Prediction) {
-    println!(
+fn print_text(sampler: &str, integrand: &str, p: &Prediction) -> Result<()> {
+    outln!(
         "sampler      {sampler} (homogenized), N = {}, d = {}",
-        p.n, p.dimension
-    );
-    println!("integrand    {integrand}");
-    println!("route        {} ({})", p.route, p.reason);
+        p.n,
+        p.dimension
+    )?;
+    outln!("integrand    {integrand}")?;
+    outln!("route        {} ({})", p.route, p.reason)?;
     let b = &p.budget;
-    println!(
+    outln!(
         "variance     {:.6e} (spectrum noise ±{:.1e}, quadrature {:.1e}, truncation {:.1e}, model {:.1e})",
         p.variance, b.spectrum_noise, b.quadrature, b.truncation, b.model
-    );
+    )?;
     if p.route.form == Form::Polar {
-        println!("DC term      {:.6e} (already subtracted)", p.dc_term);
+        outln!("DC term      {:.6e} (already subtracted)", p.dc_term)?;
     }
     for a in &p.alternatives {
-        println!("also         {:.6e} by the {}", a.variance, a.route);
+        outln!("also         {:.6e} by the {}", a.variance, a.route)?;
     }
+    Ok(())
 }

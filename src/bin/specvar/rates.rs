@@ -68,19 +68,26 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
             n_values: &study.config.ns,
             rows: &study.rows,
         };
-        println!("{}", super::to_json(&doc)?);
+        outln!("{}", super::to_json(&doc)?)?;
         return Ok(());
     }
-    println!(
+    outln!(
         "rates r in Var ∝ N^r over N = {:?}, d = {}",
-        study.config.ns, args.dimension
-    );
-    println!(
+        study.config.ns,
+        args.dimension
+    )?;
+    outln!(
         "{:<8} {:<40} {:>7} {:>9} {:>10} {:>19} {:>6}",
-        "sampler", "integrand", "theory", "predicted", "empirical", "99% interval", "alpha"
-    );
+        "sampler",
+        "integrand",
+        "theory",
+        "predicted",
+        "empirical",
+        "99% interval",
+        "alpha"
+    )?;
     for r in &study.rows {
-        println!(
+        outln!(
             "{:<8} {:<40} {:>7.3} {:>9.3} {:>10.3}   [{:>6.3}, {:>6.3}] {:>6.2}",
             r.sampler,
             r.integrand,
@@ -90,7 +97,7 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
             r.empirical_rate.ci.0,
             r.empirical_rate.ci.1,
             r.alpha,
-        );
+        )?;
     }
     Ok(())
 }

@@ -27,7 +27,8 @@ pub struct Args {
     /// Independent uniform rays per pixel of the reference (cached) [default: 16384].
     #[arg(long)]
     pub reference_rays: Option<usize>,
-    /// Output directory: images and table.
+    /// Output directory: images and table (specvar's earlier ones there are replaced; other
+    /// files stay).
     #[arg(long, default_value = "render")]
     pub out: PathBuf,
 
@@ -115,8 +116,9 @@ struct Row {
 /// Renders, measures, predicts, writes the images and prints the table.
 pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
     let config = args.config(ctx);
+    specvar::output::check_output_dir(&args.out)?;
     let run = run_comparison(&config, &super::bars::Bars::default())?;
-    specvar::output::replace_dir(&args.out, |dir| {
+    specvar::output::write_dir(&args.out, |dir| {
         write_comparison(dir, &run.rows, &run.reference)
     })?;
     if args.json {
@@ -133,8 +135,8 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
             })
             .collect();
         match rows.as_slice() {
-            [one] => println!("{}", super::to_json(one)?),
-            _ => println!("{}", super::to_json(&rows)?),
+            [one] => outln!("{}", super::to_json(one)?)?,
+            _ => outln!("{}", super::to_json(&rows)?)?,
         }
         return Ok(());
     }
@@ -143,15 +145,18 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
     } else {
         ""
     };
-    println!(
+    outln!(
         "{} × {} pixels, {} rays per pixel; reference: {} rays per pixel{cached}",
-        config.width, config.height, config.render.rays, config.reference_rays
-    );
-    println!("prediction: {}", run.power_label);
-    print!("{}", comparison_table(&run.rows));
+        config.width,
+        config.height,
+        config.render.rays,
+        config.reference_rays
+    )?;
+    outln!("prediction: {}", run.power_label)?;
+    out!("{}", comparison_table(&run.rows))?;
     if let Some(r) = measured_ratio(&run.rows, SamplerKind::Random, SamplerKind::Jitter) {
-        println!("random / jitter MSE: {r:.2} (talk: 5.54)");
+        outln!("random / jitter MSE: {r:.2} (talk: 5.54)")?;
     }
-    println!("images and table in {}", args.out.display());
+    outln!("images and table in {}", args.out.display())?;
     Ok(())
 }

@@ -7,7 +7,8 @@ use std::path::PathBuf;
 /// Arguments of `specvar report`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Output directory (replaced only once the new report is complete).
+    /// Output directory: specvar's earlier report there is replaced once the new one is
+    /// complete; other files stay.
     #[arg(long, default_value = "report")]
     pub out: PathBuf,
     /// The short run.
@@ -37,32 +38,37 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
     };
     config.set_cache(ctx.cache.clone());
     config.set_budget(ctx.budget);
+    specvar::output::check_output_dir(&args.out)?;
     let start = std::time::Instant::now();
     let report = compute(&config, &super::bars::Bars::default())?;
     write(&report, &args.out)?;
-    println!(
+    outln!(
         "report written to {}/report.md in {:.0} s: {} of {} cross-checks passed",
         args.out.display(),
         start.elapsed().as_secs_f64(),
         report.passed(),
         report.checks.len()
-    );
-    println!(
+    )?;
+    outln!(
         "{:<8} {:<9} {:>7} {:>10} {:>12}",
-        "sampler", "integrand", "theory", "predicted", "Monte Carlo"
-    );
+        "sampler",
+        "integrand",
+        "theory",
+        "predicted",
+        "Monte Carlo"
+    )?;
     for (row, series) in report.study.rows.iter().zip(&report.study.series) {
-        println!(
+        outln!(
             "{:<8} {:<9} {:>7.2} {:>10.3} {:>12.3}",
             row.sampler,
             series.integrand.kind(),
             row.theory_rate,
             row.predicted_rate.slope,
             row.empirical_rate.slope
-        );
+        )?;
     }
     for c in report.checks.iter().filter(|c| !c.pass) {
-        println!("FAIL {}: {}", c.what, c.detail);
+        outln!("FAIL {}: {}", c.what, c.detail)?;
     }
     Ok(())
 }

@@ -40,7 +40,7 @@ pub fn run(args: &Args) -> specvar::Result<()> {
         })
         .collect();
     if args.json {
-        println!("{}", super::to_json(&rows)?);
+        outln!("{}", super::to_json(&rows)?)?;
         return Ok(());
     }
     // Widths in characters: the rules hold multi-byte symbols (×, ≤, …).
@@ -59,7 +59,7 @@ pub fn run(args: &Args) -> specvar::Result<()> {
         pad("dimensions", 10),
         pad("N", rule_width),
     ];
-    println!("{} description", header.join(" "));
+    outln!("{} description", header.join(" "))?;
     for r in &rows {
         let dims = if r.min_dimension == r.max_dimension {
             r.min_dimension.to_string()
@@ -71,7 +71,7 @@ pub fn run(args: &Args) -> specvar::Result<()> {
             pad(&dims, 10),
             pad(r.n_rule, rule_width),
         ];
-        println!("{} {}", cells.join(" "), r.description);
+        outln!("{} {}", cells.join(" "), r.description)?;
     }
     Ok(())
 }
