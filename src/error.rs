@@ -169,7 +169,7 @@ pub type Result<T> = std::result::Result<T, Error>;
 pub(crate) fn invalid(name: &'static str, value: impl ToString, allowed: impl ToString) -> Error {
     Error::InvalidParameter {
         name,
-        value: value.to_string(),
+        value: readable(value.to_string()),
         allowed: allowed.to_string(),
     }
 }
@@ -180,5 +180,14 @@ pub(crate) fn finite(value: f64, what: impl FnOnce() -> String) -> Result<f64> {
         Ok(value)
     } else {
         Err(Error::NotFinite(what()))
+    }
+}
+
+/// A value as a reader wants it: a number with a long decimal expansion (`1e-300` prints as
+/// 300 digits) in exponent notation, anything else as it is.
+fn readable(value: String) -> String {
+    match value.parse::<f64>() {
+        Ok(x) if value.len() > 15 && value.contains('.') => format!("{x:e}"),
+        _ => value,
     }
 }

@@ -1,6 +1,8 @@
 //! The ball (the disk in 2D, an interval in 1D) of constant height, on the torus.
 
-use super::{check_parameters, shift_phase, unit_ball_volume, Integrand, IntegrandKind};
+use super::{
+    check_parameters, shift_phase, unit_ball_volume, Integrand, IntegrandKind, RadialOscillation,
+};
 use crate::error::{invalid, Result};
 use crate::pointset::toroidal_distance_sq;
 use num_complex::Complex64;
@@ -229,5 +231,24 @@ impl Integrand for Ball {
     }
     fn negligible_beyond(&self) -> f64 {
         f64::INFINITY
+    }
+    fn radial_oscillation(&self, rho: f64) -> Option<RadialOscillation> {
+        // With t = 2πRρ and μ = d/2, J_μ(t) = M cos θ and Y_μ(t) = M sin θ (modulus and phase):
+        // J² = M² (1 + cos 2θ) / 2, and θ' = 2 / (π t M²) (the Wronskian). M² is 2/(πt) in 1D,
+        // (2/(πt)) (1 + 1/t²) in 3D (half-integer orders), J_1² + Y_1² in 2D.
+        if !(rho > 0.0) {
+            return None;
+        }
+        let (r, a, d) = (self.radius, self.height, self.d());
+        let t = 2.0 * PI * r * rho;
+        let modulus_sq = match d {
+            1 => 2.0 / (PI * t),
+            2 => libm::j1(t).powi(2) + libm::y1(t).powi(2),
+            _ => 2.0 / (PI * t) * (1.0 + 1.0 / (t * t)),
+        };
+        Some(RadialOscillation {
+            mean: a * a * (r / rho).powi(d as i32) * modulus_sq / 2.0,
+            phase_rate: 8.0 * r / (t * modulus_sq),
+        })
     }
 }

@@ -108,6 +108,26 @@ pub trait Integrand: Send + Sync {
     fn panel_width(&self) -> f64;
     /// A radius beyond which `P̆_f` is negligible (below 1e-30 of its peak), or infinity.
     fn negligible_beyond(&self) -> f64;
+    /// For a radial power that oscillates without end (a ball's Bessel function), its
+    /// modulus–phase form at `rho > 0`: `P̆_f(ρ) = m(ρ) (1 + cos φ(ρ))` with `m` smooth and
+    /// positive and `φ` increasing. The polar form integrates the smooth mean `m` at large `ρ`,
+    /// where following each oscillation would cost work proportional to `N^{1/d}`, and bounds
+    /// what the oscillation adds by the variation of `m P̆_S / φ'`. `None` where no such form
+    /// is known (the default).
+    fn radial_oscillation(&self, rho: f64) -> Option<RadialOscillation> {
+        let _ = rho;
+        None
+    }
+}
+
+/// The modulus–phase form of an oscillating radial power at one radius (see
+/// [`Integrand::radial_oscillation`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RadialOscillation {
+    /// The smooth mean `m(ρ)`, about which `P̆_f` oscillates between 0 and `2m`.
+    pub mean: f64,
+    /// The phase's rate `φ'(ρ) > 0`.
+    pub phase_rate: f64,
 }
 
 /// The sphere measure `M(S^{d-1}) = 2 π^{d/2} / Γ(d/2)`: 2 in 1D, 2π in 2D, 4π in 3D.

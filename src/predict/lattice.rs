@@ -7,6 +7,7 @@
 
 use super::SpectrumSource;
 use super::{check_dimension, check_n, ErrorBudget, Form, Prediction, Route, SpectrumOrigin};
+use crate::budget::{try_filled, Budget, Needs, COEFFICIENT_SECONDS};
 use crate::error::{finite, invalid, Error, Result};
 use crate::integrand::Integrand;
 use crate::progress::Progress;
@@ -42,6 +43,36 @@ impl LatticePower {
     /// # Errors
     /// A lattice of another dimension than `f`, or a dimension outside 1 to 3.
     pub fn of(f: &dyn Integrand, lattice: Lattice) -> Result<Self> {
+        Self::of_within(f, lattice, &Budget::default())
+    }
+
+    /// [`of`](Self::of), refused before any work when the lattice's memory (8 bytes a
+    /// frequency) or its coefficients' work exceeds `budget`, and allocated fallibly.
+    ///
+    /// # Errors
+    /// As [`of`](Self::of), [`Error::TooLarge`] above the budget, [`Error::OutOfMemory`] when
+    /// the system refuses the memory.
+    ///
+    /// # Examples
+    /// ```
+    /// use specvar::budget::Budget;
+    /// use specvar::integrand::Ball;
+    /// use specvar::predict::LatticePower;
+    /// use specvar::spectrum::Lattice;
+    /// let disk = Ball::new(0.25, vec![0.5, 0.5], 1.0)?;
+    /// let huge = Lattice { dimension: 2, kmax: 1_000_000_000 };
+    /// assert!(LatticePower::of_within(&disk, huge, &Budget::default()).is_err());
+    /// # Ok::<(), specvar::Error>(())
+    /// ```
+    pub fn of_within(f: &dyn Integrand, lattice: Lattice, budget: &Budget) -> Result<Self> {
+        budget.check(
+            &format!(
+                "the integrand's power on |k_i| ≤ {} in {}D",
+                lattice.kmax, lattice.dimension
+            ),
+            lattice_needs(lattice),
+            "lower kmax",
+        )?;
         let d = f.dimension();
         check_dimension(d)?;
         if lattice.dimension != d {
@@ -50,7 +81,7 @@ impl LatticePower {
                 lattice.dimension
             )));
         }
-        let mut power = vec![0.0; lattice.len()];
+        let mut power = try_filled(lattice.len(), 0.0, "the integrand's power on the lattice")?;
         f.power_on_lattice(lattice, &mut power);
         power[lattice.dc_index()] = 0.0;
         let i0 = f.integral();
@@ -147,6 +178,16 @@ impl LatticePower {
     /// The bound on `(1/N) Σ_{beyond} |f̂|² (P - 1)` given bounds on `|P - 1|` beyond.
     fn tail_bound(&self, deviation: TailDeviation) -> f64 {
         deviation.axis * self.axis_beyond + deviation.off_axis * (self.beyond - self.axis_beyond)
+    }
+}
+
+/// What an integrand's power on `lattice` costs: 8 bytes and one coefficient's work
+/// ([`COEFFICIENT_SECONDS`]) a frequency, counted in floating point so that no size overflows.
+pub(crate) fn lattice_needs(lattice: Lattice) -> Needs {
+    let len = (2.0 * lattice.kmax as f64 + 1.0).powi(lattice.dimension as i32);
+    Needs {
+        memory_bytes: 8.0 * len,
+        work_seconds: len * COEFFICIENT_SECONDS,
     }
 }
 

@@ -7,6 +7,7 @@ use super::{
     predict_from_power, predict_polar, Alternative, ErrorBudget, Form, FormChoice, Patterns,
     PredictParams, Prediction, Problem, Route, SpectrumChoice, SpectrumOrigin, SpectrumSource,
 };
+use crate::budget::{Budget, Needs, COEFFICIENT_SECONDS};
 use crate::error::{invalid, Error, Result};
 use crate::integrand::Integrand;
 use crate::progress::{stage, Progress};
@@ -175,26 +176,34 @@ fn closed_lattice(
     let f = problem.integrand;
     let (n, d) = (problem.n, problem.dimension());
     let name = kind.map_or("the sampler".to_string(), |k| k.to_string());
-    let mut p = match closed {
+    let p = match closed {
         ClosedForm::WhiteNoise => with_reason(
             white_noise(f, n)?,
             format!("{name} is white noise: (∫f² - I²)/N exactly, by Parseval"),
         ),
         ClosedForm::RegularGrid
         | ClosedForm::Rank1Lattice { .. }
-        | ClosedForm::Kronecker { .. } => summed_in_space(f, n, closed, &name)?,
+        | ClosedForm::Kronecker { .. } => summed_in_space(f, n, closed, &name, &params.budget)?,
         _ => {
             let mut kmax = params
                 .kmax
                 .unwrap_or_else(|| initial_kmax(n, d, 8.0, CLOSED_LATTICE_BUDGET));
             let source = SpectrumSource::Closed(closed);
-            let mut p = predict_from_power(&LatticePower::of(f, lattice(d, kmax))?, &source, n)?;
+            let mut p = predict_from_power(
+                &LatticePower::of_within(f, lattice(d, kmax), &params.budget)?,
+                &source,
+                n,
+            )?;
             while params.kmax.is_none()
                 && p.budget.truncation > CLOSED_TAIL_SHARE * p.variance
                 && Lattice::len(&lattice(d, 2 * kmax)) <= CLOSED_LATTICE_BUDGET
             {
                 kmax *= 2;
-                p = predict_from_power(&LatticePower::of(f, lattice(d, kmax))?, &source, n)?;
+                p = predict_from_power(
+                    &LatticePower::of_within(f, lattice(d, kmax), &params.budget)?,
+                    &source,
+                    n,
+                )?;
             }
             with_reason(
                 p,
@@ -208,10 +217,31 @@ fn closed_lattice(
     };
     if params.form == FormChoice::Auto && closed.is_scale_invariant() {
         if let Ok(polar) = closed_polar(problem, closed, kind, params) {
-            p.alternatives.push(alternative(&polar));
+            return Ok(tighter_of(p, polar));
         }
     }
     Ok(p)
+}
+
+/// The lattice form `lattice`, with `polar` as its alternative, unless the lattice's budget is
+/// above its target share of the variance (a lattice the budget cannot widen enough, at large N)
+/// and the polar form's is tighter: then the polar form, with the lattice as the alternative.
+fn tighter_of(mut lattice: Prediction, mut polar: Prediction) -> Prediction {
+    let width = |p: &Prediction| p.budget.half_width(crate::montecarlo::Z_99);
+    let lattice_share = width(&lattice) / lattice.variance;
+    if lattice_share <= CLOSED_TAIL_SHARE || width(&polar) >= width(&lattice) {
+        lattice.alternatives.push(alternative(&polar));
+        return lattice;
+    }
+    polar.reason = format!(
+        "{}; chosen over the lattice form, whose budget is {:.2}% of its value (the lattice \
+         cannot be widened enough at this N) against {:.2e}% here",
+        polar.reason,
+        100.0 * lattice_share,
+        100.0 * width(&polar) / polar.variance
+    );
+    polar.alternatives.push(alternative(&lattice));
+    polar
 }
 
 fn lattice(d: usize, kmax: usize) -> Lattice {
@@ -226,7 +256,17 @@ fn summed_in_space(
     n: usize,
     closed: ClosedForm,
     name: &str,
+    budget: &Budget,
 ) -> Result<Prediction> {
+    // One autocorrelation value (8 bytes) per point or lag.
+    budget.check(
+        &format!("the lattice form summed in space over N = {n} terms"),
+        Needs {
+            memory_bytes: 8.0 * n as f64,
+            work_seconds: n as f64 * COEFFICIENT_SECONDS,
+        },
+        "lower N",
+    )?;
     let (exact, reason) = match closed {
         ClosedForm::RegularGrid => (
             regular_grid_variance(f, n)?,
@@ -470,13 +510,18 @@ fn estimated_lattice_many(
     while let Some((kmax, group)) = queue.pop_first() {
         let powers = group
             .iter()
-            .map(|&i| LatticePower::of(problems[i].integrand, lattice(d, kmax)))
+            .map(|&i| {
+                LatticePower::of_within(problems[i].integrand, lattice(d, kmax), &params.budget)
+            })
             .collect::<Result<Vec<_>>>()?;
         let predictions = predict_on_patterns_many(&powers, source, &plan(kmax), progress)?;
         for (&i, p) in group.iter().zip(predictions) {
             match wider_lattice(&p, kmax, d, params) {
                 Some(wider) => queue.entry(wider).or_insert_with(Vec::new).push(i),
-                None => done[i] = Some(estimated_reason(p, kind, &what, n, kmax)),
+                None => {
+                    let asked = params.spectrum == SpectrumChoice::Estimated;
+                    done[i] = Some(estimated_reason(p, (kind, asked), &what, n, kmax));
+                }
             }
         }
     }
@@ -505,7 +550,7 @@ fn wider_lattice(p: &Prediction, kmax: usize, d: usize, params: &PredictParams) 
 
 fn estimated_reason(
     p: Prediction,
-    kind: Option<SamplerKind>,
+    (kind, asked): (Option<SamplerKind>, bool),
     what: &str,
     n: usize,
     kmax: usize,
@@ -516,6 +561,7 @@ fn estimated_reason(
     };
     let why = match kind {
         None => format!("{what}: no closed form is known"),
+        Some(k) if asked => format!("the estimated spectrum of {k} was asked for"),
         Some(k) => format!("{k} has no closed form at N = {n}"),
     };
     with_reason(

@@ -361,6 +361,19 @@ impl<'a> SpectrumAccumulator<'a> {
         }
         // Everything is kept on the half lattice `0..=dc`: P(-k) = P(k).
         let half = lattice.dc_index() + 1;
+        // Rings narrower than K / half would outnumber the frequencies, most of them empty.
+        let finest = params.kmax as f64 / half as f64;
+        if params.bin_width < finest {
+            return Err(invalid(
+                "bin width",
+                params.bin_width,
+                format!(
+                    "at least {finest:.3e} on |k_i| ≤ {}, so that rings do not outnumber the \
+                     frequencies",
+                    params.kmax
+                ),
+            ));
+        }
         let (ring_of, rings) = radial::ring_assignment(&lattice, params.bin_width, half);
         if rings == 0 {
             return Err(invalid(
