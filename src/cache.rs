@@ -36,17 +36,31 @@ pub fn default_dir() -> PathBuf {
 }
 
 use crate::error::{Error, Result};
+
+/// Checks that `dir` can hold cached files (creating it), so that a caller can warn once: the
+/// library itself goes on without a cache where it cannot write one, at the cost of time.
+///
+/// # Errors
+/// A directory that cannot be created or written, named in the error.
+pub fn check_writable(dir: &std::path::Path) -> Result<()> {
+    let probe = dir.join(format!(".write-probe-{}", std::process::id()));
+    std::fs::create_dir_all(dir)
+        .and_then(|()| std::fs::write(&probe, b""))
+        .and_then(|()| std::fs::remove_file(&probe))
+        .map_err(|e| Error::io(dir, e))
+}
 use crate::pointset::PointSet;
 use crate::sampler::{Sampler, SamplerKind};
 
 /// The format version of cached patterns: a change of a sampler's algorithm bumps it, so that
 /// older patterns are recomputed instead of read.
-pub const PATTERN_FORMAT: u32 = 2;
+pub const PATTERN_FORMAT: u32 = 3;
 
 const MAGIC: &[u8; 4] = b"SPVP";
 
 /// A sampler whose patterns are kept on disk under a cache directory, keyed by the sampler's
-/// kind, dimension, N, seed and realization and by [`PATTERN_FORMAT`]: a costly pattern (CCVT,
+/// kind, dimension and parameters (a hash of its `Debug` text, which names them all, kept in
+/// each file's header too), N, seed and realization and by [`PATTERN_FORMAT`]: a costly pattern (CCVT,
 /// dart throwing) is drawn once across runs. A file that is missing, truncated, damaged (its
 /// checksum differs) or of another format is drawn again and rewritten atomically. The
 /// patterns are the inner sampler's, bit for bit.
@@ -66,6 +80,8 @@ const MAGIC: &[u8; 4] = b"SPVP";
 pub struct DiskCached {
     inner: Box<dyn Sampler>,
     kind: SamplerKind,
+    /// FNV-1a of the inner sampler's `Debug` text: its parameters.
+    parameters: u64,
     dir: PathBuf,
 }
 
@@ -82,28 +98,39 @@ impl DiskCached {
                 "one of specvar's samplers, to key its patterns",
             )
         })?;
-        Ok(Self { inner, kind, dir })
+        let parameters = checksum(format!("{inner:?}").as_bytes());
+        Ok(Self {
+            inner,
+            kind,
+            parameters,
+            dir,
+        })
     }
 
     fn path(&self, n: usize, seed: u64, realization: u64) -> PathBuf {
         self.dir.join(format!(
-            "patterns-v{PATTERN_FORMAT}/{}-d{}/n{n}-s{seed}/{realization}.bin",
+            "patterns-v{PATTERN_FORMAT}/{}-d{}/p{:016x}/n{n}-s{seed}/{realization}.bin",
             self.kind,
-            self.inner.dimension()
+            self.inner.dimension(),
+            self.parameters
         ))
     }
 
     fn load(&self, path: &std::path::Path, n: usize) -> Option<PointSet> {
         let bytes = std::fs::read(path).ok()?;
         let d = self.inner.dimension();
-        let header = 4 + 4 + 4 + 8;
+        let header = 4 + 4 + 4 + 8 + 8;
         let payload = n * d * 8;
         if bytes.len() != header + payload + 8 || &bytes[..4] != MAGIC {
             return None;
         }
         let word = |at: usize| u32::from_le_bytes(bytes[at..at + 4].try_into().unwrap_or([0; 4]));
         let long = |at: usize| u64::from_le_bytes(bytes[at..at + 8].try_into().unwrap_or([0; 8]));
-        if word(4) != PATTERN_FORMAT || word(8) as usize != d || long(12) as usize != n {
+        if word(4) != PATTERN_FORMAT
+            || word(8) as usize != d
+            || long(12) as usize != n
+            || long(20) != self.parameters
+        {
             return None;
         }
         let data = &bytes[header..header + payload];
@@ -121,11 +148,12 @@ impl DiskCached {
         if let Some(parent) = path.parent() {
             std::fs::create_dir_all(parent).map_err(|e| Error::io(parent, e))?;
         }
-        let mut bytes = Vec::with_capacity(28 + points.coords().len() * 8);
+        let mut bytes = Vec::with_capacity(36 + points.coords().len() * 8);
         bytes.extend_from_slice(MAGIC);
         bytes.extend_from_slice(&PATTERN_FORMAT.to_le_bytes());
         bytes.extend_from_slice(&(points.dimension() as u32).to_le_bytes());
         bytes.extend_from_slice(&(points.len() as u64).to_le_bytes());
+        bytes.extend_from_slice(&self.parameters.to_le_bytes());
         let start = bytes.len();
         for c in points.coords() {
             bytes.extend_from_slice(&c.to_le_bytes());
@@ -133,6 +161,13 @@ impl DiskCached {
         let sum = checksum(&bytes[start..]);
         bytes.extend_from_slice(&sum.to_le_bytes());
         crate::output::write_atomic(path, &bytes)
+    }
+}
+
+/// The inner sampler's text: the patterns are its own.
+impl std::fmt::Debug for DiskCached {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        self.inner.fmt(f)
     }
 }
 

@@ -187,7 +187,21 @@ pub(crate) fn finite(value: f64, what: impl FnOnce() -> String) -> Result<f64> {
 /// 300 digits) in exponent notation, anything else as it is.
 fn readable(value: String) -> String {
     match value.parse::<f64>() {
-        Ok(x) if value.len() > 15 && value.contains('.') => format!("{x:e}"),
+        Ok(x) if (value.len() > 15 && value.contains('.')) || value.len() > 24 => format!("{x:e}"),
         _ => value,
     }
+}
+
+/// A token of the user's input quoted for a message: control characters escaped (a binary
+/// file read as text must not drive the terminal) and at most 40 characters.
+pub(crate) fn quoted(token: &str) -> String {
+    let mut escaped: String = token
+        .chars()
+        .flat_map(char::escape_debug)
+        .take(40)
+        .collect();
+    if token.chars().flat_map(char::escape_debug).nth(40).is_some() {
+        escaped.push('…');
+    }
+    format!("'{escaped}'")
 }

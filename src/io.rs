@@ -13,7 +13,7 @@
 //! Every parser returns a point set for each realization or an [`Error::Parse`] naming the line;
 //! no value is silently dropped.
 
-use crate::error::{Error, Result};
+use crate::error::{quoted, Error, Result};
 use crate::pointset::{check_dimension, PointSet};
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
@@ -61,11 +61,11 @@ pub fn read_text(text: &str) -> Result<Vec<PointSet>> {
         for token in line.split_whitespace() {
             let v: f64 = token
                 .parse()
-                .map_err(|_| parse_error(line_no, format!("'{token}' is not a number")))?;
+                .map_err(|_| parse_error(line_no, format!("{} is not a number", quoted(token))))?;
             if !(0.0..1.0).contains(&v) {
                 return Err(parse_error(
                     line_no,
-                    format!("coordinate {token} is outside [0, 1)"),
+                    format!("coordinate {} is outside [0, 1)", quoted(token)),
                 ));
             }
             current.push(v);

@@ -665,7 +665,9 @@ fn interval_of_mean(x: &[f64], params: &McParams) -> Result<((f64, f64), Interva
     let (mean, var) = mean_and_variance(x);
     let first = x[0];
     if x.iter().all(|&v| v == first) {
-        if !params.homogenize && first == 0.0 {
+        // Every estimate equal to the integral: the variance is zero (a constant integrand,
+        // or one the pattern integrates exactly).
+        if first == 0.0 {
             return Ok(((0.0, 0.0), IntervalMethod::Exact));
         }
         return Err(invalid(

@@ -63,6 +63,7 @@ fn jitter_interval_covers_the_lattice_form() {
 
 /// A sampler that always returns the same pattern: homogenized Monte Carlo with it measures
 /// that one pattern's shift variance.
+#[derive(Debug)]
 struct OnePattern(PointSet);
 
 impl Sampler for OnePattern {

@@ -44,7 +44,7 @@ pub fn read_grid_text(text: &str) -> Result<GridIntegrand> {
                 Ok(v) if v.is_finite() => Ok(v),
                 _ => Err(parse_error(
                     line_number,
-                    format!("'{t}' is not a finite number"),
+                    format!("{} is not a finite number", crate::error::quoted(t)),
                 )),
             })
             .collect::<Result<Vec<f64>>>()?;
@@ -130,8 +130,16 @@ pub fn read_grid_png(bytes: &[u8]) -> Result<GridIntegrand> {
 /// As [`read_grid_text`] and [`read_grid_png`], and [`Error::Io`] if the file cannot be read.
 pub fn read_grid_file(path: &Path) -> Result<GridIntegrand> {
     let bytes = crate::io::read_bounded(path)?;
+    let named_png = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"));
     let grid = if bytes.starts_with(b"\x89PNG\r\n\x1a\n") {
         read_grid_png(&bytes)?
+    } else if named_png {
+        return Err(Error::format(
+            path.display().to_string(),
+            "named .png but not a PNG image (its first bytes are not the PNG signature)",
+        ));
     } else {
         let text = String::from_utf8(bytes).map_err(|_| {
             Error::format(

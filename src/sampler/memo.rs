@@ -25,6 +25,13 @@ pub struct Memoized<S> {
     kept: Mutex<Store>,
 }
 
+/// The inner sampler's text: the patterns are its own, so caches key them alike.
+impl<S: Sampler> std::fmt::Debug for Memoized<S> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        self.inner.fmt(f)
+    }
+}
+
 struct Store {
     patterns: HashMap<(usize, u64, u64), Arc<PointSet>>,
     bytes: usize,

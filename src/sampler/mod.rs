@@ -51,8 +51,9 @@ use crate::pointset::PointSet;
 use crate::spectrum::ClosedForm;
 use std::ops::RangeInclusive;
 
-/// A generator of point sets on `[0,1)^d` for a fixed dimension `d`.
-pub trait Sampler: Send + Sync {
+/// A generator of point sets on `[0,1)^d` for a fixed dimension `d`. Its `Debug` text names
+/// every parameter that shapes its patterns (the derived form does): caches key patterns by it.
+pub trait Sampler: Send + Sync + std::fmt::Debug {
     /// Short name, as used on the command line.
     fn name(&self) -> &'static str;
 

@@ -44,6 +44,7 @@ use std::process::ExitCode;
 #[derive(Parser)]
 #[command(
     name = "specvar",
+    allow_negative_numbers = true,
     version,
     about = "Predict Monte Carlo integration variance from power spectra, and check it",
     long_about = "Predict Monte Carlo integration variance from power spectra, and check it \
@@ -83,30 +84,42 @@ impl Context {
 #[derive(Subcommand)]
 enum Command {
     /// List the samplers with their dimensions and N constraints.
+    #[command(allow_negative_numbers = true)]
     Samplers(samplers::Args),
     /// Write point sets (UTK text by default, or JSON).
+    #[command(allow_negative_numbers = true)]
     Sample(sample::Args),
     /// Power spectrum of a sampler or of point sets from a file: lattice or radial.
+    #[command(allow_negative_numbers = true)]
     Spectrum(spectrum::Args),
     /// Predict the variance of the homogenized estimator from spectra.
+    #[command(allow_negative_numbers = true)]
     Predict(predict::Args),
     /// Bias of a fixed (not homogenized) pattern, from its spectrum and directly.
+    #[command(allow_negative_numbers = true)]
     Bias(bias::Args),
     /// Reproduce the talk's table with predictions, Monte Carlo, plots and report.md.
+    #[command(allow_negative_numbers = true)]
     Report(report::Args),
     /// Monte Carlo variance of the estimator, with a 99% interval.
+    #[command(allow_negative_numbers = true)]
     Mc(mc::Args),
     /// Discrepancies, distances, effective Nyquist frequency and pair correlation function.
+    #[command(allow_negative_numbers = true)]
     Metrics(metrics::Args),
     /// Every 2D sampler on one page: points, spectra, α, ν_eff, PCF, discrepancies, predicted
     /// variance beside Monte Carlo.
+    #[command(allow_negative_numbers = true)]
     Atlas(atlas::Args),
     /// The variance of an edge against its angle: predicted from the sampler's 2D spectrum and
     /// measured by Monte Carlo.
+    #[command(allow_negative_numbers = true)]
     Anisotropy(anisotropy::Args),
     /// Convergence rates: theory, predicted from spectra, measured by Monte Carlo.
+    #[command(allow_negative_numbers = true)]
     Rates(rates::Args),
     /// Render ambient occlusion with a sampler (or all): image, MSE, MSE predicted from spectra.
+    #[command(allow_negative_numbers = true)]
     RenderAo(render_ao::Args),
 }
 
@@ -207,10 +220,13 @@ fn context(cli: &Cli) -> specvar::Result<Context> {
             None => defaults.work_seconds,
         },
     };
-    Ok(Context {
-        budget,
-        cache: (!cli.no_cache).then(specvar::cache::default_dir),
-    })
+    let cache = (!cli.no_cache).then(specvar::cache::default_dir);
+    if let Some(dir) = &cache {
+        if let Err(e) = specvar::cache::check_writable(dir) {
+            eprintln!("warning: {e}; costly patterns and references will be drawn anew");
+        }
+    }
+    Ok(Context { budget, cache })
 }
 
 /// Writes `text` atomically to a file, or to standard output when `path` is `None`.

@@ -68,10 +68,18 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
         Some(sets) => (sets.first().map_or(0, |s| s.len()), sets.len()),
         None => (args.patterns.n, args.patterns.realizations),
     };
-    let engine = match args.method {
-        Method::Direct => Engine::Direct,
-        Method::Fast => Engine::fast_at(args.tolerance, n, realizations),
-        Method::Auto => Engine::Auto,
+    let engine = match (args.method, args.tolerance) {
+        (Method::Direct, Some(t)) => {
+            return Err(specvar::Error::InvalidParameter {
+                name: "tolerance",
+                value: t.to_string(),
+                allowed: "only with --method fast or auto: the direct sum is exact".into(),
+            })
+        }
+        (Method::Direct, None) => Engine::Direct,
+        // A tolerance asks for the fast engine at that tolerance.
+        (Method::Fast, t) | (Method::Auto, t @ Some(_)) => Engine::fast_at(t, n, realizations),
+        (Method::Auto, None) => Engine::Auto,
     };
     let params = SpectrumParams {
         kmax: args.kmax,
