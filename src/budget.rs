@@ -89,7 +89,7 @@ impl Budget {
         let memory_ok = needs.memory_bytes <= self.memory_bytes;
         let work_ok = needs.work_seconds <= self.work_seconds;
         if memory_ok && work_ok {
-            return Ok(());
+            return probe(what, needs.memory_bytes);
         }
         let (needed, budget) = if !memory_ok {
             (bytes(needs.memory_bytes), bytes(self.memory_bytes))
@@ -100,10 +100,33 @@ impl Budget {
             what: what.to_string(),
             needed,
             budget,
-            advice: format!("{advice}, or raise the budget (--budget-memory, --budget-seconds)"),
+            advice: format!(
+                "{advice}, or raise the budget (--budget-memory and --budget-seconds on the \
+                 command line, set_budget in Python)"
+            ),
         })
     }
 }
+
+/// Asks the system for `bytes` of address space and gives it back at once (no page is
+/// touched): a system that would refuse the memory later (a limit on the address space, no
+/// overcommit) refuses it here, as [`Error::OutOfMemory`], before the work starts, instead of
+/// aborting the process in the middle of it.
+fn probe(what: &str, bytes: f64) -> Result<()> {
+    if bytes < PROBE_FROM {
+        return Ok(());
+    }
+    let mut reserve: Vec<u8> = Vec::new();
+    reserve
+        .try_reserve_exact(bytes as usize)
+        .map_err(|_| Error::OutOfMemory {
+            what: what.to_string(),
+            needed: self::bytes(bytes),
+        })
+}
+
+/// Needs below 16 MiB are not probed: the process's own allocations are of that order.
+const PROBE_FROM: f64 = (16u64 << 20) as f64;
 
 /// A size in words: MiB below a GiB, GiB above, with at most three significant digits (very
 /// large sizes in exponent notation).

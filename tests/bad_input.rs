@@ -8,6 +8,12 @@ use std::time::{Duration, Instant};
 const LIMIT: Duration = Duration::from_secs(30);
 
 fn refuses(args: &[&str]) {
+    run_bounded(args, &[2]);
+}
+
+/// Runs `args` within [`LIMIT`], checks that it exits with one of `codes`, without a panic, and
+/// with exactly one line on standard error when it fails; returns that line.
+fn run_bounded(args: &[&str], codes: &[i32]) -> String {
     let cache = std::env::temp_dir().join("specvar-bad-input-cache");
     let mut child = Command::new(env!("CARGO_BIN_EXE_specvar"))
         .args(args)
@@ -30,13 +36,25 @@ fn refuses(args: &[&str]) {
     };
     let out = child.wait_with_output().expect("output");
     let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(
-        status.code(),
-        Some(2),
+    assert!(
+        status.code().is_some_and(|c| codes.contains(&c)),
         "{args:?}: exit {status:?}, stderr {err}"
     );
-    assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
     assert!(!err.contains("panicked"), "{args:?}: {err}");
+    if status.code() != Some(0) {
+        assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
+    }
+    err.trim().to_string()
+}
+
+/// Runs `args`, expects exit code 2 and one error line that contains `expected` (clap's own
+/// errors also exit with 2: the text tells which check refused).
+fn refuses_with(args: &[&str], expected: &str) {
+    let line = run_bounded(args, &[2]);
+    assert!(
+        line.contains(expected),
+        "{args:?}: '{line}' lacks '{expected}'"
+    );
 }
 
 #[test]
@@ -230,4 +248,421 @@ fn late_validation_is_gone() {
     let start = Instant::now();
     refuses(&["render-ao", "--grid", "0", "--reference-rays", "1000000"]);
     assert!(start.elapsed() < Duration::from_secs(5));
+}
+
+#[test]
+fn every_size_goes_through_the_budget_with_its_reason() {
+    let budget = "above the budget of 8.0 GiB";
+    for sampler in ["sobol", "jitter"] {
+        refuses_with(
+            &[
+                "predict",
+                "-s",
+                sampler,
+                "-f",
+                "disk",
+                "-n",
+                "64",
+                "--kmax",
+                "1000000000",
+            ],
+            "invalid kmax: 1000000000 (1 to 16777216",
+        );
+        refuses_with(
+            &[
+                "predict", "-s", sampler, "-f", "disk", "-n", "64", "--kmax", "10000000",
+            ],
+            budget,
+        );
+        refuses_with(
+            &[
+                "predict", "-s", sampler, "-f", "disk", "-n", "64", "--kmax", "100000",
+            ],
+            "the integrand's power on |k_i| ≤ 100000 in 2D would need 298.0 GiB",
+        );
+    }
+    refuses_with(
+        &[
+            "predict",
+            "-s",
+            "regular",
+            "-f",
+            "disk",
+            "-n",
+            "1000000000000",
+        ],
+        "summed in space over N = 1000000000000 terms would need",
+    );
+    refuses_with(
+        &[
+            "spectrum",
+            "-s",
+            "random",
+            "-n",
+            "64",
+            "--radial",
+            "--bin-width",
+            "1e-300",
+        ],
+        "invalid bin width: 1e-300 (at least",
+    );
+    refuses_with(
+        &[
+            "spectrum",
+            "-s",
+            "random",
+            "-n",
+            "64",
+            "--method",
+            "direct",
+            "--tolerance",
+            "1e-6",
+        ],
+        "invalid tolerance",
+    );
+}
+
+#[test]
+fn an_allocation_the_system_refuses_is_a_typed_error() {
+    let out = Command::new("sh")
+        .arg("-c")
+        .arg(format!(
+            "ulimit -v 200000 && exec '{}' --no-cache spectrum -s random -n 4096 --kmax 2000 \
+             --json -o /dev/null",
+            env!("CARGO_BIN_EXE_specvar")
+        ))
+        .output()
+        .expect("sh runs");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("could not allocate"), "{err}");
+}
+
+#[test]
+fn a_closed_form_answers_at_any_n() {
+    for args in [
+        vec![
+            "predict",
+            "-s",
+            "jitter",
+            "-n",
+            "1000000000000",
+            "--spectrum",
+            "closed",
+            "--json",
+        ],
+        vec![
+            "predict",
+            "-s",
+            "jitter",
+            "-n",
+            "1000000000000",
+            "-f",
+            "disk",
+            "--json",
+        ],
+        vec![
+            "--budget-seconds",
+            "1",
+            "predict",
+            "-s",
+            "jitter",
+            "-n",
+            "1000000000000",
+            "--json",
+        ],
+        vec![
+            "predict",
+            "-s",
+            "jitter",
+            "-d",
+            "1",
+            "-f",
+            "disk",
+            "-n",
+            "1000000000000",
+            "--json",
+        ],
+    ] {
+        let start = Instant::now();
+        let out = Command::new(env!("CARGO_BIN_EXE_specvar"))
+            .args(&args)
+            .output()
+            .expect("runs");
+        assert!(
+            out.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(
+            start.elapsed() < Duration::from_secs(10),
+            "{args:?} took {:?}",
+            start.elapsed()
+        );
+        let doc: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+        assert_eq!(doc["form"], "polar", "{args:?}: {doc}");
+        let v = doc["variance"].as_f64().expect("variance");
+        assert!(v > 0.0 && v < 1e-18, "{args:?}: {v}");
+    }
+}
+
+#[test]
+fn standard_output_failures_end_cleanly() {
+    let full = std::fs::OpenOptions::new().write(true).open("/dev/full");
+    if let Ok(full) = full {
+        let out = Command::new(env!("CARGO_BIN_EXE_specvar"))
+            .args([
+                "predict", "-s", "jitter", "-f", "disk", "-n", "16", "--json",
+            ])
+            .stdout(full)
+            .output()
+            .expect("runs");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{err}");
+        assert!(err.contains("standard output: No space left"), "{err}");
+    }
+    // A reader that closes the pipe at once: the writer ends quietly, as cat does.
+    for args in [
+        vec!["bias", "--help"],
+        vec!["sample", "-s", "random", "-n", "200000"],
+    ] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_specvar"))
+            .args(&args)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("runs");
+        drop(child.stdout.take());
+        let out = child.wait_with_output().expect("output");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.is_empty(), "{args:?}: {err}");
+    }
+}
+
+#[test]
+fn messages_name_the_option_and_quote_input_safely() {
+    refuses_with(
+        &["predict", "-s", "jitter", "-f", "disk", "-n", "-1"],
+        "invalid value '-1' for '-n <N>'",
+    );
+    refuses_with(
+        &[
+            "--budget-memory",
+            "-1",
+            "predict",
+            "-s",
+            "jitter",
+            "-f",
+            "disk",
+            "-n",
+            "16",
+        ],
+        "invalid budget memory: -1 (a positive number)",
+    );
+    refuses_with(
+        &[
+            "predict",
+            "-s",
+            "jitter",
+            "-n",
+            "16",
+            "--target-noise",
+            "-1",
+        ],
+        "invalid target noise: -1",
+    );
+    refuses_with(
+        &[
+            "mc",
+            "-s",
+            "random",
+            "-f",
+            "gaussian:sigma=1e300",
+            "-n",
+            "16",
+        ],
+        "invalid sigma: 1e300 (",
+    );
+    let dir = std::env::temp_dir().join(format!("specvar-bad-text-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let control = dir.join("control.txt");
+    std::fs::write(&control, b"\x1b[31mred\x07 0.5\n").unwrap();
+    let line = run_bounded(&["spectrum", "--input", control.to_str().unwrap()], &[2]);
+    assert!(
+        line.contains(r"'\u{1b}[31mred\u{7}' is not a number"),
+        "{line}"
+    );
+    assert!(!line.contains('\x1b'), "{line}");
+    let fake = dir.join("fake.png");
+    std::fs::write(&fake, b"1 2\n3 4\n").unwrap();
+    let spec = format!("grid:{}", fake.display());
+    refuses_with(
+        &["predict", "-s", "random", "-n", "16", "-f", &spec],
+        "named .png but not a PNG image",
+    );
+}
+
+#[test]
+fn a_constant_integrand_has_zero_variance_not_too_few_trials() {
+    let out = Command::new(env!("CARGO_BIN_EXE_specvar"))
+        .args([
+            "mc",
+            "-s",
+            "random",
+            "-f",
+            "gaussian:a=0",
+            "-n",
+            "16",
+            "--json",
+        ])
+        .output()
+        .expect("runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    assert_eq!(doc["variance"].as_f64(), Some(0.0), "{doc}");
+}
+
+/// Every numeric option of every subcommand at 0, -1, the type's maximum, NaN and infinity:
+/// an answer (small inputs) or one error line, never a panic or a hang.
+#[test]
+fn numeric_options_at_their_extremes_are_answered_or_refused() {
+    let render = [
+        "render-ao",
+        "--sampler",
+        "random",
+        "--rays",
+        "4",
+        "--width",
+        "8",
+        "--height",
+        "8",
+        "--reference-rays",
+        "64",
+        "--grid",
+        "16",
+        "--kmax",
+        "8",
+    ];
+    let cases: Vec<(Vec<&str>, Vec<&str>)> = vec![
+        (
+            vec!["sample", "-s", "jitter", "-n", "16"],
+            vec!["-n", "-d", "--seed", "--realizations"],
+        ),
+        (
+            vec!["spectrum", "-s", "random", "-n", "16", "--kmax", "8"],
+            vec![
+                "-n",
+                "-d",
+                "--kmax",
+                "--realizations",
+                "--bin-width",
+                "--tolerance",
+                "--sectors",
+            ],
+        ),
+        (
+            vec!["predict", "-s", "random", "-f", "disk", "-n", "16"],
+            vec![
+                "-n",
+                "--kmax",
+                "--realizations",
+                "--target-noise",
+                "--reference-n",
+                "--seed",
+            ],
+        ),
+        (
+            vec!["bias", "-s", "regular", "-f", "disk", "-n", "16"],
+            vec!["-n", "--kmax"],
+        ),
+        (
+            vec!["mc", "-s", "random", "-f", "disk", "-n", "16"],
+            vec!["-n", "--trials", "--shifts"],
+        ),
+        (
+            vec!["metrics", "-s", "random", "-n", "16", "--realizations", "2"],
+            vec!["-n", "--realizations", "--pcf-sigma", "--pcf-rmax"],
+        ),
+        (
+            vec![
+                "anisotropy",
+                "-s",
+                "random",
+                "-n",
+                "16",
+                "--trials",
+                "200",
+                "--angles",
+                "0:90:90",
+            ],
+            vec!["-n", "--trials", "--offset"],
+        ),
+        (
+            vec![
+                "rates",
+                "--samplers",
+                "random",
+                "--integrands",
+                "disk",
+                "--range",
+                "16",
+                "32",
+            ],
+            vec!["--trials"],
+        ),
+        (
+            render.to_vec(),
+            vec![
+                "--rays",
+                "--width",
+                "--height",
+                "--grid",
+                "--kmax",
+                "--stride",
+                "--patterns",
+                "--max-distance",
+                "--spectrum-realizations",
+            ],
+        ),
+        (vec!["atlas", "--quick", "--samplers", "random"], vec!["-n"]),
+    ];
+    let values = ["0", "-1", "18446744073709551615", "nan", "inf"];
+    let mut runs: Vec<Vec<String>> = Vec::new();
+    for (base, options) in &cases {
+        for option in options {
+            for value in values {
+                // The option replaces its value in the base arguments, or is appended.
+                let mut args: Vec<String> = base.iter().map(|s| s.to_string()).collect();
+                match args.iter().position(|a| a == option) {
+                    Some(i) => args[i + 1] = value.to_string(),
+                    None => args.extend([option.to_string(), value.to_string()]),
+                }
+                runs.push(args);
+            }
+        }
+    }
+    let dir = std::env::temp_dir().join(format!("specvar-extremes-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::thread::scope(|scope| {
+        for (worker, chunk) in runs.chunks(runs.len().div_ceil(2)).enumerate() {
+            // Each worker its own output directory: outputs of one directory are one writer's.
+            let out = dir
+                .join(format!("out-{worker}"))
+                .to_string_lossy()
+                .into_owned();
+            scope.spawn(move || {
+                for args in chunk {
+                    let mut args: Vec<&str> = args.iter().map(String::as_str).collect();
+                    if matches!(args[0], "render-ao" | "atlas") {
+                        args.extend(["--out", out.as_str()]);
+                    }
+                    run_bounded(&args, &[0, 2]);
+                }
+            });
+        }
+    });
 }

@@ -90,7 +90,20 @@ def tabulate(f: PythonIntegrand, resolution: int = 256) -> np.ndarray:
     """A function of one's own on the unit square as cell values ``values[y, x]`` at the
     centres of a ``resolution × resolution`` grid: the piecewise-constant integrand that
     :func:`predict` reads exactly (its coefficients come from one FFT). Its gap to ``f`` is the
-    tabulation's: refine ``resolution`` until the prediction stops moving."""
+    tabulation's: refine ``resolution`` until the prediction stops moving.
+
+    Raises ``ValueError`` for a resolution that is not a positive integer, or one whose points
+    and values would need more memory than the budget (:func:`set_budget`) allows."""
+    if isinstance(resolution, bool) or not isinstance(resolution, (int, np.integer)) or resolution < 1:
+        raise ValueError(f"invalid resolution: {resolution!r} (a positive integer of cells per side)")
+    memory_gib, _ = _specvar.set_budget(None, None)
+    # Three float64 arrays of resolution² entries: the two coordinates and the values.
+    needed = 3 * 8 * float(resolution) ** 2 / 2**30
+    if needed > memory_gib:
+        raise ValueError(
+            f"tabulating at resolution {resolution} would need {needed:.3g} GiB, above the budget "
+            f"of {memory_gib:.3g} GiB; lower the resolution, or raise the budget (set_budget)"
+        )
     c = (np.arange(resolution) + 0.5) / resolution
     x, y = np.meshgrid(c, c, indexing="xy")
     values = np.asarray(f(np.column_stack([x.ravel(), y.ravel()])), dtype=np.float64)

@@ -121,3 +121,30 @@ def test_tabulated_values_must_be_a_finite_2d_array():
         specvar.predict(np.ones(5), sampler="jitter", n=16)
     with pytest.raises(ValueError, match="finite"):
         specvar.predict(np.full((4, 4), np.inf), sampler="jitter", n=16)
+
+
+def test_tabulation_sizes_are_checked_before_any_evaluation():
+    calls = []
+
+    def f(x):
+        calls.append(len(x))
+        return np.ones(len(x))
+
+    for bad in (0, -1, 2.5, True):
+        with pytest.raises(ValueError, match="invalid resolution"):
+            specvar.tabulate(f, bad)
+    try:
+        specvar.set_budget(memory_gib=0.01)
+        with pytest.raises(ValueError, match=r"resolution 1000000 would need .* \(set_budget\)"):
+            specvar.tabulate(f, 10**6)
+    finally:
+        specvar.set_budget(memory_gib=8.0)
+    assert calls == []
+
+
+def test_a_huge_n_is_answered_or_refused_naming_set_budget():
+    # Jitter at N = 10^12 on the disk has a closed form: the polar form answers it.
+    p = specvar.predict("disk", sampler="jitter", n=10**12)
+    assert p.route.form == "polar" and 0 < p.variance < 1e-18
+    with pytest.raises(ValueError, match="set_budget"):
+        specvar.predict("disk", sampler="regular", n=10**12)

@@ -72,9 +72,7 @@ fn check(f: &dyn Integrand, d: usize) -> Result<()> {
 pub fn bias_of_pattern(f: &dyn Integrand, points: &PointSet, kmax: usize) -> Result<SpectralBias> {
     let d = points.dimension();
     check(f, d)?;
-    if kmax == 0 {
-        return Err(invalid("kmax", 0, "at least 1"));
-    }
+    crate::spectrum::check_kmax(kmax)?;
     let sums = direct_sums(points, kmax);
     let lattice = Lattice { dimension: d, kmax };
     let n = points.len() as f64;

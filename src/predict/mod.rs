@@ -553,8 +553,8 @@ fn check_params(params: &PredictParams) -> Result<()> {
             "at least 2, so that the spectrum's noise can be estimated",
         ));
     }
-    if params.kmax == Some(0) {
-        return Err(invalid("kmax", 0, "at least 1"));
+    if let Some(kmax) = params.kmax {
+        crate::spectrum::check_kmax(kmax)?;
     }
     Ok(())
 }

@@ -244,11 +244,17 @@ impl ComparisonConfig {
                 "at least 2",
             ));
         }
-        let pixels = (self.width * self.height) as f64;
-        let rays = pixels * (self.reference_rays + self.render.rays * self.samplers.len()) as f64;
+        // In floating point: products of usizes could wrap and pass the budget.
+        let pixels = self.width as f64 * self.height as f64;
+        let rays = pixels
+            * (self.reference_rays as f64 + self.render.rays as f64 * self.samplers.len() as f64);
         let grids = pixels / (self.pixel_power.stride as f64).powi(2)
             * (self.pixel_power.resolution as f64).powi(2);
-        let needs = crate::budget::Needs::work((rays + grids) * 60e-9);
+        let needs = crate::budget::Needs {
+            // Each distinct pattern's points, kept while the image renders.
+            memory_bytes: self.render.patterns as f64 * self.render.rays as f64 * 16.0,
+            work_seconds: (rays + grids) * 60e-9,
+        };
         crate::budget::Budget::default().check(
             "the render",
             needs,

@@ -369,18 +369,17 @@ impl SamplerKind {
     /// working sets: CCVT holds its `64 n` discrete points and, while assigning them, about
     /// `5^d` candidate pairs of 24 bytes per discrete point).
     pub fn pattern_needs(self, n: usize, d: usize) -> Needs {
-        let points = (n * d * 8) as f64;
+        // In floating point: a product of usizes could wrap and pass the budget.
+        let (n, points) = (n as f64, n as f64 * d as f64 * 8.0);
         let working = match self {
-            SamplerKind::Ccvt => {
-                n as f64 * 64.0 * (8.0 * d as f64 + 4.0 + 24.0 * 5f64.powi(d as i32))
-            }
-            SamplerKind::PoissonDisk | SamplerKind::Bridson => n as f64 * 64.0,
+            SamplerKind::Ccvt => n * 64.0 * (8.0 * d as f64 + 4.0 + 24.0 * 5f64.powi(d as i32)),
+            SamplerKind::PoissonDisk | SamplerKind::Bridson => n * 64.0,
             SamplerKind::Halton | SamplerKind::Sobol => 4096.0,
-            _ => (n * 8) as f64,
+            _ => n * 8.0,
         };
         Needs {
             memory_bytes: points + working,
-            work_seconds: n as f64 * self.cost_per_point_ns() * 1e-9,
+            work_seconds: n * self.cost_per_point_ns() * 1e-9,
         }
     }
 

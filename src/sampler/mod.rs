@@ -96,7 +96,7 @@ pub fn pattern_needs(sampler: &dyn Sampler, n: usize) -> crate::budget::Needs {
     match sampler.kind() {
         Some(kind) => kind.pattern_needs(n, sampler.dimension()),
         None => crate::budget::Needs {
-            memory_bytes: (n * sampler.dimension() * 32) as f64,
+            memory_bytes: n as f64 * sampler.dimension() as f64 * 32.0,
             work_seconds: n as f64 * 1e-6,
         },
     }

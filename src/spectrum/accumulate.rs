@@ -337,6 +337,7 @@ impl<'a> SpectrumAccumulator<'a> {
         weights: Vec<Vec<f64>>,
     ) -> Result<Self> {
         source.check()?;
+        super::check_kmax(params.kmax)?;
         if !(params.bin_width.is_finite() && params.bin_width > 0.0) {
             return Err(invalid("bin width", params.bin_width, "a positive number"));
         }

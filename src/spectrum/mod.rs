@@ -222,6 +222,7 @@ pub struct SpectrumEstimate {
 /// assert!((p[16 + 8] - 8.0).abs() < 1e-9 && p[16 + 3] < 1e-20);
 /// ```
 pub fn periodogram(points: &PointSet, kmax: usize, engine: Engine) -> Result<Vec<f64>> {
+    check_kmax(kmax)?;
     let (d, n) = (points.dimension(), points.len());
     let engine = engine.resolve(n, d, kmax, 1);
     let needs = transform_needs(d, n, kmax, engine, 1);
@@ -260,14 +261,32 @@ pub(crate) struct Workspace {
     nufft: Option<nufft::NufftScratch>,
 }
 
+/// The largest lattice extent accepted anywhere: `2^24` (a larger one would be refused by the
+/// memory budget in any dimension; refusing it first keeps every size computation in range).
+pub const MAX_KMAX: usize = 1 << 24;
+
+/// Checks a lattice extent: 1 to [`MAX_KMAX`].
+///
+/// # Errors
+/// [`crate::Error::InvalidParameter`] outside that range.
+pub fn check_kmax(kmax: usize) -> Result<()> {
+    if (1..=MAX_KMAX).contains(&kmax) {
+        Ok(())
+    } else {
+        Err(invalid(
+            "kmax",
+            kmax,
+            format!("1 to {MAX_KMAX} (2^24; the memory budget refuses far less)"),
+        ))
+    }
+}
+
 impl Planned {
     pub(crate) fn new(d: usize, n: usize, kmax: usize, engine: Engine) -> Result<Self> {
         if !(1..=3).contains(&d) {
             return Err(invalid("dimension", d, "1 to 3 for spectra"));
         }
-        if kmax == 0 {
-            return Err(invalid("kmax", kmax, "at least 1"));
-        }
+        check_kmax(kmax)?;
         Ok(match engine.resolve(n, d, kmax, 1) {
             Engine::Fast { tolerance } => {
                 Planned::Fast(Box::new(nufft::NufftPlan::new(d, kmax, n, tolerance)?))

@@ -113,10 +113,14 @@ fn patterns(args: &Args, ctx: &super::Context) -> Result<(String, Vec<PointSet>)
         });
     }
     let sampler = ctx.sampler(args.patterns.sampler, args.patterns.dimension)?;
-    sampler.check_count(args.patterns.n)?;
-    let sets = (0..args.patterns.realizations as u64)
-        .map(|r| sampler.sample(args.patterns.n, args.patterns.seed, r))
-        .collect::<Result<Vec<_>>>()?;
+    let sets = specvar::sampler::draw_realizations(
+        sampler.as_ref(),
+        args.patterns.n,
+        args.patterns.seed,
+        0..args.patterns.realizations as u64,
+        false,
+        &ctx.budget,
+    )?;
     Ok((args.patterns.sampler.to_string(), sets))
 }
 
