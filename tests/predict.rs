@@ -413,3 +413,73 @@ fn integrands_predicted_together_must_share_their_patterns() {
     )
     .is_err());
 }
+
+/// Beyond a thousand oscillations the polar form integrates a ball's power through its
+/// modulus–phase mean and bounds the oscillation; where following every oscillation is still
+/// affordable, the two must agree within the sum of their budgets, in 1D to 3D, for splits
+/// from 16 to 256 panels.
+#[test]
+fn the_polar_form_by_the_mean_agrees_with_every_oscillation_followed() {
+    for d in 1..=3usize {
+        let ball = Ball::new(0.25, vec![0.5; d], 1.0).unwrap();
+        // Sizes where following every oscillation (the reference) takes seconds, not minutes.
+        let counts: &[usize] = match d {
+            1 => &[256],
+            2 => &[4096],
+            _ => &[512],
+        };
+        for &n in counts {
+            let jitter = SpectrumSource::Closed(ClosedForm::Jitter);
+            let every = PolarParams {
+                max_panels: usize::MAX,
+                ..PolarParams::default()
+            };
+            let exact = predict_polar(&ball, &jitter, n, &every).unwrap();
+            for max_panels in [16, 64, 256] {
+                let params = PolarParams {
+                    max_panels,
+                    ..PolarParams::default()
+                };
+                let split = predict_polar(&ball, &jitter, n, &params).unwrap();
+                let gap = (split.variance - exact.variance).abs();
+                let allowed = split.budget.half_width(0.0) + exact.budget.half_width(0.0);
+                assert!(
+                    gap <= allowed,
+                    "d = {d}, N = {n}, {max_panels} panels: {:e} against {:e} (gap {gap:e}, \
+                     budgets {allowed:e})",
+                    split.variance,
+                    exact.variance
+                );
+                // Informative once the split is a few hundred panels out (the default is 1024).
+                if max_panels >= 256 {
+                    assert!(split.budget.half_width(0.0) < 1e-2 * split.variance);
+                }
+            }
+        }
+    }
+}
+
+/// Jitter's polar form at N = 10^12 answers at once, and its value continues the N^-1.5 law
+/// of the disk from N = 2^20 (the next term of the expansion is of relative order N^-1/2).
+#[test]
+fn jitter_at_a_trillion_points_continues_its_rate() {
+    let disk = disk();
+    let jitter = Jitter::new(2).unwrap();
+    let at = |n: usize| {
+        predict(
+            &Problem::new(&jitter, &disk, n).unwrap(),
+            &PredictParams::default(),
+        )
+        .unwrap()
+    };
+    let (small, huge) = (at(1 << 20), at(1_000_000_000_000));
+    assert_eq!(huge.route.form, Form::Polar, "{}", huge.reason);
+    let ratio = (1e12 / (1u64 << 20) as f64).powf(-1.5);
+    let extrapolated = small.variance * ratio;
+    assert!(
+        (huge.variance / extrapolated - 1.0).abs() < 1e-2,
+        "{:e} against {extrapolated:e}",
+        huge.variance
+    );
+    assert!(huge.budget.half_width(2.576) < 1e-3 * huge.variance);
+}

@@ -544,3 +544,34 @@ fn gaussian_blue_noise_has_a_wide_zero_region_and_no_crystal_peak() {
     let peak = e.radial.bins.iter().map(|b| b.power).fold(0.0, f64::max);
     assert!(peak < 3.0, "peak {peak}");
 }
+
+/// Cached patterns are keyed by everything that shapes them: two radii of Poisson disk in the
+/// same cache directory each get their own sampler's patterns.
+#[test]
+fn the_pattern_cache_keys_the_samplers_parameters() {
+    let dir = std::env::temp_dir().join(format!("specvar-cache-params-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let narrow = PoissonDisk::new(2)
+        .unwrap()
+        .with_relative_radius(0.3)
+        .unwrap();
+    let wide = PoissonDisk::new(2)
+        .unwrap()
+        .with_relative_radius(0.7)
+        .unwrap();
+    let first = specvar::cache::DiskCached::new(Box::new(narrow), dir.clone()).unwrap();
+    let second = specvar::cache::DiskCached::new(Box::new(wide), dir.clone()).unwrap();
+    let a = first.sample(64, 3, 0).unwrap();
+    let b = second.sample(64, 3, 0).unwrap();
+    assert_eq!(a, narrow.sample(64, 3, 0).unwrap());
+    assert_eq!(
+        b,
+        wide.sample(64, 3, 0).unwrap(),
+        "the wider radius is not served the narrower's"
+    );
+    assert_ne!(a, b);
+    // Read back from disk, each is still its own.
+    let again = specvar::cache::DiskCached::new(Box::new(wide), dir.clone()).unwrap();
+    assert_eq!(again.sample(64, 3, 0).unwrap(), b);
+    let _ = std::fs::remove_dir_all(&dir);
+}
