@@ -109,19 +109,29 @@ fn run(example: &Example, dir: &Path, cache: &PathBuf) {
 
 #[test]
 fn every_documented_command_runs_as_written() {
-    let dir = std::env::temp_dir().join("specvar-doc-examples");
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    fixtures(&dir);
-    let cache = dir.join("cache");
-    let all: Vec<Example> = examples("README.md")
+    let scratch = |name: &str| {
+        let dir = std::env::temp_dir().join(format!("specvar-doc-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
+    };
+    // The README runs in an empty directory: every file it reads, it makes first.
+    let (readme, reference) = (scratch("readme"), scratch("reference"));
+    fixtures(&reference);
+    let cache = readme.join("cache");
+    let all: Vec<(Example, &Path)> = examples("README.md")
         .into_iter()
-        .chain(examples("docs/cli.md"))
+        .map(|e| (e, readme.as_path()))
+        .chain(
+            examples("docs/cli.md")
+                .into_iter()
+                .map(|e| (e, reference.as_path())),
+        )
         .collect();
     assert!(all.len() >= 20, "only {} examples found", all.len());
-    for example in &all {
+    for (example, dir) in &all {
         let start = Instant::now();
-        run(example, &dir, &cache);
+        run(example, dir, &cache);
         // Shown with --nocapture: where the suite's time goes.
         eprintln!(
             "{:>6.1} s  {}:{} {}",

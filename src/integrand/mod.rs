@@ -26,7 +26,7 @@ pub use gaussian::Gaussian;
 pub use grid::GridIntegrand;
 pub use grid_io::{read_grid_file, read_grid_png, read_grid_text};
 pub use polygon::{Polygon, MAX_VERTICES};
-pub use spec::{parse_integrand, IntegrandKind, IntegrandSpec};
+pub use spec::{parse_integrand, IntegrandKind, IntegrandSpec, INTEGRAND_FORMS};
 
 use crate::error::{invalid, Result};
 use crate::spectrum::Lattice;

@@ -111,9 +111,12 @@ pub enum IntegrandSpec {
 const KEYS: &str = "accepted keys: r (ball radius), sigma (Gaussian width), a (height), \
                     c (centre, one value or d values separated by ';'), each once";
 
-const KINDS: &str = "disk, ball or gaussian, with optional overrides such as disk:r=0.2,a=2, \
-                     grid:FILE for a text or PNG grid, polygon:x,y;x,y;x,y or polygon:@FILE, \
-                     edge:theta=30,offset=0.5, or agaussian:s1=0.05,s2=0.02,angle=30";
+/// Every form [`parse_integrand`] accepts, in words: the one list the command line's help and
+/// the parser's errors both show.
+pub const INTEGRAND_FORMS: &str = "disk, ball or gaussian, with optional overrides such as \
+                                   disk:r=0.2,a=2, grid:FILE for a text or PNG grid, \
+                                   polygon:x,y;x,y;x,y or polygon:@FILE, \
+                                   edge:theta=30,offset=0.5, or agaussian:s1=0.05,s2=0.02,angle=30";
 
 /// Parses an integrand specification.
 ///
@@ -141,7 +144,7 @@ pub fn parse_integrand(text: &str) -> Result<IntegrandSpec> {
         "polygon" => return parse_polygon(rest),
         "edge" => return parse_edge(rest),
         "agaussian" => return parse_anisotropic(rest),
-        other => return Err(invalid("integrand", other, KINDS)),
+        other => return Err(invalid("integrand", other, INTEGRAND_FORMS)),
     };
     if kind == IntegrandKind::Grid {
         if rest.trim().is_empty() {

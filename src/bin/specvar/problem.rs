@@ -22,8 +22,8 @@ pub struct ProblemArgs {
     /// is a pattern of the sampler that produced them.
     #[arg(long)]
     pub input: Option<PathBuf>,
-    /// Integrand: disk, ball or gaussian with overrides (disk:r=0.2,a=2), or grid:FILE.
-    #[arg(long, short = 'f', default_value = "disk")]
+    // The forms are the library's own list, so that the help names every one it accepts.
+    #[arg(long, short = 'f', default_value = "disk", help = format!("Integrand: {}", specvar::integrand::INTEGRAND_FORMS))]
     pub integrand: IntegrandSpec,
     /// Points per pattern (with --input: taken from the file).
     #[arg(short = 'n', required_unless_present = "input")]
