@@ -317,3 +317,33 @@ fn predict_and_mc_accept_point_sets_written_elsewhere() {
         "predicted {variance} vs Monte Carlo [{lo}, {hi}]"
     );
 }
+
+/// The help of every command that takes an integrand names every form the parser accepts, and
+/// each form named there parses.
+#[test]
+fn the_help_lists_every_integrand_form() {
+    for command in ["predict", "mc", "bias"] {
+        let (code, help, _) = specvar(&[command, "--help"]);
+        assert_eq!(code, 0);
+        let flat = help.split_whitespace().collect::<Vec<_>>().join(" ");
+        assert!(
+            flat.contains(specvar::integrand::INTEGRAND_FORMS),
+            "{command} --help: {help}"
+        );
+    }
+    for form in [
+        "disk",
+        "ball",
+        "gaussian",
+        "grid:x.png",
+        "polygon:0,0;1,0;0,1",
+        "edge:theta=30",
+        "agaussian:s1=0.05",
+    ] {
+        assert!(
+            specvar::integrand::INTEGRAND_FORMS.contains(form.split(':').next().unwrap()),
+            "{form}"
+        );
+        specvar::integrand::parse_integrand(form).expect(form);
+    }
+}

@@ -11,8 +11,8 @@ pub struct Args {
     /// Sampler (fixed, not homogenized); `regular` uses its exact spectrum.
     #[arg(long, short = 's', default_value = "regular")]
     pub sampler: SamplerKind,
-    /// Integrand spec.
-    #[arg(long, short = 'f', default_value = "gaussian")]
+    // The forms are the library's own list, as in `predict`.
+    #[arg(long, short = 'f', default_value = "gaussian", help = format!("Integrand: {}", specvar::integrand::INTEGRAND_FORMS))]
     pub integrand: IntegrandSpec,
     /// Points.
     #[arg(short = 'n')]
