@@ -236,7 +236,7 @@ impl Integrand for Ball {
         // With t = 2πRρ and μ = d/2, J_μ(t) = M cos θ and Y_μ(t) = M sin θ (modulus and phase):
         // J² = M² (1 + cos 2θ) / 2, and θ' = 2 / (π t M²) (the Wronskian). M² is 2/(πt) in 1D,
         // (2/(πt)) (1 + 1/t²) in 3D (half-integer orders), J_1² + Y_1² in 2D.
-        if !(rho > 0.0) {
+        if rho.is_nan() || rho <= 0.0 {
             return None;
         }
         let (r, a, d) = (self.radius, self.height, self.d());

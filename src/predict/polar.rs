@@ -123,7 +123,7 @@ pub fn predict_polar(
             return far_by_mean(f, *closed, n, params, (split, nu_end));
         }
     }
-    if !(panels <= PANEL_LIMIT) {
+    if panels.is_nan() || panels > PANEL_LIMIT {
         return Err(Error::OutsideValidity {
             route: "the polar form".into(),
             reason: format!(
