@@ -125,22 +125,32 @@ pub struct PanelResult {
 /// `∫ f` over consecutive panels `[b_i, b_{i+1}]` (sorted breakpoints), with the
 /// double-exponential rule of the `quadrature` crate on each panel and a compensated sum.
 /// Panels should hold at most half an oscillation and no kink of `f`: there the rule converges
-/// fast; on a long oscillatory range in one call it does not.
+/// fast; on a long oscillatory range in one call it does not. The panels are integrated in
+/// parallel and summed in their order, so the result has the same bits on any thread count.
 pub fn integrate_panels(
     breakpoints: &[f64],
     tolerance: f64,
-    f: impl Fn(f64) -> f64,
+    f: impl Fn(f64) -> f64 + Sync,
 ) -> PanelResult {
+    use rayon::prelude::*;
+    let panels: Vec<(f64, f64, u64)> = breakpoints
+        .par_windows(2)
+        .filter(|w| w[1] > w[0])
+        .map(|w| {
+            let out = quadrature::double_exponential::integrate(&f, w[0], w[1], tolerance);
+            (
+                out.integral,
+                out.error_estimate,
+                out.num_function_evaluations as u64,
+            )
+        })
+        .collect();
     let mut sum = CompensatedSum::default();
     let (mut error, mut evaluations) = (0.0, 0u64);
-    for w in breakpoints.windows(2) {
-        if w[1] <= w[0] {
-            continue;
-        }
-        let out = quadrature::double_exponential::integrate(&f, w[0], w[1], tolerance);
-        sum.add(out.integral);
-        error += out.error_estimate;
-        evaluations += out.num_function_evaluations as u64;
+    for (integral, panel_error, panel_evaluations) in panels {
+        sum.add(integral);
+        error += panel_error;
+        evaluations += panel_evaluations;
     }
     PanelResult {
         value: sum.value(),
