@@ -152,8 +152,10 @@ fn seconds(s: f64) -> String {
         format!("about {:.0} hours of work", s / 3600.0)
     } else if s >= 120.0 {
         format!("about {:.0} minutes of work", s / 60.0)
-    } else {
+    } else if s >= 10.0 {
         format!("about {s:.0} s of work")
+    } else {
+        format!("about {s:.2} s of work")
     }
 }
 

@@ -371,6 +371,17 @@ fn a_closed_form_answers_at_any_n() {
             "1000000000000",
             "--json",
         ],
+        // A budget below the lattice's work: the polar form still answers.
+        vec![
+            "--budget-seconds",
+            "0.1",
+            "predict",
+            "-s",
+            "jitter",
+            "-n",
+            "1000000000000",
+            "--json",
+        ],
         vec![
             "predict",
             "-s",

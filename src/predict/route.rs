@@ -176,51 +176,66 @@ fn closed_lattice(
     let f = problem.integrand;
     let (n, d) = (problem.n, problem.dimension());
     let name = kind.map_or("the sampler".to_string(), |k| k.to_string());
-    let p = match closed {
-        ClosedForm::WhiteNoise => with_reason(
-            white_noise(f, n)?,
-            format!("{name} is white noise: (∫f² - I²)/N exactly, by Parseval"),
-        ),
-        ClosedForm::RegularGrid
-        | ClosedForm::Rank1Lattice { .. }
-        | ClosedForm::Kronecker { .. } => summed_in_space(f, n, closed, &name, &params.budget)?,
-        _ => {
-            let mut kmax = params
-                .kmax
-                .unwrap_or_else(|| initial_kmax(n, d, 8.0, CLOSED_LATTICE_BUDGET));
-            let source = SpectrumSource::Closed(closed);
-            let mut p = predict_from_power(
-                &LatticePower::of_within(f, lattice(d, kmax), &params.budget)?,
-                &source,
-                n,
-            )?;
-            while params.kmax.is_none()
-                && p.budget.truncation > CLOSED_TAIL_SHARE * p.variance
-                && Lattice::len(&lattice(d, 2 * kmax)) <= CLOSED_LATTICE_BUDGET
-            {
-                kmax *= 2;
-                p = predict_from_power(
+    let p = (|| -> Result<Prediction> {
+        Ok(match closed {
+            ClosedForm::WhiteNoise => with_reason(
+                white_noise(f, n)?,
+                format!("{name} is white noise: (∫f² - I²)/N exactly, by Parseval"),
+            ),
+            ClosedForm::RegularGrid
+            | ClosedForm::Rank1Lattice { .. }
+            | ClosedForm::Kronecker { .. } => summed_in_space(f, n, closed, &name, &params.budget)?,
+            _ => {
+                let mut kmax = params
+                    .kmax
+                    .unwrap_or_else(|| initial_kmax(n, d, 8.0, CLOSED_LATTICE_BUDGET));
+                let source = SpectrumSource::Closed(closed);
+                let mut p = predict_from_power(
                     &LatticePower::of_within(f, lattice(d, kmax), &params.budget)?,
                     &source,
                     n,
                 )?;
-            }
-            with_reason(
-                p,
-                format!(
-                    "{name} has a closed form at N = {n} ({}): the lattice form, exact on the \
+                while params.kmax.is_none()
+                    && p.budget.truncation > CLOSED_TAIL_SHARE * p.variance
+                    && Lattice::len(&lattice(d, 2 * kmax)) <= CLOSED_LATTICE_BUDGET
+                {
+                    kmax *= 2;
+                    p = predict_from_power(
+                        &LatticePower::of_within(f, lattice(d, kmax), &params.budget)?,
+                        &source,
+                        n,
+                    )?;
+                }
+                with_reason(
+                    p,
+                    format!(
+                        "{name} has a closed form at N = {n} ({}): the lattice form, exact on the \
                      torus, on |k_i| ≤ {kmax}, its tail bounded by the closed form",
-                    closed.name()
-                ),
-            )
-        }
-    };
+                        closed.name()
+                    ),
+                )
+            }
+        })
+    })();
     if params.form == FormChoice::Auto && closed.is_scale_invariant() {
         if let Ok(polar) = closed_polar(problem, closed, kind, params) {
-            return Ok(tighter_of(p, polar));
+            return match p {
+                Ok(p) => Ok(tighter_of(p, polar)),
+                // The polar form's work does not grow with N: it answers where the lattice
+                // would exceed the budget.
+                Err(Error::TooLarge { what, needed, .. }) => Ok(with_reason(
+                    polar.clone(),
+                    format!(
+                        "{}; the lattice form was not computed ({what} would need {needed}, \
+                         above the budget)",
+                        polar.reason
+                    ),
+                )),
+                Err(e) => Err(e),
+            };
         }
     }
-    Ok(p)
+    p
 }
 
 /// The lattice form `lattice`, with `polar` as its alternative, unless the lattice's budget is
