@@ -25,6 +25,7 @@ mod bias;
 mod lattice;
 mod pair;
 mod polar;
+mod radial_table;
 mod route;
 mod space;
 

@@ -7,6 +7,7 @@
 //! `∫ f² - M ∫ ρ^{d-1} P̆_f (1 - P̆_S)`, and the second integral only where `P̆_S` differs from 1,
 //! on panels of half an oscillation period: no oscillatory tail is ever integrated.
 
+use super::radial_table::RadialTable;
 use super::{
     check_dimension, check_n, ErrorBudget, Form, Prediction, Route, SpectrumOrigin, SpectrumSource,
 };
@@ -117,10 +118,17 @@ pub fn predict_polar(
     };
     let width = f.panel_width().min(scale / 2.0);
     let panels = rho_end / width;
+    // A closed form's radial mean, tabulated once (white noise needs none).
+    let table = match source {
+        SpectrumSource::Closed(c) if *c != ClosedForm::WhiteNoise => {
+            RadialTable::new(*c, d, nu_end)
+        }
+        _ => None,
+    };
     if panels > params.max_panels as f64 && params.max_panels > 0 {
         if let (SpectrumSource::Closed(closed), Some(_)) = (source, f.radial_oscillation(rho_end)) {
             let split = params.max_panels as f64 * width;
-            return far_by_mean(f, *closed, n, params, (split, nu_end));
+            return far_by_mean(f, *closed, n, params, (split, nu_end), table.as_ref());
         }
     }
     if panels.is_nan() || panels > PANEL_LIMIT {
@@ -139,7 +147,7 @@ pub fn predict_polar(
     let tol = params.tolerance * energy.max(f64::MIN_POSITIVE);
     let radial = |rho: f64| measure * rho.powi(d as i32 - 1) * f.radial_power(rho);
     let deficit = integrate_panels(&breaks, tol, |rho| {
-        radial(rho) * (1.0 - radial_power(source, d, rho / scale))
+        radial(rho) * (1.0 - tabulated(table.as_ref(), source, d, rho / scale))
     });
     // Beyond rho_end the source is white, or P̆_f is negligible, or (jitter) the deficit is
     // bounded by its value at the end times the energy left there.
@@ -171,7 +179,9 @@ pub fn predict_polar(
         reason: String::new(),
         budget: ErrorBudget {
             spectrum_noise,
-            quadrature: deficit.error / n as f64,
+            // The table's error moves the integral by at most that much of ∫ W ≤ ∫ f².
+            quadrature: (deficit.error + table.as_ref().map_or(0.0, |t| t.error()) * energy)
+                / n as f64,
             truncation: tail_bound / n as f64,
             model: 0.0,
         },
@@ -248,6 +258,13 @@ fn propagated_stderr(
         .sqrt()
 }
 
+/// `P̆_S(ν)` from the table where it covers `ν`, else from the source.
+fn tabulated(table: Option<&RadialTable>, source: &SpectrumSource<'_>, d: usize, nu: f64) -> f64 {
+    table
+        .and_then(|t| t.at(nu))
+        .unwrap_or_else(|| radial_power(source, d, nu))
+}
+
 /// `P̆_S(ν)` in dimension `d` (the closed forms reaching here are scale invariant).
 fn radial_power(source: &SpectrumSource<'_>, d: usize, nu: f64) -> f64 {
     match source {
@@ -294,6 +311,7 @@ fn far_by_mean(
     n: usize,
     params: &PolarParams,
     (split, nu_end): (f64, f64),
+    table: Option<&RadialTable>,
 ) -> Result<Prediction> {
     let d = f.dimension();
     let scale = (n as f64).powf(1.0 / d as f64);
@@ -301,7 +319,8 @@ fn far_by_mean(
     let rho_end = nu_end * scale;
     let energy = f.spectral_energy();
     let tol = params.tolerance * energy.max(f64::MIN_POSITIVE);
-    let spectrum = |rho: f64| closed.radial(d, rho / scale).unwrap_or(1.0);
+    let source = SpectrumSource::Closed(closed);
+    let spectrum = |rho: f64| tabulated(table, &source, d, rho / scale);
     let jacobian = |rho: f64| measure * rho.powi(d as i32 - 1);
     let mean = |rho: f64| {
         f.radial_oscillation(rho)
@@ -368,7 +387,11 @@ fn far_by_mean(
         reason: String::new(),
         budget: ErrorBudget {
             spectrum_noise: 0.0,
-            quadrature: (near.error + smooth_error + (beyond - beyond_lo).abs()) / n as f64,
+            quadrature: (near.error
+                + smooth_error
+                + (beyond - beyond_lo).abs()
+                + table.map_or(0.0, |t| t.error()) * energy)
+                / n as f64,
             truncation: (beyond * deviation + oscillation) / n as f64,
             model: 0.0,
         },

@@ -1,0 +1,132 @@
+//! A closed form's radial mean, tabulated once for the polar form.
+//!
+//! The polar integral reads `P̆_S(ν)` tens of thousands of times, and a closed form's radial
+//! mean is itself an angular quadrature (jitter's `1 − Π sinc²` averaged over the sphere: some
+//! 800 products at `ν = 32` in 2D, 46 000 at `ν = 8` in 3D). `P̆_S` is smooth (analytic for
+//! jitter), so it is interpolated instead: Chebyshev polynomials of degree 15 on panels a quarter
+//! wide in `ν`. The interpolation's error is measured, not assumed: on every panel the closed
+//! form is evaluated again between consecutive nodes and compared with the interpolant, and the
+//! largest gap, doubled for a gap between the check points, is the table's error.
+
+use crate::spectrum::ClosedForm;
+use rayon::prelude::*;
+use std::f64::consts::PI;
+
+/// Chebyshev nodes per panel.
+const NODES: usize = 16;
+/// Panel width in `ν`: a quarter of jitter's ripple period (its sinc² zeros are 1 apart).
+const WIDTH: f64 = 0.25;
+
+/// `P̆_S(ν)` on `[0, ν_end]` by piecewise Chebyshev interpolation.
+#[derive(Debug, Clone)]
+pub(crate) struct RadialTable {
+    /// Per panel `[i w, (i + 1) w]`, the Chebyshev coefficients.
+    coefficients: Vec<[f64; NODES]>,
+    /// The end of the table.
+    end: f64,
+    /// A bound on `|table − P̆_S|` on `[0, end]`, measured (see the module notes).
+    error: f64,
+}
+
+impl RadialTable {
+    /// Tabulates `closed`'s radial mean in dimension `d` on `[0, end]`, the panels in parallel.
+    /// `None` for a form without a radial mean.
+    pub(crate) fn new(closed: ClosedForm, d: usize, end: f64) -> Option<Self> {
+        closed.radial(d, 1.0)?;
+        let panels = (end / WIDTH).ceil().max(1.0) as usize;
+        let exact = |nu: f64| closed.radial(d, nu).unwrap_or(1.0);
+        let built: Vec<([f64; NODES], f64)> = (0..panels)
+            .into_par_iter()
+            .map(|i| {
+                let (a, b) = (i as f64 * WIDTH, (i + 1) as f64 * WIDTH);
+                let c = chebyshev_coefficients(|t| exact(a + (b - a) * (t + 1.0) / 2.0));
+                // Between consecutive nodes t_j = cos(π(j + 1/2)/K): at cos(π(j + 1)/K).
+                let gap = (0..NODES - 1)
+                    .map(|j| {
+                        let t = (PI * (j + 1) as f64 / NODES as f64).cos();
+                        (clenshaw(&c, t) - exact(a + (b - a) * (t + 1.0) / 2.0)).abs()
+                    })
+                    .fold(0.0, f64::max);
+                (c, gap)
+            })
+            .collect();
+        let error = 2.0 * built.iter().map(|(_, g)| *g).fold(0.0, f64::max);
+        Some(Self {
+            coefficients: built.into_iter().map(|(c, _)| c).collect(),
+            end: panels as f64 * WIDTH,
+            error,
+        })
+    }
+
+    /// `P̆_S(ν)`, or `None` outside the table.
+    pub(crate) fn at(&self, nu: f64) -> Option<f64> {
+        if !(0.0..=self.end).contains(&nu) {
+            return None;
+        }
+        let i = ((nu / WIDTH) as usize).min(self.coefficients.len() - 1);
+        let a = i as f64 * WIDTH;
+        let t = 2.0 * (nu - a) / WIDTH - 1.0;
+        Some(clenshaw(&self.coefficients[i], t))
+    }
+
+    /// The measured bound on the interpolation's error.
+    pub(crate) fn error(&self) -> f64 {
+        self.error
+    }
+}
+
+/// The coefficients `c_k` of `Σ c_k T_k(t)` interpolating `f` at the Chebyshev nodes on
+/// `[-1, 1]` (the first halved, so that the sum is evaluated as written).
+fn chebyshev_coefficients(f: impl Fn(f64) -> f64) -> [f64; NODES] {
+    let values: Vec<f64> = (0..NODES)
+        .map(|j| f((PI * (j as f64 + 0.5) / NODES as f64).cos()))
+        .collect();
+    let mut c = [0.0; NODES];
+    for (k, ck) in c.iter_mut().enumerate() {
+        let sum: f64 = values
+            .iter()
+            .enumerate()
+            .map(|(j, v)| v * (PI * k as f64 * (j as f64 + 0.5) / NODES as f64).cos())
+            .sum();
+        *ck = 2.0 * sum / NODES as f64;
+    }
+    c[0] /= 2.0;
+    c
+}
+
+/// `Σ c_k T_k(t)` by Clenshaw's recurrence.
+fn clenshaw(c: &[f64; NODES], t: f64) -> f64 {
+    let (mut b1, mut b2) = (0.0, 0.0);
+    for &ck in c.iter().skip(1).rev() {
+        let b0 = 2.0 * t * b1 - b2 + ck;
+        b2 = b1;
+        b1 = b0;
+    }
+    t * b1 - b2 + c[0]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The table reproduces the closed form at points it was not built on, within its
+    /// measured error, in 1D to 3D.
+    #[test]
+    fn the_table_agrees_with_the_closed_form_within_its_error() {
+        for (d, end) in [(1, 32.0), (2, 32.0), (3, 8.0)] {
+            let table = RadialTable::new(ClosedForm::Jitter, d, end).expect("jitter is radial");
+            assert!(table.error() < 1e-10, "d = {d}: {}", table.error());
+            for i in 0..200 {
+                let nu = end * (i as f64 + 0.37) / 200.0;
+                let exact = ClosedForm::Jitter.radial(d, nu).unwrap();
+                let got = table.at(nu).unwrap();
+                assert!(
+                    (got - exact).abs() <= table.error().max(1e-15),
+                    "d = {d}, ν = {nu}"
+                );
+            }
+            assert!(table.at(end + 1.0).is_none());
+        }
+        assert!(RadialTable::new(ClosedForm::LatinHypercube, 2, 4.0).is_none());
+    }
+}
