@@ -483,3 +483,32 @@ fn jitter_at_a_trillion_points_continues_its_rate() {
     );
     assert!(huge.budget.half_width(2.576) < 1e-3 * huge.variance);
 }
+
+/// In 1D, homogenized jitter on an interval has the variance `1/(3N²)` exactly (each end lies in
+/// a stratum it covers a uniform fraction p of, and `E[p(1 − p)] = 1/6`): the default
+/// prediction holds it within its budget at every N, up to a trillion points.
+#[test]
+fn jitter_on_an_interval_is_one_third_over_n_squared_at_any_n() {
+    let interval = Ball::new(0.25, vec![0.5], 1.0).unwrap();
+    let jitter = Jitter::new(1).unwrap();
+    for n in [64usize, 4096, 1 << 20, 1 << 32, 1_000_000_000_000] {
+        let p = predict(
+            &Problem::new(&jitter, &interval, n).unwrap(),
+            &PredictParams::default(),
+        )
+        .unwrap();
+        let exact = 1.0 / (3.0 * (n as f64).powi(2));
+        let gap = (p.variance - exact).abs();
+        assert!(
+            gap <= p.budget.half_width(0.0),
+            "N = {n}: {:e} against {exact:e} by the {}",
+            p.variance,
+            p.route
+        );
+        assert!(
+            gap < 1e-5 * exact,
+            "N = {n}: {:e} against {exact:e}",
+            p.variance
+        );
+    }
+}

@@ -180,7 +180,10 @@ pub fn predict_polar(
         budget: ErrorBudget {
             spectrum_noise,
             // The table's error moves the integral by at most that much of ∫ W ≤ ∫ f².
-            quadrature: (deficit.error + table.as_ref().map_or(0.0, |t| t.error()) * energy)
+            // The table is within a fraction of P̆_S everywhere: the integral ∫ W P̆_S, N Var
+            // plus the DC term, within that fraction of itself.
+            quadrature: (deficit.error
+                + table.as_ref().map_or(0.0, |t| t.error()) * (energy - deficit.value))
                 / n as f64,
             truncation: tail_bound / n as f64,
             model: 0.0,
@@ -390,7 +393,7 @@ fn far_by_mean(
             quadrature: (near.error
                 + smooth_error
                 + (beyond - beyond_lo).abs()
-                + table.map_or(0.0, |t| t.error()) * energy)
+                + table.map_or(0.0, |t| t.error()) * (total + dc))
                 / n as f64,
             truncation: (beyond * deviation + oscillation) / n as f64,
             model: 0.0,

@@ -4,9 +4,13 @@
 //! mean is itself an angular quadrature (jitter's `1 − Π sinc²` averaged over the sphere: some
 //! 800 products at `ν = 32` in 2D, 46 000 at `ν = 8` in 3D). `P̆_S` is smooth (analytic for
 //! jitter), so it is interpolated instead: Chebyshev polynomials of degree 15 on panels a quarter
-//! wide in `ν`. The interpolation's error is measured, not assumed: on every panel the closed
-//! form is evaluated again between consecutive nodes and compared with the interpolant, and the
-//! largest gap, doubled for a gap between the check points, is the table's error.
+//! wide in `ν`, of `P̆_S(ν)/ν²` (smooth for a spectrum that rises like `ν²`, as jitter's does), so
+//! that the table keeps its relative accuracy near DC, where at large N all of the integrand's
+//! power lies. The interpolation's error is measured, not assumed: on every panel the closed
+//! form is evaluated again between consecutive nodes and compared with the table, and the
+//! largest relative gap, doubled for a gap between the check points, is the table's relative
+//! error. Since the table is then within that fraction of `P̆_S` everywhere, the polar integral
+//! `∫ W P̆_S` (W ≥ 0) is within that fraction of its value.
 
 use crate::spectrum::ClosedForm;
 use rayon::prelude::*;
@@ -24,7 +28,7 @@ pub(crate) struct RadialTable {
     coefficients: Vec<[f64; NODES]>,
     /// The end of the table.
     end: f64,
-    /// A bound on `|table − P̆_S|` on `[0, end]`, measured (see the module notes).
+    /// A bound on `|table − P̆_S| / P̆_S` on `(0, end]`, measured (see the module notes).
     error: f64,
 }
 
@@ -39,12 +43,15 @@ impl RadialTable {
             .into_par_iter()
             .map(|i| {
                 let (a, b) = (i as f64 * WIDTH, (i + 1) as f64 * WIDTH);
-                let c = chebyshev_coefficients(|t| exact(a + (b - a) * (t + 1.0) / 2.0));
+                let nu = |t: f64| a + (b - a) * (t + 1.0) / 2.0;
+                // The nodes are inside the panel, so ν > 0 at every one.
+                let c = chebyshev_coefficients(|t| exact(nu(t)) / nu(t).powi(2));
                 // Between consecutive nodes t_j = cos(π(j + 1/2)/K): at cos(π(j + 1)/K).
                 let gap = (0..NODES - 1)
                     .map(|j| {
                         let t = (PI * (j + 1) as f64 / NODES as f64).cos();
-                        (clenshaw(&c, t) - exact(a + (b - a) * (t + 1.0) / 2.0)).abs()
+                        let truth = exact(nu(t));
+                        (nu(t).powi(2) * clenshaw(&c, t) - truth).abs() / truth.abs()
                     })
                     .fold(0.0, f64::max);
                 (c, gap)
@@ -66,10 +73,10 @@ impl RadialTable {
         let i = ((nu / WIDTH) as usize).min(self.coefficients.len() - 1);
         let a = i as f64 * WIDTH;
         let t = 2.0 * (nu - a) / WIDTH - 1.0;
-        Some(clenshaw(&self.coefficients[i], t))
+        Some(nu * nu * clenshaw(&self.coefficients[i], t))
     }
 
-    /// The measured bound on the interpolation's error.
+    /// The measured bound on the interpolation's relative error.
     pub(crate) fn error(&self) -> f64 {
         self.error
     }
@@ -121,8 +128,16 @@ mod tests {
                 let exact = ClosedForm::Jitter.radial(d, nu).unwrap();
                 let got = table.at(nu).unwrap();
                 assert!(
-                    (got - exact).abs() <= table.error().max(1e-15),
+                    (got - exact).abs() <= table.error().max(1e-15) * exact,
                     "d = {d}, ν = {nu}"
+                );
+            }
+            // Near DC it keeps its relative accuracy: jitter rises like π²ν²/3 there.
+            for tiny in [1e-7, 1e-12] {
+                let rise = PI * PI * tiny * tiny / 3.0;
+                assert!(
+                    (table.at(tiny).unwrap() / rise - 1.0).abs() < 1e-6,
+                    "d = {d}"
                 );
             }
             assert!(table.at(end + 1.0).is_none());

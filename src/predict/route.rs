@@ -176,6 +176,26 @@ fn closed_lattice(
     let f = problem.integrand;
     let (n, d) = (problem.n, problem.dimension());
     let name = kind.map_or("the sampler".to_string(), |k| k.to_string());
+    // A lattice that cannot reach ν = 1 within its budget leaves most of the variance to its
+    // tail bound: where the polar form is valid it answers alone.
+    let widest = largest_kmax(d, CLOSED_LATTICE_BUDGET);
+    let reaches_one = widest as f64 >= (n as f64).powf(1.0 / d as f64);
+    if params.form == FormChoice::Auto
+        && params.kmax.is_none()
+        && closed.is_scale_invariant()
+        && closed != ClosedForm::WhiteNoise
+        && !reaches_one
+    {
+        if let Ok(polar) = closed_polar(problem, closed, kind, params) {
+            let reason = format!(
+                "{}; the lattice form was not computed: the widest lattice it may take, \
+                 |k_i| ≤ {widest}, does not reach ν = 1 at N = {n}, and its tail bound would be \
+                 most of the variance",
+                polar.reason
+            );
+            return Ok(with_reason(polar, reason));
+        }
+    }
     let p = (|| -> Result<Prediction> {
         Ok(match closed {
             ClosedForm::WhiteNoise => with_reason(
