@@ -241,16 +241,18 @@ fn closed_lattice(
         if let Ok(polar) = closed_polar(problem, closed, kind, params) {
             return match p {
                 Ok(p) => Ok(tighter_of(p, polar)),
-                // The polar form's work does not grow with N: it answers where the lattice
-                // would exceed the budget.
-                Err(Error::TooLarge { what, needed, .. }) => Ok(with_reason(
-                    polar.clone(),
-                    format!(
-                        "{}; the lattice form was not computed ({what} would need {needed}, \
+                // The polar form's work does not grow with N: it answers where the default
+                // lattice would exceed the budget (a lattice asked for is refused as asked).
+                Err(Error::TooLarge { what, needed, .. }) if params.kmax.is_none() => {
+                    Ok(with_reason(
+                        polar.clone(),
+                        format!(
+                            "{}; the lattice form was not computed ({what} would need {needed}, \
                          above the budget)",
-                        polar.reason
-                    ),
-                )),
+                            polar.reason
+                        ),
+                    ))
+                }
                 Err(e) => Err(e),
             };
         }
