@@ -173,7 +173,6 @@ fn closed_lattice(
     kind: Option<SamplerKind>,
     params: &PredictParams,
 ) -> Result<Prediction> {
-    let f = problem.integrand;
     let (n, d) = (problem.n, problem.dimension());
     let name = kind.map_or("the sampler".to_string(), |k| k.to_string());
     // A lattice that cannot reach ν = 1 within its budget leaves most of the variance to its
@@ -196,47 +195,7 @@ fn closed_lattice(
             return Ok(with_reason(polar, reason));
         }
     }
-    let p = (|| -> Result<Prediction> {
-        Ok(match closed {
-            ClosedForm::WhiteNoise => with_reason(
-                white_noise(f, n)?,
-                format!("{name} is white noise: (∫f² - I²)/N exactly, by Parseval"),
-            ),
-            ClosedForm::RegularGrid
-            | ClosedForm::Rank1Lattice { .. }
-            | ClosedForm::Kronecker { .. } => summed_in_space(f, n, closed, &name, &params.budget)?,
-            _ => {
-                let mut kmax = params
-                    .kmax
-                    .unwrap_or_else(|| initial_kmax(n, d, 8.0, CLOSED_LATTICE_BUDGET));
-                let source = SpectrumSource::Closed(closed);
-                let mut p = predict_from_power(
-                    &LatticePower::of_within(f, lattice(d, kmax), &params.budget)?,
-                    &source,
-                    n,
-                )?;
-                while params.kmax.is_none()
-                    && p.budget.truncation > CLOSED_TAIL_SHARE * p.variance
-                    && Lattice::len(&lattice(d, 2 * kmax)) <= CLOSED_LATTICE_BUDGET
-                {
-                    kmax *= 2;
-                    p = predict_from_power(
-                        &LatticePower::of_within(f, lattice(d, kmax), &params.budget)?,
-                        &source,
-                        n,
-                    )?;
-                }
-                with_reason(
-                    p,
-                    format!(
-                        "{name} has a closed form at N = {n} ({}): the lattice form, exact on the \
-                     torus, on |k_i| ≤ {kmax}, its tail bounded by the closed form",
-                        closed.name()
-                    ),
-                )
-            }
-        })
-    })();
+    let p = lattice_with_closed_form(problem, closed, &name, params);
     if params.form == FormChoice::Auto && closed.is_scale_invariant() {
         if let Ok(polar) = closed_polar(problem, closed, kind, params) {
             return match p {
@@ -258,6 +217,58 @@ fn closed_lattice(
         }
     }
     p
+}
+
+/// The lattice form with a closed form (white noise by Parseval; the regular grid, rank-1
+/// lattices and Kronecker summed in space; the others on a lattice widened while the tail bound
+/// exceeds [`CLOSED_TAIL_SHARE`] of the variance and the lattice budget allows).
+fn lattice_with_closed_form(
+    problem: &Problem<'_>,
+    closed: ClosedForm,
+    name: &str,
+    params: &PredictParams,
+) -> Result<Prediction> {
+    let f = problem.integrand;
+    let (n, d) = (problem.n, problem.dimension());
+    Ok(match closed {
+        ClosedForm::WhiteNoise => with_reason(
+            white_noise(f, n)?,
+            format!("{name} is white noise: (∫f² - I²)/N exactly, by Parseval"),
+        ),
+        ClosedForm::RegularGrid
+        | ClosedForm::Rank1Lattice { .. }
+        | ClosedForm::Kronecker { .. } => summed_in_space(f, n, closed, name, &params.budget)?,
+        _ => {
+            let mut kmax = params
+                .kmax
+                .unwrap_or_else(|| initial_kmax(n, d, 8.0, CLOSED_LATTICE_BUDGET));
+            let source = SpectrumSource::Closed(closed);
+            let mut p = predict_from_power(
+                &LatticePower::of_within(f, lattice(d, kmax), &params.budget)?,
+                &source,
+                n,
+            )?;
+            while params.kmax.is_none()
+                && p.budget.truncation > CLOSED_TAIL_SHARE * p.variance
+                && Lattice::len(&lattice(d, 2 * kmax)) <= CLOSED_LATTICE_BUDGET
+            {
+                kmax *= 2;
+                p = predict_from_power(
+                    &LatticePower::of_within(f, lattice(d, kmax), &params.budget)?,
+                    &source,
+                    n,
+                )?;
+            }
+            with_reason(
+                p,
+                format!(
+                    "{name} has a closed form at N = {n} ({}): the lattice form, exact on the \
+                 torus, on |k_i| ≤ {kmax}, its tail bounded by the closed form",
+                    closed.name()
+                ),
+            )
+        }
+    })
 }
 
 /// The lattice form `lattice`, with `polar` as its alternative, unless the lattice's budget is
