@@ -119,10 +119,15 @@ fn probe(what: &str, bytes: f64) -> Result<()> {
     let mut reserve: Vec<u8> = Vec::new();
     reserve
         .try_reserve_exact(bytes as usize)
-        .map_err(|_| Error::OutOfMemory {
-            what: what.to_string(),
-            needed: self::bytes(bytes),
-        })
+        .map_err(|_| out_of_memory(what, bytes))
+}
+
+/// The error of an allocation of `bytes` for `what` that the system refused.
+fn out_of_memory(what: &str, bytes: f64) -> Error {
+    Error::OutOfMemory {
+        what: what.to_string(),
+        needed: self::bytes(bytes),
+    }
 }
 
 /// Needs below 16 MiB are not probed: the process's own allocations are of that order.
@@ -175,10 +180,8 @@ fn seconds(s: f64) -> String {
 /// ```
 pub fn try_filled<T: Clone>(len: usize, value: T, what: &str) -> Result<Vec<T>> {
     let mut v = Vec::new();
-    v.try_reserve_exact(len).map_err(|_| Error::OutOfMemory {
-        what: what.to_string(),
-        needed: bytes(len as f64 * std::mem::size_of::<T>() as f64),
-    })?;
+    v.try_reserve_exact(len)
+        .map_err(|_| out_of_memory(what, len as f64 * std::mem::size_of::<T>() as f64))?;
     v.resize(len, value);
     Ok(v)
 }

@@ -183,7 +183,7 @@ impl LatticePower {
 
 /// What an integrand's power on `lattice` costs: 8 bytes and one coefficient's work
 /// ([`COEFFICIENT_SECONDS`]) a frequency, counted in floating point so that no size overflows.
-pub(crate) fn lattice_needs(lattice: Lattice) -> Needs {
+fn lattice_needs(lattice: Lattice) -> Needs {
     let len = (2.0 * lattice.kmax as f64 + 1.0).powi(lattice.dimension as i32);
     Needs {
         memory_bytes: 8.0 * len,

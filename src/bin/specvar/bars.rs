@@ -28,12 +28,16 @@ impl Bars {
         // A panic elsewhere cannot leave a bar in an inconsistent state worth refusing.
         self.current.lock().unwrap_or_else(|e| e.into_inner())
     }
+
+    fn plain_slot(&self) -> std::sync::MutexGuard<'_, Option<(String, Instant)>> {
+        self.plain.lock().unwrap_or_else(|e| e.into_inner())
+    }
 }
 
 impl Bars {
     /// Prints the stage that just finished, if it was long enough to be worth a line.
     fn finish_plain(&self) {
-        let finished = self.plain.lock().unwrap_or_else(|e| e.into_inner()).take();
+        let finished = self.plain_slot().take();
         if let Some((stage, start)) = finished {
             let took = start.elapsed();
             if took >= PLAIN_LINE_AFTER {
@@ -47,8 +51,7 @@ impl Progress for Bars {
     fn begin(&self, stage: &str, total: u64) {
         if !terminal() {
             self.finish_plain();
-            *self.plain.lock().unwrap_or_else(|e| e.into_inner()) =
-                Some((stage.to_string(), Instant::now()));
+            *self.plain_slot() = Some((stage.to_string(), Instant::now()));
             return;
         }
         let bar = if total > 0 {

@@ -44,7 +44,6 @@ use std::process::ExitCode;
 #[derive(Parser)]
 #[command(
     name = "specvar",
-    allow_negative_numbers = true,
     version,
     about = "Predict Monte Carlo integration variance from power spectra, and check it",
     long_about = "Predict Monte Carlo integration variance from power spectra, and check it \
@@ -84,48 +83,36 @@ impl Context {
 #[derive(Subcommand)]
 enum Command {
     /// List the samplers with their dimensions and N constraints.
-    #[command(allow_negative_numbers = true)]
     Samplers(samplers::Args),
     /// Write point sets (UTK text by default, or JSON).
-    #[command(allow_negative_numbers = true)]
     Sample(sample::Args),
     /// Power spectrum of a sampler or of point sets from a file: lattice or radial.
-    #[command(allow_negative_numbers = true)]
     Spectrum(spectrum::Args),
     /// Predict the variance of the homogenized estimator from spectra.
-    #[command(allow_negative_numbers = true)]
     Predict(predict::Args),
     /// Bias of a fixed (not homogenized) pattern, from its spectrum and directly.
-    #[command(allow_negative_numbers = true)]
     Bias(bias::Args),
     /// Reproduce the talk's table with predictions, Monte Carlo, plots and report.md.
-    #[command(allow_negative_numbers = true)]
     Report(report::Args),
     /// Monte Carlo variance of the estimator, with a 99% interval.
-    #[command(allow_negative_numbers = true)]
     Mc(mc::Args),
     /// Discrepancies, distances, effective Nyquist frequency and pair correlation function.
-    #[command(allow_negative_numbers = true)]
     Metrics(metrics::Args),
     /// Every 2D sampler on one page: points, spectra, α, ν_eff, PCF, discrepancies, predicted
     /// variance beside Monte Carlo.
-    #[command(allow_negative_numbers = true)]
     Atlas(atlas::Args),
     /// The variance of an edge against its angle: predicted from the sampler's 2D spectrum and
     /// measured by Monte Carlo.
-    #[command(allow_negative_numbers = true)]
     Anisotropy(anisotropy::Args),
     /// Convergence rates: theory, predicted from spectra, measured by Monte Carlo.
-    #[command(allow_negative_numbers = true)]
     Rates(rates::Args),
     /// Render ambient occlusion with a sampler (or all): image, MSE, MSE predicted from spectra.
-    #[command(allow_negative_numbers = true)]
     RenderAo(render_ao::Args),
 }
 
 fn main() -> ExitCode {
     quiet_on_closed_pipe();
-    let parsed = match Cli::try_parse() {
+    let parsed = match parse() {
         Ok(c) => c,
         Err(e) => {
             use clap::error::ErrorKind;
@@ -154,6 +141,18 @@ fn main() -> ExitCode {
         None => report::run(&report::Args::default(), &ctx),
     });
     finish(result.and_then(|()| flush_stdout()))
+}
+
+/// The command line parsed, with negative numbers taken as values on every command, so that
+/// `-n -1` reaches the option that refuses it instead of reading as an unknown flag.
+fn parse() -> Result<Cli, clap::Error> {
+    use clap::{CommandFactory, FromArgMatches};
+    let command = Cli::command()
+        .allow_negative_numbers(true)
+        .mut_subcommands(|sub| sub.allow_negative_numbers(true));
+    command
+        .try_get_matches()
+        .and_then(|matches| Cli::from_arg_matches(&matches))
 }
 
 /// The exit code of a run: success; quiet success when standard output was closed by its
@@ -236,7 +235,7 @@ fn write_output(path: Option<&Path>, text: &str) -> specvar::Result<()> {
         Some(p) => specvar::output::write_atomic(p, text.as_bytes()),
         None => std::io::stdout()
             .write_all(text.as_bytes())
-            .map_err(|e| specvar::Error::io(Path::new("standard output"), e)),
+            .map_err(stdout_error),
     }
 }
 
