@@ -2,6 +2,7 @@
 //! predicted by the default route (the lattice form with the sampler's full 2D spectrum) and
 //! measured by Monte Carlo on the same patterns.
 
+use crate::randomization::Randomization;
 use crate::error::{invalid, Result};
 use crate::integrand::{Integrand, Polygon};
 use crate::montecarlo::{McParams, McResult, Z_99};
@@ -126,7 +127,7 @@ pub fn variance_against_orientation(
         .map(|&a| Polygon::edge(a, config.offset, 1.0))
         .collect::<Result<Vec<_>>>()?;
     let fs: Vec<&dyn Integrand> = edges.iter().map(|e| e as &dyn Integrand).collect();
-    let mut mc = McParams::pooled(kind, config.trials, config.seed, true);
+    let mut mc = McParams::pooled(kind, config.trials, config.seed, Randomization::Shift);
     mc.budget = config.predict.budget;
     let stage = format!("orientation: monte carlo of {kind}");
     let results = beside_monte_carlo(

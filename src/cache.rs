@@ -221,7 +221,7 @@ pub fn cached_sampler(
     memory_bytes: usize,
 ) -> Result<Box<dyn Sampler>> {
     let inner = kind.build(d)?;
-    if kind.cost_per_point_ns() < 1_000.0 {
+    if !kind.patterns_worth_keeping() {
         return Ok(inner);
     }
     let on_disk: Box<dyn Sampler> = match dir {

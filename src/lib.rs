@@ -95,6 +95,7 @@ pub mod pointset;
 pub mod predict;
 pub mod progress;
 pub mod quadrature;
+pub mod randomization;
 pub mod rate;
 pub mod render;
 pub mod report;

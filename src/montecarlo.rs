@@ -1,12 +1,14 @@
 //! Empirical variance of Monte Carlo integration, with confidence intervals.
 //!
 //! Each trial integrates `f` with one point set: the estimator error is `e = μ_N - I`, with the
-//! integrand's exact integral over the cube as `I`. A homogenized estimator is unbiased, so its
-//! variance is `E[e²]`, estimated by the mean of `e²` without subtracting an estimated mean.
+//! integrand's exact integral over the cube as `I`. The run's [`Randomization`] says which
+//! estimator it measures: under a random shift (toroidal or digital) the estimator is unbiased,
+//! so its variance is `E[e²]`, estimated by the mean of `e²` without subtracting an estimated
+//! mean; patterns used as drawn give the sample variance about the mean error, and their bias.
 //!
 //! **Pools.** For samplers too slow to draw one pattern per trial (CCVT, Poisson disk at large
 //! N) the trials come from P patterns, each used with S random shifts. The variance of the
-//! homogenized estimator is then the mean over patterns of `z_p = (1/S) Σ_s e_{p,s}²`, and the
+//! shifted estimator is then the mean over patterns of `z_p = (1/S) Σ_s e_{p,s}²`, and the
 //! `z_p` are independent: the confidence interval comes from the P patterns (a two-level
 //! estimator), never from P·S trials as if they were independent. Cheap samplers are the case
 //! S = 1.
@@ -20,7 +22,7 @@
 //! end when few units carry the mean; with many units that carry it evenly (at least 5000 units
 //! and an effective count `(Σz)²/Σz²` of 500), the central limit theorem on a log scale. Where
 //! the data cannot support a 99% claim the run is refused with an error that says what to
-//! raise: fewer than 20 independent units, an effective count below 10, or (homogenized) every
+//! raise: fewer than 20 independent units, an effective count below 10, or (shifted) every
 //! unit giving the same squared error, which means no trial resolved the integrand.
 
 use crate::error::{invalid, Result};
@@ -28,7 +30,8 @@ use crate::integrand::Integrand;
 use crate::pointset::{wrap, PointSet, MAX_DIMENSION};
 use crate::progress::{Progress, Silent};
 use crate::rng::{realization_rng, Stream};
-use crate::sampler::{homogenizing_shift, Pool, Sampler, SamplerKind};
+use crate::randomization::{check_shifts, Randomization, UnitTransform};
+use crate::sampler::{Pool, Sampler, SamplerKind};
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -54,9 +57,10 @@ pub struct McParams {
     pub shifts: usize,
     /// Seed; pattern `p` is realization `p` of it.
     pub seed: u64,
-    /// Homogenize (random toroidal shift). Without it the pattern is used as drawn, `shifts`
-    /// must be 1, and the variance is the sample variance about the mean error.
-    pub homogenize: bool,
+    /// How each pattern is randomized: the estimator measured. Patterns used as drawn
+    /// ([`Randomization::None`]) take one trial each (`shifts` must be 1), and the variance is
+    /// the sample variance about the mean error.
+    pub randomization: Randomization,
     /// What the run may spend (checked before it starts).
     pub budget: crate::budget::Budget,
 }
@@ -64,18 +68,25 @@ pub struct McParams {
 impl McParams {
     /// `trials` estimator evaluations spent as the sampler's cost asks ([`SamplerKind::pool`]):
     /// one fresh pattern per trial for cheap samplers, a pool of patterns under many shifts for
-    /// costly ones; without homogenization every trial is a fresh pattern.
+    /// costly ones; patterns used as drawn are one fresh pattern per trial.
     ///
     /// # Examples
     /// ```
     /// use specvar::montecarlo::McParams;
+    /// use specvar::randomization::Randomization;
     /// use specvar::sampler::SamplerKind;
-    /// let ccvt = McParams::pooled(SamplerKind::Ccvt, 8192, 0, true);
+    /// let ccvt = McParams::pooled(SamplerKind::Ccvt, 8192, 0, Randomization::Shift);
     /// assert!(ccvt.shifts > 1 && ccvt.patterns * ccvt.shifts >= 8192);
-    /// assert_eq!(McParams::pooled(SamplerKind::Jitter, 8192, 0, true).shifts, 1);
+    /// let jitter = McParams::pooled(SamplerKind::Jitter, 8192, 0, Randomization::Shift);
+    /// assert_eq!(jitter.shifts, 1);
     /// ```
-    pub fn pooled(kind: SamplerKind, trials: usize, seed: u64, homogenize: bool) -> Self {
-        let pool = if homogenize {
+    pub fn pooled(
+        kind: SamplerKind,
+        trials: usize,
+        seed: u64,
+        randomization: Randomization,
+    ) -> Self {
+        let pool = if randomization.reuses_patterns() {
             kind.pool(trials)
         } else {
             Pool {
@@ -87,7 +98,51 @@ impl McParams {
             patterns: pool.patterns,
             shifts: pool.shifts,
             seed,
-            homogenize,
+            randomization,
+            budget: crate::budget::Budget::default(),
+        }
+    }
+
+    /// As [`pooled`](Self::pooled), or with `shifts` randomizations of each pattern where given
+    /// (then `trials / shifts` patterns).
+    pub fn for_sampler(
+        kind: SamplerKind,
+        trials: usize,
+        shifts: Option<usize>,
+        seed: u64,
+        randomization: Randomization,
+    ) -> Self {
+        let pooled = Self::pooled(kind, trials, seed, randomization);
+        match shifts {
+            Some(shifts) => Self {
+                shifts,
+                patterns: trials / shifts.max(1),
+                ..pooled
+            },
+            None => pooled,
+        }
+    }
+
+    /// A run over `sets` given point sets, each one pattern under `shifts` randomizations
+    /// (by default as many as spend `trials` evaluations, at least 1; exactly 1 for sets used
+    /// as given).
+    pub fn for_sets(
+        sets: usize,
+        trials: usize,
+        shifts: Option<usize>,
+        seed: u64,
+        randomization: Randomization,
+    ) -> Self {
+        let default_shifts = if randomization.reuses_patterns() {
+            (trials / sets.max(1)).max(1)
+        } else {
+            1
+        };
+        Self {
+            patterns: sets,
+            shifts: shifts.unwrap_or(default_shifts),
+            seed,
+            randomization,
             budget: crate::budget::Budget::default(),
         }
     }
@@ -99,7 +154,7 @@ impl Default for McParams {
             patterns: 10_000,
             shifts: 1,
             seed: 0,
-            homogenize: true,
+            randomization: Randomization::Shift,
             budget: crate::budget::Budget::default(),
         }
     }
@@ -138,8 +193,8 @@ pub struct McResult {
     pub bias: f64,
     /// Standard error of `bias`.
     pub bias_stderr: f64,
-    /// Whether patterns were homogenized.
-    pub homogenized: bool,
+    /// How the patterns were randomized: the estimator measured.
+    pub randomization: Randomization,
     /// How the interval was computed.
     pub interval: IntervalMethod,
     /// The effective number of independent units, `(Σz)²/Σz²` over the units' mean squared
@@ -174,7 +229,7 @@ pub fn estimate_shifted(f: &dyn Integrand, points: &PointSet, shift: &[f64]) -> 
 /// are collected in order and reduced sequentially).
 ///
 /// # Errors
-/// A dimension mismatch, zero patterns or shifts, shifts without homogenization, or a sampler
+/// A dimension mismatch, zero patterns or shifts, several shifts of patterns used as drawn, or a sampler
 /// error.
 ///
 /// # Examples
@@ -368,8 +423,8 @@ pub fn errors_of_patterns(
 }
 
 /// Trial `trial`'s point set as [`empirical_variances`] integrates it with one shift per
-/// pattern: realization `trial` of `params.seed`, translated by its homogenizing shift (none
-/// without homogenization). Integrating a function of one's own on these sets, and passing the
+/// pattern: realization `trial` of `params.seed`, under its unit's randomization (none for
+/// patterns used as drawn). Integrating a function of one's own on these sets, and passing the
 /// estimates to [`result_from_estimates`], runs the same experiment as the built-in
 /// integrands.
 ///
@@ -388,8 +443,8 @@ pub fn trial_pattern(
     )
 }
 
-/// `base` under the homogenizing shift of unit `unit` (pattern × shifts + shift) of
-/// `params.seed`, as the Monte Carlo runs translate it (unchanged without homogenization):
+/// `base` under the randomization of unit `unit` (pattern × shifts + shift) of
+/// `params.seed`, as the Monte Carlo runs randomize it (unchanged for patterns used as drawn):
 /// with one shift per pattern, given sets ([`empirical_variances_of_sets`]) are integrated on
 /// `shifted_pattern(&sets[p], params, p)`.
 ///
@@ -397,27 +452,13 @@ pub fn trial_pattern(
 /// None in practice: the translated coordinates are wrapped into the unit cube.
 pub fn shifted_pattern(base: &PointSet, params: &McParams, unit: usize) -> Result<PointSet> {
     let mut coords = vec![0.0; base.coords().len()];
-    shift_into(base, &shift_of(params, base.dimension(), unit), &mut coords);
+    unit_transform(params, base.dimension(), unit).apply_into(base, &mut coords);
     PointSet::new(base.dimension(), coords)
 }
 
-/// The homogenizing shift in dimension `d` of unit `unit` (pattern × shifts + shift), or none.
-fn shift_of(params: &McParams, d: usize, unit: usize) -> [f64; MAX_DIMENSION] {
-    if params.homogenize {
-        homogenizing_shift(d, params.seed, unit as u64)
-    } else {
-        [0.0; MAX_DIMENSION]
-    }
-}
-
-/// Writes `base` translated by `shift` modulo 1 into `out`.
-fn shift_into(base: &PointSet, shift: &[f64], out: &mut [f64]) {
-    let d = base.dimension();
-    for (x, c) in out.chunks_exact_mut(d).zip(base.coords().chunks_exact(d)) {
-        for a in 0..d {
-            x[a] = wrap(c[a] + shift[a]);
-        }
-    }
+/// The randomization in dimension `d` of unit `unit` (pattern × shifts + shift).
+fn unit_transform(params: &McParams, d: usize, unit: usize) -> UnitTransform {
+    params.randomization.draw(d, params.seed, unit as u64)
 }
 
 /// The shared core: patterns `range` from `pattern`, each under `params.shifts` shifts, every
@@ -440,7 +481,7 @@ fn errors_in_range(
             // The shifted pattern is computed once per shift and read by every integrand.
             let mut shifted = vec![0.0; base.coords().len()];
             for shift in 0..s {
-                shift_into(&base, &shift_of(params, d, p * s + shift), &mut shifted);
+                unit_transform(params, d, p * s + shift).apply_into(&base, &mut shifted);
                 for (j, f) in integrands.iter().enumerate() {
                     let sum = f.sum_at(&shifted);
                     let e = sum / base.len() as f64 - truths[j];
@@ -507,7 +548,7 @@ pub fn result_from_errors(
     let means: Vec<f64> = errors.iter().map(|e| e.mean).collect();
     let (bias, bias_var) = mean_and_variance(&means);
     let count = means.len() as f64;
-    let values: Vec<f64> = if params.homogenize {
+    let values: Vec<f64> = if params.randomization.reuses_patterns() {
         errors.iter().map(|e| e.mean_square).collect()
     } else {
         // Fixed patterns: the sample variance about the mean error.
@@ -529,7 +570,7 @@ pub fn result_from_errors(
         ci_high,
         bias,
         bias_stderr: (bias_var / count).sqrt(),
-        homogenized: params.homogenize,
+        randomization: params.randomization,
         interval,
         effective_units,
     })
@@ -539,7 +580,7 @@ pub fn result_from_errors(
 /// trial order (e.g. a function of one's own integrated on [`trial_pattern`]'s sets). With the
 /// exact integral `truth` the errors are `μ_N - truth`, as for the built-in integrands. Without
 /// it they are taken about the estimates' mean: the variance is the sample variance (unbiased
-/// for a homogenized estimator), and `bias` is 0 by construction.
+/// for a shifted estimator), and `bias` is 0 by construction.
 ///
 /// # Errors
 /// `params.shifts` other than 1, estimates that are not finite, fewer than `params.patterns`
@@ -606,12 +647,12 @@ pub fn result_from_estimates(
         None => {
             // The sample variance about the mean: the fixed-pattern summary.
             let about_mean = McParams {
-                homogenize: false,
+                randomization: Randomization::None,
                 ..*params
             };
             let r = result_from_errors(n, &about_mean, &errors)?;
             Ok(McResult {
-                homogenized: params.homogenize,
+                randomization: params.randomization,
                 ..r
             })
         }
@@ -640,14 +681,7 @@ fn check(d: usize, f: &dyn Integrand, params: &McParams) -> Result<()> {
     if params.patterns < 2 {
         return Err(invalid("patterns", params.patterns, "at least 2"));
     }
-    if params.shifts == 0 || (!params.homogenize && params.shifts != 1) {
-        return Err(invalid(
-            "shifts",
-            params.shifts,
-            "at least 1, and exactly 1 without homogenization",
-        ));
-    }
-    Ok(())
+    check_shifts(params.randomization, params.shifts)
 }
 
 /// Mean and unbiased variance, summed in order.

@@ -21,6 +21,8 @@ pub enum Stream {
     Integrand = 4,
     /// The independent rays of a reference image.
     Reference = 5,
+    /// The digital shift of a digitally shifted pattern.
+    DigitalShift = 6,
 }
 
 /// SplitMix64 finalizer: a bijective 64-bit mixer.

@@ -1,5 +1,6 @@
 //! Monte Carlo: intervals that cover exact variances, pools, fixed patterns, determinism.
 
+use specvar::randomization::Randomization;
 use specvar::integrand::*;
 use specvar::montecarlo::*;
 use specvar::predict::*;
@@ -111,7 +112,7 @@ fn fixed_patterns_have_the_bias_of_their_spectrum() {
     let g = Gaussian::new(0.1, vec![0.5, 0.5], 1.0).unwrap();
     let params = McParams {
         patterns: 10,
-        homogenize: false,
+        randomization: Randomization::None,
         ..Default::default()
     };
     let r = empirical_variance(&Regular::new(2).unwrap(), &g, 16, &params).unwrap();
@@ -122,7 +123,7 @@ fn fixed_patterns_have_the_bias_of_their_spectrum() {
     // 2 · 3.7e-6/((2πm)² Q) = 1.6e-10 for m ≥ 3).
     assert!(r.variance < 1e-30);
     assert!((r.bias - b.spectral).abs() < 2e-10, "{} vs {b:?}", r.bias);
-    assert!(!r.homogenized);
+    assert_eq!(r.randomization, Randomization::None);
 }
 
 #[test]
@@ -132,12 +133,12 @@ fn fixed_jitter_differs_from_homogenized_jitter() {
     let f = disk();
     let fixed = McParams {
         patterns: 20000,
-        homogenize: false,
+        randomization: Randomization::None,
         seed: 2,
         ..Default::default()
     };
     let shifted = McParams {
-        homogenize: true,
+        randomization: Randomization::Shift,
         ..fixed
     };
     let a = empirical_variance(&Jitter::new(2).unwrap(), &f, 16, &fixed).unwrap();
@@ -194,7 +195,7 @@ fn bad_monte_carlo_requests_are_errors() {
         16,
         &McParams {
             shifts: 2,
-            homogenize: false,
+            randomization: Randomization::None,
             ..Default::default()
         }
     )

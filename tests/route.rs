@@ -1,6 +1,7 @@
 //! The one-call prediction off the talk's setup: every route chosen by default, each against a
 //! truth computed by an independent route, and the error budget's coverage measured.
 
+use specvar::randomization::Randomization;
 use specvar::integrand::*;
 use specvar::montecarlo::{empirical_variance, McParams, Z_99};
 use specvar::predict::*;
@@ -176,7 +177,7 @@ fn estimated_rows_agree_with_monte_carlo() {
             sampler.as_ref(),
             f,
             n,
-            &McParams::pooled(kind, 40_000, 91, true),
+            &McParams::pooled(kind, 40_000, 91, Randomization::Shift),
         )
         .unwrap();
         assert!(

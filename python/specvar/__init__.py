@@ -20,8 +20,8 @@ from __future__ import annotations
 import functools
 import inspect
 import json
-from dataclasses import dataclass, field
-from typing import Any, Callable, Optional, Sequence, Union
+from dataclasses import dataclass, field, fields
+from typing import Any, Callable, Literal, Optional, Sequence, Union
 
 import numpy as np
 
@@ -59,6 +59,20 @@ __all__ = [
 
 # A function of one's own: points of shape (N, d) in, one value per point out.
 PythonIntegrand = Callable[[np.ndarray], Any]
+
+# How each pattern is randomized before it integrates: the estimator. ``native`` is the
+# sampler's own (none for random samplers and your own points, shift for fixed rules).
+RandomizationName = Literal["native", "shift", "digital-shift", "none"]
+SpectrumName = Literal["auto", "closed", "estimated"]
+FormName = Literal["auto", "lattice", "polar"]
+EngineName = Literal["auto", "direct", "fast"]
+
+
+def _build(cls: type, raw: dict, **converted: Any) -> Any:
+    """``cls`` from the fields of ``raw`` it declares (with ``converted`` ones replaced), so
+    that a field the library adds does not break an older dataclass."""
+    values = {**raw, **converted}
+    return cls(**{f.name: values[f.name] for f in fields(cls) if f.name in values})
 
 
 def _counts_checked(function):
@@ -128,6 +142,11 @@ class SamplerInfo:
     deterministic: bool
     isotropic: bool
     known_alpha: Optional[float]
+    randomness: str
+    native_randomization: str
+    symmetry: str
+    scaling: str
+    cost_per_point_ns: float
 
 
 @_counts_checked
@@ -140,7 +159,7 @@ def set_budget(memory_gib: Optional[float] = None, seconds: Optional[float] = No
 
 def samplers() -> list[SamplerInfo]:
     """Every sampler, with its facts (as ``specvar samplers`` lists them)."""
-    return [SamplerInfo(**{**row, "dimensions": tuple(row["dimensions"])}) for row in _specvar.samplers()]
+    return [_build(SamplerInfo, row, dimensions=tuple(row["dimensions"])) for row in _specvar.samplers()]
 
 
 @_counts_checked
@@ -151,21 +170,23 @@ def sample(
     dimension: int = 2,
     seed: int = 0,
     start: int = 0,
-    homogenized: bool = False,
+    randomization: RandomizationName = "none",
     cache: bool = True,
 ) -> np.ndarray:
     """Realizations ``start … start + realizations - 1`` of ``seed``: an array ``(M, N, d)``.
 
     The same bits as ``specvar sample`` and the Rust library's ``Sampler::sample``.
-    ``homogenized`` adds each realization's random toroidal shift. Costly patterns (CCVT,
-    Poisson disk) are read from and kept in the cache directory unless ``cache`` is false.
+    ``randomization`` applies each realization's random toroidal shift (``shift``) or
+    digital shift (``digital-shift``); ``none`` leaves the patterns as drawn. Costly patterns
+    (CCVT, Poisson disk) are read from and kept in the cache directory unless ``cache`` is
+    false.
     """
-    return _specvar.sample(sampler, n, realizations, dimension, seed, start, homogenized, cache)
+    return _specvar.sample(sampler, n, realizations, dimension, seed, start, randomization, cache)
 
 
 @_counts_checked
 def periodogram(
-    points: Any, kmax: int, engine: str = "auto", tolerance: Optional[float] = None
+    points: Any, kmax: int, engine: EngineName = "auto", tolerance: Optional[float] = None
 ) -> np.ndarray:
     """``P(k) = |Σ_j exp(-2πi k·x_j)|² / N`` of one point set ``(N, d)`` on ``|k_i| ≤ kmax``.
 
@@ -217,7 +238,7 @@ def spectrum(
     realizations: int = 16,
     kmax: int = 64,
     seed: int = 0,
-    engine: str = "auto",
+    engine: EngineName = "auto",
     tolerance: Optional[float] = None,
     bin_width: float = 1.0,
     cache: bool = True,
@@ -227,7 +248,7 @@ def spectrum(
     raw = _specvar.spectrum(
         sampler, _points(points), n, dimension, realizations, kmax, seed, engine, tolerance, bin_width, cache
     )
-    return Spectrum(**{**raw, "radial": RadialSpectrum(**raw["radial"])})
+    return _build(Spectrum, raw, radial=_build(RadialSpectrum, raw["radial"]))
 
 
 @dataclass(frozen=True)
@@ -268,10 +289,11 @@ class Alternative:
 
 @dataclass(frozen=True)
 class Prediction:
-    """A predicted variance of the homogenized estimator, with its route, the reason for the
-    route, and its error budget."""
+    """A predicted variance of an estimator (``randomization``: how its patterns are
+    randomized), with its route, the reason for the route, and its error budget."""
 
     variance: float
+    randomization: str
     route: Route
     reason: str
     budget: ErrorBudget
@@ -294,15 +316,15 @@ class Prediction:
     @staticmethod
     def _from(raw: dict) -> "Prediction":
         alternatives = [
-            Alternative(Route(**a["route"]), a["variance"], ErrorBudget(**a["budget"])) for a in raw["alternatives"]
+            Alternative(_build(Route, a["route"]), a["variance"], _build(ErrorBudget, a["budget"]))
+            for a in raw["alternatives"]
         ]
-        return Prediction(
-            **{
-                **raw,
-                "route": Route(**raw["route"]),
-                "budget": ErrorBudget(**raw["budget"]),
-                "alternatives": alternatives,
-            }
+        return _build(
+            Prediction,
+            raw,
+            route=_build(Route, raw["route"]),
+            budget=_build(ErrorBudget, raw["budget"]),
+            alternatives=alternatives,
         )
 
 
@@ -313,12 +335,13 @@ def predict(
     points: Optional[Any] = None,
     n: Optional[int] = None,
     dimension: int = 2,
-    spectrum: str = "auto",
-    form: str = "auto",
+    spectrum: SpectrumName = "auto",
+    form: FormName = "auto",
     realizations: Optional[int] = None,
     reference_n: Optional[int] = None,
     kmax: Optional[int] = None,
     seed: int = 0,
+    randomization: RandomizationName = "shift",
     cache: bool = True,
 ) -> Prediction:
     """Predict the variance of integrating ``integrand`` (``disk``, ``gaussian:sigma=0.1``,
@@ -326,9 +349,24 @@ def predict(
     square such as :func:`tabulate` gives) with ``n`` points of ``sampler``, or with the
     patterns ``points`` of your own. The library chooses a valid route unless ``spectrum``
     (``auto``, ``closed``, ``estimated``) or ``form`` (``auto``, ``lattice``, ``polar``) say
-    otherwise."""
+    otherwise. ``randomization`` names the estimator: ``shift`` (the randomly shifted,
+    homogenized one, which every route predicts), or ``none`` / ``digital-shift`` where the
+    sampler's patterns integrate with the same variance (white noise, Poisson disk, CCVT);
+    other pairs raise ``ValueError`` saying how to measure them with :func:`monte_carlo`."""
     raw = _specvar.predict(
-        _integrand(integrand), sampler, _points(points), n, dimension, spectrum, form, realizations, reference_n, kmax, seed, cache
+        _integrand(integrand),
+        sampler,
+        _points(points),
+        n,
+        dimension,
+        spectrum,
+        form,
+        realizations,
+        reference_n,
+        kmax,
+        seed,
+        randomization,
+        cache,
     )
     return Prediction._from(raw)
 
@@ -347,7 +385,7 @@ class McResult:
     ci_high: float
     bias: Optional[float]
     bias_stderr: Optional[float]
-    homogenized: bool
+    randomization: str
     interval: str
     effective_units: float
 
@@ -362,7 +400,7 @@ def monte_carlo(
     trials: int = 10000,
     shifts: Optional[int] = None,
     seed: int = 0,
-    homogenized: bool = True,
+    randomization: RandomizationName = "shift",
     integral: Optional[float] = None,
     cache: bool = True,
 ) -> McResult:
@@ -372,7 +410,9 @@ def monte_carlo(
     a Python function ``f(points) -> values`` vectorized over an ``(N, d)`` array. A function is integrated on the same shifted patterns
     the built-in integrands see, one shift per pattern; give its exact ``integral`` if you know
     it (the errors are then ``μ_N − integral``), else the variance is the sample variance.
-    With ``points=`` every set of your own is one pattern.
+    With ``points=`` every set of your own is one pattern. ``randomization`` names the
+    estimator: ``shift`` (a random toroidal shift of each pattern), ``digital-shift`` (a random
+    XOR of its binary digits), ``none`` (the patterns as drawn, or as given), or ``native``.
     """
     call = _integrand(integrand)
     if callable(integrand):
@@ -381,11 +421,11 @@ def monte_carlo(
             return np.asarray(integrand(x), dtype=np.float64)
 
     raw = _specvar.monte_carlo(
-        call, sampler, _points(points), n, dimension, trials, shifts, seed, homogenized, integral, cache
+        call, sampler, _points(points), n, dimension, trials, shifts, seed, randomization, integral, cache
     )
     if callable(integrand) and integral is None:
         raw = {**raw, "bias": None, "bias_stderr": None}
-    return McResult(**raw)
+    return _build(McResult, raw)
 
 
 @dataclass(frozen=True)
@@ -411,7 +451,7 @@ def integrand(spec: Union[str, np.ndarray], dimension: int = 2) -> Integrand:
     the piecewise-constant one of cell values ``values[y, x]``."""
     spec = _integrand(spec)
     facts = _specvar.integrand_facts(spec, dimension)
-    return Integrand(spec=spec, dimension=dimension, **facts)
+    return _build(Integrand, facts, spec=spec, dimension=dimension)
 
 
 def read_points(path: str) -> Union[np.ndarray, list]:
@@ -491,12 +531,11 @@ class Study:
     @staticmethod
     def _from(raw: dict) -> "Study":
         rows = [
-            StudyRow(
-                **{
-                    **r,
-                    "predicted_rate": SlopeFit(**{**r["predicted_rate"], "ci": tuple(r["predicted_rate"]["ci"])}),
-                    "empirical_rate": SlopeFit(**{**r["empirical_rate"], "ci": tuple(r["empirical_rate"]["ci"])}),
-                }
+            _build(
+                StudyRow,
+                r,
+                predicted_rate=_build(SlopeFit, r["predicted_rate"], ci=tuple(r["predicted_rate"]["ci"])),
+                empirical_rate=_build(SlopeFit, r["empirical_rate"], ci=tuple(r["empirical_rate"]["ci"])),
             )
             for r in raw["rows"]
         ]
@@ -507,7 +546,7 @@ class Study:
                 label=s["label"],
                 ns=np.array(s["ns"]),
                 predicted=[Prediction._from(p) for p in s["predicted"]],
-                measured=[McResult(**m) for m in s["measured"]],
+                measured=[_build(McResult, m) for m in s["measured"]],
             )
             for s in raw["series"]
         ]

@@ -20,7 +20,8 @@ use specvar::montecarlo::{
 };
 use specvar::pointset::PointSet;
 use specvar::predict::{predict as predict_variance, PredictParams, Problem};
-use specvar::sampler::{draw_realizations, Sampler, SamplerKind};
+use specvar::randomization::{Randomization, RandomizationChoice};
+use specvar::sampler::{draw_realizations, native_randomization, Sampler, SamplerKind};
 use specvar::spectrum::{estimate_with_progress, Engine, PatternSource, SpectrumParams};
 
 /// Memory for costly samplers' patterns kept between calls of one sampler object.
@@ -108,6 +109,17 @@ impl Source {
         }
     }
 
+    /// The randomization named `choice` (`native`, `shift`, `digital-shift`, `none`) for these
+    /// patterns.
+    fn randomization(&self, choice: &str) -> PyResult<Randomization> {
+        let kind = match self {
+            Source::Sampler(kind, ..) => Some(*kind),
+            Source::Sets(_) => None,
+        };
+        let choice: RandomizationChoice = choice.parse().or_value_error()?;
+        Ok(choice.resolve(native_randomization(kind)))
+    }
+
     fn dimension(&self) -> usize {
         match self {
             Source::Sampler(_, s, _) => s.dimension(),
@@ -158,18 +170,32 @@ fn required_integrand(integrand: &Bound<'_, PyAny>, d: usize) -> PyResult<Box<dy
     })
 }
 
+/// The serialized name of a unit enum value (`snake_case`, as in JSON).
+fn serde_name<T: serde::Serialize>(value: &T) -> PyResult<String> {
+    match serde_json::to_value(value) {
+        Ok(serde_json::Value::String(s)) => Ok(s),
+        _ => Err(PyValueError::new_err("a fact that does not serialize to a name")),
+    }
+}
+
 /// Every sampler with its facts.
 #[pyfunction]
 fn samplers(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
     let rows = SamplerKind::ALL.iter().map(|k| {
+        let s = k.summary();
         let row = PyDict::new(py);
-        row.set_item("name", k.name())?;
-        row.set_item("description", k.description())?;
-        row.set_item("dimensions", (k.dimensions().start(), k.dimensions().end()))?;
-        row.set_item("count_rule", k.count_rule())?;
-        row.set_item("deterministic", k.is_deterministic())?;
-        row.set_item("isotropic", k.is_isotropic())?;
-        row.set_item("known_alpha", k.known_alpha())?;
+        row.set_item("name", s.name.name())?;
+        row.set_item("description", s.description)?;
+        row.set_item("dimensions", (s.min_dimension, s.max_dimension))?;
+        row.set_item("count_rule", s.count_rule)?;
+        row.set_item("deterministic", s.deterministic)?;
+        row.set_item("isotropic", s.isotropic)?;
+        row.set_item("known_alpha", s.known_alpha)?;
+        row.set_item("randomness", serde_name(&s.randomness)?)?;
+        row.set_item("native_randomization", s.native_randomization.name())?;
+        row.set_item("symmetry", serde_name(&s.symmetry)?)?;
+        row.set_item("scaling", serde_name(&s.scaling)?)?;
+        row.set_item("cost_per_point_ns", s.cost_per_point_ns)?;
         Ok(row)
     });
     PyList::new(py, rows.collect::<PyResult<Vec<_>>>()?)
@@ -177,7 +203,7 @@ fn samplers(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
 
 /// Realizations `start … start + realizations - 1` of `seed`: an array `(M, N, d)`.
 #[pyfunction]
-#[pyo3(signature = (sampler, n, realizations=1, dimension=2, seed=0, start=0, homogenized=false, cache=true))]
+#[pyo3(signature = (sampler, n, realizations=1, dimension=2, seed=0, start=0, randomization="none", cache=true))]
 #[allow(clippy::too_many_arguments)]
 fn sample<'py>(
     py: Python<'py>,
@@ -187,16 +213,20 @@ fn sample<'py>(
     dimension: usize,
     seed: u64,
     start: u64,
-    homogenized: bool,
+    randomization: &str,
     cache: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     let s = build_sampler(sampler, dimension, cache).or_value_error()?;
+    let randomization = randomization
+        .parse::<RandomizationChoice>()
+        .or_value_error()?
+        .resolve(native_randomization(s.kind()));
     let end = start.checked_add(realizations as u64).ok_or_else(|| {
         PyValueError::new_err("start + realizations overflows a 64-bit realization index")
     })?;
     let b = budget();
     let sets = py
-        .detach(|| draw_realizations(s.as_ref(), n, seed, start..end, homogenized, &b))
+        .detach(|| draw_realizations(s.as_ref(), n, seed, start..end, randomization, &b))
         .or_value_error()?;
     array_of_sets(py, &sets, n, dimension)
 }
@@ -291,11 +321,11 @@ fn spectrum<'py>(
     convert::spectrum_dict(py, &estimate)
 }
 
-/// The predicted variance of the homogenized estimator on a built-in integrand (a
-/// specification string or a 2D array of cell values): the library's route, its reason and its
-/// error budget.
+/// The predicted variance of an estimator (randomized by `randomization`) on a built-in
+/// integrand (a specification string or a 2D array of cell values): the library's route, its
+/// reason and its error budget.
 #[pyfunction]
-#[pyo3(signature = (integrand, sampler=None, points=None, n=None, dimension=2, spectrum="auto", form="auto", realizations=None, reference_n=None, kmax=None, seed=0, cache=true))]
+#[pyo3(signature = (integrand, sampler=None, points=None, n=None, dimension=2, spectrum="auto", form="auto", realizations=None, reference_n=None, kmax=None, seed=0, randomization="shift", cache=true))]
 #[allow(clippy::too_many_arguments)]
 fn predict<'py>(
     py: Python<'py>,
@@ -310,9 +340,11 @@ fn predict<'py>(
     reference_n: Option<usize>,
     kmax: Option<usize>,
     seed: u64,
+    randomization: &str,
     cache: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     let source = Source::from_args(sampler, points, n, dimension, cache)?;
+    let randomization = source.randomization(randomization)?;
     let f = required_integrand(&integrand, source.dimension())?;
     let params = PredictParams {
         spectrum: spectrum.parse().or_value_error()?,
@@ -330,7 +362,7 @@ fn predict<'py>(
                 Source::Sampler(_, s, n) => Problem::new(s.as_ref(), f.as_ref(), *n)?,
                 Source::Sets(sets) => Problem::from_point_sets(sets, f.as_ref())?,
             };
-            predict_variance(&problem, &params)
+            predict_variance(&problem.with_randomization(randomization), &params)
         })
         .or_value_error()?;
     to_py(py, &prediction)
@@ -339,7 +371,7 @@ fn predict<'py>(
 /// Monte Carlo of the estimator with a 99% interval, on a built-in integrand (a specification
 /// string or a 2D array of cell values) or a Python function `f(points (N, d)) -> values (N,)`.
 #[pyfunction]
-#[pyo3(signature = (integrand, sampler=None, points=None, n=None, dimension=2, trials=10000, shifts=None, seed=0, homogenized=true, integral=None, cache=true))]
+#[pyo3(signature = (integrand, sampler=None, points=None, n=None, dimension=2, trials=10000, shifts=None, seed=0, randomization="shift", integral=None, cache=true))]
 #[allow(clippy::too_many_arguments)]
 fn monte_carlo<'py>(
     py: Python<'py>,
@@ -351,11 +383,12 @@ fn monte_carlo<'py>(
     trials: usize,
     shifts: Option<usize>,
     seed: u64,
-    homogenized: bool,
+    randomization: &str,
     integral: Option<f64>,
     cache: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     let source = Source::from_args(sampler, points, n, dimension, cache)?;
+    let randomization = source.randomization(randomization)?;
     let result =
         match builtin_integrand(&integrand, source.dimension())? {
             Some(f) => {
@@ -364,7 +397,7 @@ fn monte_carlo<'py>(
                         "integral= is for Python integrands: a built-in integrand knows its own",
                     ));
                 }
-                builtin_monte_carlo(py, f.as_ref(), &source, trials, shifts, seed, homogenized)?
+                builtin_monte_carlo(py, f.as_ref(), &source, trials, shifts, seed, randomization)?
             }
             None if integrand.is_callable() => {
                 if shifts.is_some_and(|s| s != 1) {
@@ -373,7 +406,7 @@ fn monte_carlo<'py>(
                      unset",
                 ));
                 }
-                callable_monte_carlo(py, &integrand, &source, trials, seed, homogenized, integral)?
+                callable_monte_carlo(py, &integrand, &source, trials, seed, randomization, integral)?
             }
             None => return Err(PyValueError::new_err(
                 "the integrand must be a specification string, a 2D array of cell values, or a \
@@ -390,26 +423,21 @@ fn builtin_monte_carlo(
     trials: usize,
     shifts: Option<usize>,
     seed: u64,
-    homogenized: bool,
+    randomization: Randomization,
 ) -> PyResult<McResult> {
     let silent = &specvar::progress::Silent;
     py.detach(|| match source {
         Source::Sampler(kind, s, n) => {
-            let mut params = McParams::pooled(*kind, trials, seed, homogenized);
-            params.budget = budget();
-            if let Some(shifts) = shifts {
-                params.shifts = shifts;
-                params.patterns = trials / shifts.max(1);
-            }
+            let params = McParams {
+                budget: budget(),
+                ..McParams::for_sampler(*kind, trials, shifts, seed, randomization)
+            };
             empirical_variances(s.as_ref(), &[f], *n, &params, silent)
         }
         Source::Sets(sets) => {
             let params = McParams {
-                patterns: sets.len(),
-                shifts: shifts.unwrap_or((trials / sets.len()).max(1)),
-                seed,
-                homogenize: homogenized,
                 budget: budget(),
+                ..McParams::for_sets(sets.len(), trials, shifts, seed, randomization)
             };
             empirical_variances_of_sets(sets, &[f], &params, silent)
         }
@@ -429,7 +457,7 @@ fn callable_monte_carlo(
     source: &Source,
     trials: usize,
     seed: u64,
-    homogenized: bool,
+    randomization: Randomization,
     integral: Option<f64>,
 ) -> PyResult<McResult> {
     let patterns = match source {
@@ -440,7 +468,7 @@ fn callable_monte_carlo(
         patterns,
         shifts: 1,
         seed,
-        homogenize: homogenized,
+        randomization,
         budget: budget(),
     };
     let (n, d) = (source.n(), source.dimension());

@@ -53,7 +53,7 @@ def test_a_python_integrand_sees_each_pattern_as_an_array():
         seen.append(x.shape)
         return np.ones(len(x))
 
-    specvar.monte_carlo(f, sampler="jitter", n=16, trials=100, integral=1.0, homogenized=False)
+    specvar.monte_carlo(f, sampler="jitter", n=16, trials=100, integral=1.0, randomization="none")
     assert seen == [(16, 2)] * 100
 
 

@@ -33,7 +33,7 @@ def test_a_realization_is_keyed_by_seed_and_index():
     whole = specvar.sample("jitter", 16, realizations=6, seed=3)
     assert np.array_equal(specvar.sample("jitter", 16, realizations=2, seed=3, start=4), whole[4:6])
     assert not np.array_equal(whole[0], whole[1])
-    shifted = specvar.sample("regular", 16, realizations=2, seed=3, homogenized=True)
+    shifted = specvar.sample("regular", 16, realizations=2, seed=3, randomization="shift")
     grid = specvar.sample("regular", 16, realizations=1, seed=3)[0]
     # A homogenized grid is the grid under one toroidal shift: the same differences modulo 1.
     delta = (shifted[0] - grid) % 1.0

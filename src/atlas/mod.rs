@@ -7,6 +7,7 @@ mod write;
 
 pub use write::{atlas_markdown, write_atlas};
 
+use crate::randomization::Randomization;
 use crate::error::Result;
 use crate::integrand::{Integrand, IntegrandSpec};
 use crate::metrics::{
@@ -168,11 +169,7 @@ fn entry(kind: SamplerKind, config: &AtlasConfig, fs: &[Box<dyn Integrand>]) -> 
         crate::cache::PATTERN_MEMORY,
     )?;
     let n = kind.nearest_count(config.n, 2);
-    let realizations = if kind.is_costly() {
-        (config.realizations / 4).max(4)
-    } else {
-        config.realizations
-    };
+    let realizations = kind.spectrum_realizations(config.realizations);
     let patterns = (0..realizations as u64)
         .into_par_iter()
         .map(|r| sampler.sample(n, config.seed, r))
@@ -221,11 +218,7 @@ fn alpha_at(
         );
     }
     let n = kind.nearest_count(config.alpha_n, 2);
-    let realizations = if kind.is_costly() {
-        (config.realizations / 4).max(4)
-    } else {
-        config.realizations
-    };
+    let realizations = kind.spectrum_realizations(config.realizations);
     let params = SpectrumParams {
         kmax: (2.0 * ALPHA_BAND * (n as f64).sqrt()).ceil() as usize,
         realizations,
@@ -251,7 +244,12 @@ fn rows(
     fs: &[Box<dyn Integrand>],
 ) -> Result<Vec<AtlasRow>> {
     let f_refs: Vec<&dyn Integrand> = fs.iter().map(|f| f.as_ref()).collect();
-    let mut mc = McParams::pooled(kind, config.trials, config.seed ^ ATLAS_MC_STREAM, true);
+    let mut mc = McParams::pooled(
+        kind,
+        config.trials,
+        config.seed ^ ATLAS_MC_STREAM,
+        Randomization::Shift,
+    );
     mc.budget = config.budget;
     let params = PredictParams {
         seed: config.seed ^ ATLAS_PREDICT_STREAM,

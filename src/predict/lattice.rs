@@ -288,6 +288,7 @@ pub fn predict_from_power(
     let sums = weighted_sums(power, &spectrum);
     let truncation = power.tail_bound(deviation) / n as f64;
     Ok(Prediction {
+        randomization: crate::randomization::Randomization::Shift,
         variance: (sums.value + power.beyond) / n as f64,
         route: Route {
             form: Form::Lattice,
@@ -315,6 +316,7 @@ pub(crate) fn white_noise(f: &dyn Integrand, n: usize) -> Result<Prediction> {
     let i0 = f.integral();
     let variance = (f.integral_of_square() - i0 * i0) / n as f64;
     Ok(Prediction {
+        randomization: crate::randomization::Randomization::Shift,
         variance: variance.max(0.0),
         route: Route {
             form: Form::Lattice,
@@ -569,6 +571,7 @@ pub fn predict_on_patterns_many(
                 format!("the lattice form of {} is not finite", power.label)
             })?;
             Ok(Prediction {
+                randomization: crate::randomization::Randomization::Shift,
                 variance,
                 route: Route {
                     form: Form::Lattice,

@@ -44,6 +44,7 @@ use crate::error::{finite, invalid, Error, Result};
 use crate::integrand::Integrand;
 use crate::pointset::PointSet;
 use crate::progress::{Progress, Silent};
+use crate::randomization::Randomization;
 use crate::sampler::Sampler;
 use crate::spectrum::{ClosedForm, SpectrumEstimate};
 use serde::Serialize;
@@ -174,11 +175,13 @@ pub struct Alternative {
     pub budget: ErrorBudget,
 }
 
-/// A predicted variance of the homogenized estimator.
+/// A predicted variance of an estimator.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Prediction {
     /// `Var[μ_N]`.
     pub variance: f64,
+    /// The estimator it is for: how the patterns are randomized.
+    pub randomization: Randomization,
     /// The route that produced it.
     pub route: Route,
     /// Why this route (empty for a route called directly).
@@ -249,7 +252,8 @@ pub enum Patterns<'a> {
     PointSets(&'a [PointSet]),
 }
 
-/// What to predict: the variance of `integrand`'s estimator with `n` points from `patterns`.
+/// What to predict: the variance of `integrand`'s estimator with `n` points from `patterns`,
+/// randomized by `randomization`.
 #[derive(Clone, Copy)]
 pub struct Problem<'a> {
     /// The patterns.
@@ -258,10 +262,14 @@ pub struct Problem<'a> {
     pub integrand: &'a dyn Integrand,
     /// Points per pattern.
     pub n: usize,
+    /// How each pattern is randomized (by default a random toroidal shift: the homogenized
+    /// estimator).
+    pub randomization: Randomization,
 }
 
 impl<'a> Problem<'a> {
-    /// A sampler's problem.
+    /// A sampler's problem, under a random toroidal shift ([`with_randomization`](Self::with_randomization)
+    /// chooses another estimator).
     ///
     /// # Errors
     /// Mismatched dimensions, or an N the sampler cannot produce.
@@ -272,6 +280,7 @@ impl<'a> Problem<'a> {
             patterns: Patterns::Sampler(sampler),
             integrand,
             n,
+            randomization: Randomization::Shift,
         })
     }
 
@@ -310,7 +319,34 @@ impl<'a> Problem<'a> {
             patterns: Patterns::PointSets(sets),
             integrand,
             n: first.len(),
+            randomization: Randomization::Shift,
         })
+    }
+
+    /// The same problem for the estimator randomized by `randomization`.
+    ///
+    /// # Examples
+    /// ```
+    /// use specvar::prelude::*;
+    /// use specvar::randomization::Randomization;
+    /// let f = Ball::new(0.25, vec![0.5, 0.5], 1.0)?;
+    /// let poisson = PoissonDisk::new(2)?;
+    /// // Toroidal dart throwing treats every position alike: unshifted, its estimator is the
+    /// // shifted one.
+    /// let problem = Problem::new(&poisson, &f, 64)?.with_randomization(Randomization::None);
+    /// let params = PredictParams { target_noise: 0.1, ..PredictParams::default() };
+    /// assert_eq!(predict(&problem, &params)?.randomization, Randomization::None);
+    /// // Jitter's strata are not: the shifted routes do not predict it as drawn.
+    /// let jitter = Jitter::new(2)?;
+    /// let unshifted = Problem::new(&jitter, &f, 64)?.with_randomization(Randomization::None);
+    /// assert!(predict(&unshifted, &params).is_err());
+    /// # Ok::<(), specvar::Error>(())
+    /// ```
+    pub fn with_randomization(self, randomization: Randomization) -> Self {
+        Self {
+            randomization,
+            ..self
+        }
     }
 
     /// The dimension.
@@ -355,6 +391,26 @@ pub enum SpectrumChoice {
     Closed,
     /// Estimated from realizations.
     Estimated,
+}
+
+impl fmt::Display for FormChoice {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            FormChoice::Auto => "auto",
+            FormChoice::Lattice => "lattice",
+            FormChoice::Polar => "polar",
+        })
+    }
+}
+
+impl fmt::Display for SpectrumChoice {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            SpectrumChoice::Auto => "auto",
+            SpectrumChoice::Closed => "closed",
+            SpectrumChoice::Estimated => "estimated",
+        })
+    }
 }
 
 impl std::str::FromStr for FormChoice {
@@ -466,7 +522,16 @@ pub fn predict_with(
     progress: &dyn Progress,
 ) -> Result<Prediction> {
     check_params(params)?;
-    route::predict_routed(problem, params, progress).and_then(finite_prediction)
+    route::check_estimator(problem)?;
+    route::predict_routed(problem, params, progress)
+        .and_then(finite_prediction)
+        .map(|p| for_estimator(p, problem.randomization))
+}
+
+/// `p`, which a route computed for the shifted estimator, labelled with the estimator it
+/// predicts: [`route::check_estimator`] admitted only randomizations with the same variance.
+fn for_estimator(p: Prediction, randomization: Randomization) -> Prediction {
+    Prediction { randomization, ..p }
 }
 
 /// Predicts several integrands on the same patterns (one sampler and N, or the same point
@@ -500,9 +565,13 @@ pub fn predict_many(
     progress: &dyn Progress,
 ) -> Result<Vec<Prediction>> {
     check_params(params)?;
+    for problem in problems {
+        route::check_estimator(problem)?;
+    }
     route::predict_routed_many(problems, params, progress)?
         .into_iter()
-        .map(finite_prediction)
+        .zip(problems)
+        .map(|(p, problem)| finite_prediction(p).map(|p| for_estimator(p, problem.randomization)))
         .collect()
 }
 

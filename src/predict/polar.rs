@@ -171,6 +171,7 @@ pub fn predict_polar(
         SpectrumSource::Closed(_) => 0.0,
     };
     Ok(Prediction {
+        randomization: crate::randomization::Randomization::Shift,
         variance: (energy - deficit.value - dc) / n as f64,
         route: Route {
             form: Form::Polar,
@@ -382,6 +383,7 @@ fn far_by_mean(
     let dc = closed.dc_limit().unwrap_or(1.0) * integral * integral;
     let total = near.value + smooth.value() + beyond - dc;
     Ok(Prediction {
+        randomization: crate::randomization::Randomization::Shift,
         variance: total / n as f64,
         route: Route {
             form: Form::Polar,

@@ -11,6 +11,7 @@ use crate::budget::{Budget, Needs, COEFFICIENT_SECONDS};
 use crate::error::{invalid, Error, Result};
 use crate::integrand::Integrand;
 use crate::progress::{stage, Progress};
+use crate::randomization::Randomization;
 use crate::sampler::{perfect_root, strata, SamplerKind};
 use crate::spectrum::{estimate, ClosedForm, Engine, Lattice, PatternSource, SpectrumParams};
 
@@ -119,14 +120,52 @@ fn with_model(mut p: Prediction, model: f64) -> Result<Prediction> {
     Ok(p)
 }
 
-/// How far a sampler's pair correlations reach at N (largest component): none for white noise,
-/// one stratum for jitter, two mean spacings for the others.
+/// How far a sampler's pair correlations reach at N (largest component): the sampler's own
+/// reach ([`SamplerKind::correlation_range`]), or two mean spacings for patterns of unknown
+/// origin.
 fn correlation_range(kind: Option<SamplerKind>, n: usize, d: usize) -> f64 {
-    let spacing = (n as f64).powf(-1.0 / d as f64);
     match kind {
-        Some(SamplerKind::Random) => 0.0,
-        Some(SamplerKind::Jitter) => spacing,
-        _ => 2.0 * spacing,
+        Some(k) => k.correlation_range(n, d),
+        None => 2.0 * (n as f64).powf(-1.0 / d as f64),
+    }
+}
+
+/// Errors unless the routes, which predict the shifted (homogenized) estimator, predict
+/// `problem`'s: the shift itself, or a randomization under which the sampler's patterns
+/// integrate with the same variance
+/// ([`Randomness::has_shifted_variance`](crate::sampler::Randomness::has_shifted_variance)). Point sets of
+/// unknown law are predicted only under the shift.
+pub(crate) fn check_estimator(problem: &Problem<'_>) -> Result<()> {
+    let r = problem.randomization;
+    if r == Randomization::Shift {
+        return Ok(());
+    }
+    let kind = match problem.patterns {
+        Patterns::Sampler(s) => s.kind(),
+        Patterns::PointSets(_) => None,
+    };
+    match kind {
+        Some(k) if k.facts().randomness.has_shifted_variance(r) => Ok(()),
+        Some(k) if k.is_deterministic() && r == Randomization::None => Err(Error::OutsideValidity {
+            route: "the spectral routes".into(),
+            reason: format!(
+                "{k} draws one fixed pattern: used as drawn, its estimator has a bias and no \
+                 variance (`specvar bias`); randomize it with shift"
+            ),
+        }),
+        _ => Err(Error::OutsideValidity {
+            route: "the spectral routes".into(),
+            reason: format!(
+                "they predict the randomly shifted estimator, and {} patterns {} integrate \
+                 with another variance; measure it with `specvar mc --randomization {r}`, or \
+                 predict with --randomization shift",
+                kind.map_or("given".to_string(), |k| k.to_string()),
+                match r {
+                    Randomization::None => "used as drawn",
+                    _ => "under a digital shift",
+                }
+            ),
+        }),
     }
 }
 
@@ -358,6 +397,7 @@ fn summed_in_space(
         ),
     })?;
     Ok(Prediction {
+        randomization: crate::randomization::Randomization::Shift,
         variance: value,
         route: Route {
             form: Form::Lattice,
@@ -456,12 +496,13 @@ fn rescaled_polar(
     }
     let model = polar_validity(problem.integrand, correlation_range(kind, n, d), n)?;
     sampler.check_count(n_ref)?;
-    let costly = kind.is_some_and(|k| k.is_costly());
     let spectrum = SpectrumParams {
         kmax: default_kmax(n_ref, d),
-        realizations: params
-            .realizations
-            .unwrap_or(if costly { 8 } else { INITIAL_REALIZATIONS }),
+        realizations: params.realizations.unwrap_or(
+            kind.map_or(INITIAL_REALIZATIONS, |k| {
+                k.spectrum_realizations(INITIAL_REALIZATIONS)
+            }),
+        ),
         seed: params.seed,
         engine: Engine::Auto,
         bin_width: 1.0,

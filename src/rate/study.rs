@@ -2,6 +2,7 @@
 //! convergence rates. `specvar rates` and the report both run [`run_study`].
 
 use super::{fit_alpha, loglog_slope, loglog_slope_with_weights, theory_rate, AlphaFit, SlopeFit};
+use crate::randomization::Randomization;
 use crate::cache::PATTERN_MEMORY;
 use crate::error::{invalid, Result};
 use crate::integrand::{Integrand, IntegrandSpec};
@@ -23,8 +24,21 @@ pub struct ReferenceSpectrum {
     pub kmax: usize,
     /// Realizations for cheap samplers.
     pub realizations: usize,
-    /// Realizations for costly samplers (CCVT, Poisson disk).
+    /// Realizations for costly samplers ([`SamplerKind::is_costly`]: CCVT, Gaussian blue noise;
+    /// by default [`crate::sampler::costly_realizations`] of the cheap ones).
     pub costly_realizations: usize,
+}
+
+impl ReferenceSpectrum {
+    /// The realizations of `kind`'s reference spectrum: the costly ones' for a costly sampler
+    /// ([`SamplerKind::is_costly`]).
+    pub fn realizations_for(&self, kind: SamplerKind) -> usize {
+        if kind.is_costly() {
+            self.costly_realizations
+        } else {
+            self.realizations
+        }
+    }
 }
 
 /// What a rate study computes.
@@ -83,7 +97,7 @@ impl StudyConfig {
                 n: n_ref,
                 kmax: crate::predict::default_kmax(n_ref, d),
                 realizations: 64,
-                costly_realizations: 8,
+                costly_realizations: crate::sampler::costly_realizations(64),
             },
             predict: PredictParams::default(),
             patterns_cache: None,
@@ -356,7 +370,7 @@ impl StudyConfig {
             patterns: pool.patterns,
             shifts: pool.shifts,
             seed: self.seed ^ MC_STREAM,
-            homogenize: true,
+            randomization: Randomization::Shift,
             budget: self.predict.budget,
         }
     }
@@ -524,11 +538,7 @@ fn reference_spectrum(
     progress: &dyn Progress,
 ) -> Result<SamplerSpectrum> {
     let r = config.reference;
-    let realizations = if kind.is_costly() {
-        r.costly_realizations
-    } else {
-        r.realizations
-    };
+    let realizations = r.realizations_for(kind);
     let params = SpectrumParams {
         kmax: r.kmax,
         realizations,

@@ -5,6 +5,7 @@ use super::model::{
     AmbientSection, Check, ClosureConfig, ClosureRow, ClosureTable, Crossover, EdgesConfig,
     EdgesSection, Illustration, PolarComparison, Report, ReportConfig, SeriesExtras, Timing,
 };
+use crate::randomization::Randomization;
 use crate::anisotropy::{
     edge_rates, variance_against_orientation, OrientationConfig, OrientationRow,
 };
@@ -339,7 +340,7 @@ fn closure_cell(
     integrands: &[&dyn Integrand],
     n: usize,
 ) -> Result<Vec<ClosureRow>> {
-    let mut mc = McParams::pooled(kind, config.trials, seed ^ CLOSURE_MC_STREAM, true);
+    let mut mc = McParams::pooled(kind, config.trials, seed ^ CLOSURE_MC_STREAM, Randomization::Shift);
     mc.budget = config.predict.budget;
     let results = beside_monte_carlo(sampler, integrands, n, &mc, params, ("", &Silent))?;
     Ok(integrands

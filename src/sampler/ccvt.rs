@@ -18,6 +18,33 @@ use super::{check_supported, uniform, PoissonDisk, Sampler, SamplerKind};
 use crate::error::{invalid, Result};
 use crate::pointset::{near_delta, toroidal_delta, toroidal_distance_sq, wrap, PointSet};
 use crate::rng::{realization_rng, Stream};
+use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
+use crate::randomization::Randomization;
+
+/// CCVT's working memory: its `64 n` discrete points and, while assigning them, about `5^d`
+/// candidate pairs of 24 bytes per discrete point.
+fn working_bytes(n: f64, d: usize) -> f64 {
+    n * 64.0 * (8.0 * d as f64 + 4.0 + 24.0 * 5f64.powi(d as i32))
+}
+
+/// CCVT (its low-frequency exponent is explained at [`SamplerKind::known_alpha`](super::SamplerKind::known_alpha)).
+pub(crate) const FACTS: SamplerFacts = SamplerFacts {
+    name: "ccvt",
+    description: "capacity-constrained Voronoi tessellation (Balzer et al. 2009)",
+    dimensions: 1..=3,
+    count: CountRule::Any,
+    randomness: Randomness::Relaxed,
+    native_randomization: Randomization::None,
+    closed_form: ClosedFormRule::None,
+    known_alpha: Some(2.0),
+    scaling: Scaling::Invariant,
+    isotropic: true,
+    symmetry: Symmetry::Cube,
+    correlation_reach: 2.0,
+    cost_per_point_ns: 190_000.0,
+    working_bytes,
+};
+
 
 /// CCVT parameters.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -4,6 +4,27 @@ use super::{check_supported, in_cell, random_permutation, uniform, Sampler, Samp
 use crate::error::Result;
 use crate::pointset::PointSet;
 use crate::rng::{realization_rng, Stream};
+use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
+use crate::randomization::Randomization;
+
+/// Correlated multi-jitter: rows and columns are built differently.
+pub(crate) const FACTS: SamplerFacts = SamplerFacts {
+    name: "cmj",
+    description: "correlated multi-jittered (Kensler 2013): jittered and N-rooks",
+    dimensions: 2..=2,
+    count: CountRule::Any,
+    randomness: Randomness::Stratified,
+    native_randomization: Randomization::None,
+    closed_form: ClosedFormRule::None,
+    known_alpha: None,
+    scaling: Scaling::Never,
+    isotropic: false,
+    symmetry: Symmetry::Partial,
+    correlation_reach: 2.0,
+    cost_per_point_ns: 30.0,
+    working_bytes: super::facts::one_word_per_point,
+};
+
 
 /// `N = m × n` samples, one in each of the `m × n` cells (jittered) and one in each of the `N`
 /// columns and `N` rows (N-rooks). The sub-stratum inside each cell comes from two permutations

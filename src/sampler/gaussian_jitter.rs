@@ -6,6 +6,28 @@ use crate::error::{invalid, Result};
 use crate::pointset::{wrap, PointSet, MAX_DIMENSION};
 use crate::rng::{realization_rng, Stream};
 use crate::spectrum::ClosedForm;
+use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
+use crate::randomization::Randomization;
+
+/// Gaussian jitter: its closed form depends on its width.
+pub(crate) const FACTS: SamplerFacts = SamplerFacts {
+    name: "gjitter",
+    description: "Gaussian jitter (Subr and Kautz 2013): grid centres plus Gaussian offsets of 0.25 \
+                  strata",
+    dimensions: 1..=crate::pointset::MAX_DIMENSION,
+    count: CountRule::Strata,
+    randomness: Randomness::Stratified,
+    native_randomization: Randomization::None,
+    closed_form: ClosedFormRule::OfSampler,
+    known_alpha: Some(2.0),
+    scaling: Scaling::Never,
+    isotropic: false,
+    symmetry: Symmetry::CubeWithSquareStrata,
+    correlation_reach: 2.0,
+    cost_per_point_ns: 55.0,
+    working_bytes: super::facts::one_word_per_point,
+};
+
 
 /// The default width: a standard deviation of a quarter stratum, close to uniform jitter's
 /// `1/√12 ≈ 0.29`.

@@ -20,6 +20,27 @@ use crate::error::{invalid, Result};
 use crate::pointset::{near_delta, toroidal_delta, wrap, PointSet, MAX_DIMENSION};
 use crate::rng::{realization_rng, Stream};
 use rayon::prelude::*;
+use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
+use crate::randomization::Randomization;
+
+/// Gaussian blue noise.
+pub(crate) const FACTS: SamplerFacts = SamplerFacts {
+    name: "gbn",
+    description: "Gaussian blue noise (after Ahmed et al. 2022): descent of a Gaussian-kernel energy",
+    dimensions: 1..=3,
+    count: CountRule::Any,
+    randomness: Randomness::Relaxed,
+    native_randomization: Randomization::None,
+    closed_form: ClosedFormRule::None,
+    known_alpha: Some(0.0),
+    scaling: Scaling::Invariant,
+    isotropic: true,
+    symmetry: Symmetry::Cube,
+    correlation_reach: 2.0,
+    cost_per_point_ns: 180_000.0,
+    working_bytes: super::facts::one_word_per_point,
+};
+
 
 /// The kernel is cut where it falls below `exp(-CUTOFF_SIGMAS² / 2)` (3e-4 of its peak).
 const CUTOFF_SIGMAS: f64 = 4.0;

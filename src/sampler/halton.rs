@@ -4,6 +4,27 @@ use super::{check_supported, random_permutation, Sampler, SamplerKind, ONE_MINUS
 use crate::error::Result;
 use crate::pointset::{PointSet, MAX_DIMENSION};
 use crate::rng::{realization_rng, Stream};
+use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
+use crate::randomization::Randomization;
+
+/// Halton: each axis its own radical inverse, so only partly symmetric.
+pub(crate) const FACTS: SamplerFacts = SamplerFacts {
+    name: "halton",
+    description: "Halton with random digit permutations",
+    dimensions: 1..=crate::pointset::MAX_DIMENSION,
+    count: CountRule::Any,
+    randomness: Randomness::PermutedDigits,
+    native_randomization: Randomization::None,
+    closed_form: ClosedFormRule::None,
+    known_alpha: None,
+    scaling: Scaling::Never,
+    isotropic: false,
+    symmetry: Symmetry::Partial,
+    correlation_reach: 2.0,
+    cost_per_point_ns: 35.0,
+    working_bytes: |_, _| 4096.0,
+};
+
 
 const PRIMES: [u64; MAX_DIMENSION] = [2, 3, 5, 7, 11, 13, 17, 19];
 

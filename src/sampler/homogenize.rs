@@ -1,9 +1,8 @@
 //! Homogenization: a random toroidal shift (Cranley–Patterson rotation).
 
-use super::{uniform, Sampler, SamplerKind};
+use super::{Sampler, SamplerKind};
 use crate::error::Result;
 use crate::pointset::{PointSet, MAX_DIMENSION};
-use crate::rng::{realization_rng, Stream};
 use crate::spectrum::ClosedForm;
 
 /// Adds one uniform random vector to every point, modulo 1, drawn from the shift stream of
@@ -19,12 +18,7 @@ pub fn homogenize(points: &mut PointSet, seed: u64, realization: u64) {
 /// The random shift that [`homogenize`] applies for `(seed, realization)` in dimension `d`
 /// (components beyond `d` are 0).
 pub fn homogenizing_shift(d: usize, seed: u64, realization: u64) -> [f64; MAX_DIMENSION] {
-    let mut rng = realization_rng(seed, realization, Stream::Shift);
-    let mut shift = [0.0; MAX_DIMENSION];
-    for s in shift.iter_mut().take(d) {
-        *s = uniform(&mut rng);
-    }
-    shift
+    crate::randomization::toroidal_shift(d, seed, realization)
 }
 
 /// Wraps any sampler so that every realization is homogenized. The inner, fixed pattern stays

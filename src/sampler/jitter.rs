@@ -5,6 +5,28 @@ use super::{check_supported, in_cell, uniform, Sampler, SamplerKind};
 use crate::error::Result;
 use crate::pointset::{PointSet, MAX_DIMENSION};
 use crate::rng::{realization_rng, Stream};
+use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
+use crate::randomization::Randomization;
+use crate::spectrum::ClosedForm;
+
+/// Jitter: points correlate only within one stratum's reach.
+pub(crate) const FACTS: SamplerFacts = SamplerFacts {
+    name: "jitter",
+    description: "jittered: one uniform point in each of m^d strata",
+    dimensions: 1..=crate::pointset::MAX_DIMENSION,
+    count: CountRule::Strata,
+    randomness: Randomness::Stratified,
+    native_randomization: Randomization::None,
+    closed_form: ClosedFormRule::WithStrata(ClosedForm::Jitter),
+    known_alpha: Some(2.0),
+    scaling: Scaling::PerfectPowers,
+    isotropic: false,
+    symmetry: Symmetry::CubeWithSquareStrata,
+    correlation_reach: 1.0,
+    cost_per_point_ns: 8.0,
+    working_bytes: super::facts::one_word_per_point,
+};
+
 
 /// One uniform point in each cell of a grid of [`super::strata`]: `N = m^d`, or in 2D a
 /// near-square `a × b` rectangle (`96 = 12 × 8`). Its expected power spectrum at integer

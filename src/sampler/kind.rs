@@ -5,7 +5,9 @@ use super::{
     LatinHypercube, LatticeRule, MultiJitter, Pmj02, PoissonDisk, PoissonMethod, Random,
     Rank1Lattice, Regular, Sampler, Sobol,
 };
+use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
 use crate::budget::Needs;
+use crate::randomization::Randomization;
 use crate::error::{Error, Result};
 use crate::spectrum::ClosedForm;
 use serde::Serialize;
@@ -52,19 +54,6 @@ pub enum SamplerKind {
     GaussianBlueNoise,
 }
 
-/// How a sampler's expected spectrum depends on N: whether one spectrum, estimated at a
-/// reference N and read at `ν = ρ / N^{1/d}`, serves another N.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Scaling {
-    /// A function of `ν` alone at every N.
-    Invariant,
-    /// A function of `ν` alone at `N = m^d` (square strata); other strata are other shapes.
-    PerfectPowers,
-    /// Never: structure at `k/N` on the axes, lattices, or spikes whose height grows with N.
-    Never,
-}
-
 /// Patterns of a Monte Carlo run: `patterns` independent patterns, each under `shifts` random
 /// toroidal shifts.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -86,6 +75,20 @@ const EVALUATION_NS: f64 = 140.0;
 /// Generation costs per point above this (in nanoseconds) make a sampler costly: its spectrum
 /// estimates use fewer realizations, since drawing them would dwarf the transforms.
 const COSTLY_NS: f64 = 10_000.0;
+
+/// Generation costs per point from which patterns are worth keeping in memory and on disk
+/// (dart throwing, CCVT, Gaussian blue noise): a microsecond a point, above the cost of reading
+/// them back.
+const KEEP_NS: f64 = 1_000.0;
+
+/// The fewest realizations a costly sampler's spectrum estimate uses.
+const MIN_COSTLY_REALIZATIONS: usize = 4;
+
+/// The realizations a costly sampler's spectrum estimate uses where a cheap sampler's would
+/// use `cheap`: a quarter of them, at least 4.
+pub fn costly_realizations(cheap: usize) -> usize {
+    (cheap / 4).max(MIN_COSTLY_REALIZATIONS)
+}
 
 impl SamplerKind {
     /// All kinds, in display order.
@@ -109,92 +112,47 @@ impl SamplerKind {
         SamplerKind::Kronecker,
     ];
 
+    /// Every fact about this sampler, stated once in its own file.
+    pub const fn facts(self) -> &'static SamplerFacts {
+        match self {
+            SamplerKind::Random => &super::random::FACTS,
+            SamplerKind::Regular => &super::regular::FACTS,
+            SamplerKind::Jitter => &super::jitter::FACTS,
+            SamplerKind::PoissonDisk => &super::poisson::DART_FACTS,
+            SamplerKind::Bridson => &super::poisson::BRIDSON_FACTS,
+            SamplerKind::Ccvt => &super::ccvt::FACTS,
+            SamplerKind::LatinHypercube => &super::latin::FACTS,
+            SamplerKind::Halton => &super::halton::FACTS,
+            SamplerKind::Sobol => &super::sobol::FACTS,
+            SamplerKind::Cmj => &super::cmj::FACTS,
+            SamplerKind::GaussianJitter => &super::gaussian_jitter::FACTS,
+            SamplerKind::Korobov => &super::rank1::KOROBOV_FACTS,
+            SamplerKind::Fibonacci => &super::rank1::FIBONACCI_FACTS,
+            SamplerKind::Kronecker => &super::kronecker::FACTS,
+            SamplerKind::Pmj02 => &super::pmj02::FACTS,
+            SamplerKind::MultiJitter => &super::multi_jitter::FACTS,
+            SamplerKind::GaussianBlueNoise => &super::gbn::FACTS,
+        }
+    }
+
     /// The command-line name.
     pub fn name(self) -> &'static str {
-        match self {
-            SamplerKind::Random => "random",
-            SamplerKind::Regular => "regular",
-            SamplerKind::Jitter => "jitter",
-            SamplerKind::PoissonDisk => "poisson",
-            SamplerKind::Bridson => "bridson",
-            SamplerKind::Ccvt => "ccvt",
-            SamplerKind::LatinHypercube => "lhs",
-            SamplerKind::Halton => "halton",
-            SamplerKind::Sobol => "sobol",
-            SamplerKind::Cmj => "cmj",
-            SamplerKind::GaussianJitter => "gjitter",
-            SamplerKind::Korobov => "korobov",
-            SamplerKind::Fibonacci => "fibonacci",
-            SamplerKind::Kronecker => "kronecker",
-            SamplerKind::Pmj02 => "pmj02",
-            SamplerKind::MultiJitter => "mj",
-            SamplerKind::GaussianBlueNoise => "gbn",
-        }
+        self.facts().name
     }
 
     /// One line saying what the sampler is.
     pub fn description(self) -> &'static str {
-        match self {
-            SamplerKind::Random => "white noise: independent uniform points",
-            SamplerKind::Regular => "regular grid at cell centres (j + 1/2)/m; deterministic",
-            SamplerKind::Jitter => "jittered: one uniform point in each of m^d strata",
-            SamplerKind::PoissonDisk => {
-                "Poisson disk: toroidal dart throwing, relative radius 0.75 (0.65 in 1D)"
-            }
-            SamplerKind::Bridson => "Poisson disk: Bridson's algorithm on the torus, thinned to N",
-            SamplerKind::Ccvt => "capacity-constrained Voronoi tessellation (Balzer et al. 2009)",
-            SamplerKind::LatinHypercube => "Latin hypercube (N-rooks): one point per row per axis",
-            SamplerKind::Halton => "Halton with random digit permutations",
-            SamplerKind::Sobol => "Sobol (Joe-Kuo directions) with Owen scrambling",
-            SamplerKind::Cmj => "correlated multi-jittered (Kensler 2013): jittered and N-rooks",
-            SamplerKind::GaussianJitter => {
-                "Gaussian jitter (Subr and Kautz 2013): grid centres plus Gaussian offsets of 0.25 \
-                 strata"
-            }
-            SamplerKind::Korobov => {
-                "rank-1 lattice frac(i(1,a)/N), a with the best spectral test; deterministic"
-            }
-            SamplerKind::Fibonacci => "Fibonacci lattice frac(i(1,F_{m-1})/F_m); deterministic",
-            SamplerKind::Kronecker => {
-                "Kronecker sequence frac(i alpha), alpha from x^(d+1) = x + 1 (R_d); deterministic"
-            }
-            SamplerKind::Pmj02 => {
-                "progressive multi-jittered (0,2) (Christensen et al. 2018): every 2^m prefix a net"
-            }
-            SamplerKind::MultiJitter => {
-                "multi-jittered (Chiu et al. 1994): jittered and N-rooks, independent shuffles"
-            }
-            SamplerKind::GaussianBlueNoise => {
-                "Gaussian blue noise (after Ahmed et al. 2022): descent of a Gaussian-kernel energy"
-            }
-        }
+        self.facts().description
     }
 
     /// The dimensions this sampler supports.
     pub fn dimensions(self) -> RangeInclusive<usize> {
-        match self {
-            SamplerKind::PoissonDisk
-            | SamplerKind::Bridson
-            | SamplerKind::Ccvt
-            | SamplerKind::GaussianBlueNoise => 1..=3,
-            SamplerKind::Cmj
-            | SamplerKind::MultiJitter
-            | SamplerKind::Pmj02
-            | SamplerKind::Korobov
-            | SamplerKind::Fibonacci => 2..=2,
-            _ => 1..=crate::pointset::MAX_DIMENSION,
-        }
+        self.facts().dimensions.clone()
     }
 
-    /// The rule N must follow, in words.
-    pub fn count_rule(self) -> &'static str {
-        match self {
-            SamplerKind::Regular | SamplerKind::Jitter | SamplerKind::GaussianJitter => {
-                "N = m^d; 2D: or a×b, b<a≤2b"
-            }
-            SamplerKind::Fibonacci => "N = F_m: 1, 2, 3, 5, 8, 13, 21, …",
-            _ => "any N >= 1",
-        }
+    /// The rule N must follow.
+    pub fn count_rule(self) -> CountRule {
+        self.facts().count
     }
 
     /// The valid count nearest `n` (the smaller on ties), at least 1: for samplers with a
@@ -208,48 +166,29 @@ impl SamplerKind {
     /// assert_eq!(SamplerKind::Sobol.nearest_count(97, 2), 97);
     /// ```
     pub fn nearest_count(self, n: usize, d: usize) -> usize {
-        let valid = |c: usize| match self {
-            SamplerKind::Regular | SamplerKind::Jitter | SamplerKind::GaussianJitter => {
-                super::strata(c, d).is_some()
-            }
-            SamplerKind::Fibonacci => {
-                Rank1Lattice::new(2, LatticeRule::Fibonacci).is_ok_and(|s| s.check_count(c).is_ok())
-            }
-            _ => true,
-        };
+        let rule = self.count_rule();
         let n = n.max(1);
         (0..n)
             .flat_map(|step| [n - step, n + step])
-            .find(|&c| c >= 1 && valid(c))
+            .find(|&c| c >= 1 && rule.admits(c, d))
             .unwrap_or(1)
     }
 
     /// Whether the pattern ignores the seed and the realization: one fixed point set, which
     /// Monte Carlo homogenizes (the regular grid, rank-1 lattices, the Kronecker sequence).
     pub fn is_deterministic(self) -> bool {
-        matches!(
-            self,
-            SamplerKind::Regular
-                | SamplerKind::Korobov
-                | SamplerKind::Fibonacci
-                | SamplerKind::Kronecker
-        )
+        self.facts().randomness == Randomness::Deterministic
     }
 
     /// The sampler's exact expected spectrum at `n` points in dimension `d`, if one is known
     /// (with default parameters: Gaussian jitter's is its default width's).
     /// Jitter's follows its strata (`96 = 12 × 8`); the closed radial form needs square ones.
     pub fn closed_form(self, n: usize, d: usize) -> Option<ClosedForm> {
-        match self {
-            SamplerKind::GaussianJitter
-            | SamplerKind::Korobov
-            | SamplerKind::Fibonacci
-            | SamplerKind::Kronecker => self.build(d).ok()?.closed_form(n),
-            SamplerKind::Random => Some(ClosedForm::WhiteNoise),
-            SamplerKind::Jitter => super::strata(n, d).map(|_| ClosedForm::Jitter),
-            SamplerKind::Regular => super::strata(n, d).map(|_| ClosedForm::RegularGrid),
-            SamplerKind::LatinHypercube => Some(ClosedForm::LatinHypercube),
-            _ => None,
+        match self.facts().closed_form {
+            ClosedFormRule::None => None,
+            ClosedFormRule::Always(c) => Some(c),
+            ClosedFormRule::WithStrata(c) => super::strata(n, d).map(|_| c),
+            ClosedFormRule::OfSampler => self.build(d).ok()?.closed_form(n),
         }
     }
 
@@ -262,37 +201,12 @@ impl SamplerKind {
     /// steps relaxes density waves only down to a fixed scale, so below `ν ≈ 0.01` its spectrum
     /// climbs back to white noise's (`docs/theory.md`).
     pub fn known_alpha(self) -> Option<f64> {
-        match self {
-            SamplerKind::Random
-            | SamplerKind::PoissonDisk
-            | SamplerKind::Bridson
-            | SamplerKind::GaussianBlueNoise => Some(0.0),
-            SamplerKind::Jitter | SamplerKind::Ccvt | SamplerKind::GaussianJitter => Some(2.0),
-            _ => None,
-        }
+        self.facts().known_alpha
     }
 
     /// How the expected spectrum depends on N.
     pub fn scaling(self) -> Scaling {
-        match self {
-            SamplerKind::Random
-            | SamplerKind::PoissonDisk
-            | SamplerKind::Bridson
-            | SamplerKind::Ccvt
-            | SamplerKind::GaussianBlueNoise => Scaling::Invariant,
-            SamplerKind::Jitter => Scaling::PerfectPowers,
-            SamplerKind::Regular
-            | SamplerKind::LatinHypercube
-            | SamplerKind::Halton
-            | SamplerKind::Sobol
-            | SamplerKind::Cmj
-            | SamplerKind::MultiJitter
-            | SamplerKind::Pmj02
-            | SamplerKind::GaussianJitter
-            | SamplerKind::Korobov
-            | SamplerKind::Fibonacci
-            | SamplerKind::Kronecker => Scaling::Never,
-        }
+        self.facts().scaling
     }
 
     /// Whether the expected spectrum at `n` points in dimension `d` is the common one in `ν`.
@@ -307,14 +221,7 @@ impl SamplerKind {
     /// Whether the expected spectrum depends on `|k|` alone (up to the torus): samplers with
     /// axis structure (strata, N-rooks, digital nets, lattices) are anisotropic.
     pub fn is_isotropic(self) -> bool {
-        matches!(
-            self,
-            SamplerKind::Random
-                | SamplerKind::PoissonDisk
-                | SamplerKind::Bridson
-                | SamplerKind::Ccvt
-                | SamplerKind::GaussianBlueNoise
-        )
+        self.facts().isotropic
     }
 
     /// Whether the distribution of patterns at `n` points is unchanged by the symmetries of the
@@ -322,63 +229,38 @@ impl SamplerKind {
     /// too: not for Halton and Sobol (each axis is its own sequence), correlated multi-jitter
     /// (rows and columns are built differently), or rectangular strata.
     pub fn is_symmetric_at(self, n: usize, d: usize) -> bool {
-        match self {
-            SamplerKind::Random
-            | SamplerKind::PoissonDisk
-            | SamplerKind::Bridson
-            | SamplerKind::Ccvt
-            | SamplerKind::GaussianBlueNoise
-            | SamplerKind::LatinHypercube => true,
-            SamplerKind::Jitter | SamplerKind::Regular | SamplerKind::GaussianJitter => {
-                super::perfect_root(n, d).is_some()
-            }
-            SamplerKind::Halton
-            | SamplerKind::Sobol
-            | SamplerKind::Cmj
-            | SamplerKind::MultiJitter
-            | SamplerKind::Pmj02
-            | SamplerKind::Korobov
-            | SamplerKind::Fibonacci
-            | SamplerKind::Kronecker => false,
+        match self.facts().symmetry {
+            Symmetry::Cube => true,
+            Symmetry::CubeWithSquareStrata => super::perfect_root(n, d).is_some(),
+            Symmetry::Partial => false,
         }
+    }
+
+    /// How far the sampler's pair correlations reach at `n` points in dimension `d` (largest
+    /// component).
+    pub fn correlation_range(self, n: usize, d: usize) -> f64 {
+        self.facts().correlation_reach * (n as f64).powf(-1.0 / d as f64)
+    }
+
+    /// The randomization this sampler is used with in practice.
+    pub fn native_randomization(self) -> Randomization {
+        self.facts().native_randomization
     }
 
     /// The time to generate one point of a 2D pattern, in nanoseconds (measured at N = 1024 to
     /// 4096 by `benches/samplers.rs`; it grows slowly with N for the optimizers).
     pub fn cost_per_point_ns(self) -> f64 {
-        match self {
-            SamplerKind::Random | SamplerKind::Regular => 4.0,
-            SamplerKind::Kronecker => 8.0,
-            SamplerKind::Jitter => 8.0,
-            SamplerKind::GaussianJitter => 55.0,
-            SamplerKind::Fibonacci => 5.0,
-            SamplerKind::Korobov => 40.0,
-            SamplerKind::Pmj02 => 330.0,
-            SamplerKind::LatinHypercube | SamplerKind::Cmj | SamplerKind::MultiJitter => 30.0,
-            SamplerKind::Sobol => 80.0,
-            SamplerKind::Halton => 35.0,
-            SamplerKind::PoissonDisk => 4_500.0,
-            SamplerKind::Bridson => 8_400.0,
-            SamplerKind::Ccvt => 190_000.0,
-            SamplerKind::GaussianBlueNoise => 180_000.0,
-        }
+        self.facts().cost_per_point_ns
     }
 
     /// The memory and time one pattern of `n` points in dimension `d` takes to draw (the time
-    /// from [`cost_per_point_ns`](Self::cost_per_point_ns); the memory from the generators'
-    /// working sets: CCVT holds its `64 n` discrete points and, while assigning them, about
-    /// `5^d` candidate pairs of 24 bytes per discrete point).
+    /// from [`cost_per_point_ns`](Self::cost_per_point_ns), the memory from the generator's
+    /// working set).
     pub fn pattern_needs(self, n: usize, d: usize) -> Needs {
         // In floating point: a product of usizes could wrap and pass the budget.
         let (n, points) = (n as f64, n as f64 * d as f64 * 8.0);
-        let working = match self {
-            SamplerKind::Ccvt => n * 64.0 * (8.0 * d as f64 + 4.0 + 24.0 * 5f64.powi(d as i32)),
-            SamplerKind::PoissonDisk | SamplerKind::Bridson => n * 64.0,
-            SamplerKind::Halton | SamplerKind::Sobol => 4096.0,
-            _ => n * 8.0,
-        };
         Needs {
-            memory_bytes: points + working,
+            memory_bytes: points + (self.facts().working_bytes)(n, d),
             work_seconds: n * self.cost_per_point_ns() * 1e-9,
         }
     }
@@ -387,6 +269,50 @@ impl SamplerKind {
     /// then use fewer realizations.
     pub fn is_costly(self) -> bool {
         self.cost_per_point_ns() > COSTLY_NS
+    }
+
+    /// The realizations a spectrum estimate of this sampler uses where a cheap sampler's would
+    /// use `cheap`: a quarter of them (at least 4) for a costly sampler, whose patterns cost
+    /// far more to draw than to transform.
+    ///
+    /// # Examples
+    /// ```
+    /// use specvar::sampler::SamplerKind;
+    /// assert_eq!(SamplerKind::Jitter.spectrum_realizations(32), 32);
+    /// assert_eq!(SamplerKind::Ccvt.spectrum_realizations(32), 8);
+    /// ```
+    pub fn spectrum_realizations(self, cheap: usize) -> usize {
+        if self.is_costly() {
+            costly_realizations(cheap)
+        } else {
+            cheap
+        }
+    }
+
+    /// Whether patterns are worth keeping once drawn (in memory, and on disk between runs):
+    /// those that cost a microsecond a point or more to draw.
+    pub fn patterns_worth_keeping(self) -> bool {
+        self.cost_per_point_ns() >= KEEP_NS
+    }
+
+    /// The facts a table of samplers shows, as one serializable row.
+    pub fn summary(self) -> SamplerSummary {
+        let f = self.facts();
+        SamplerSummary {
+            name: self,
+            description: f.description,
+            min_dimension: *f.dimensions.start(),
+            max_dimension: *f.dimensions.end(),
+            count_rule: f.count.to_string(),
+            randomness: f.randomness,
+            native_randomization: f.native_randomization,
+            deterministic: self.is_deterministic(),
+            scaling: f.scaling,
+            isotropic: f.isotropic,
+            symmetry: f.symmetry,
+            known_alpha: f.known_alpha,
+            cost_per_point_ns: f.cost_per_point_ns,
+        }
     }
 
     /// How Monte Carlo spends `trials` estimator evaluations: each pattern is used under as
@@ -419,7 +345,7 @@ impl SamplerKind {
     /// An unsupported dimension.
     pub fn build_memoized(self, d: usize, budget_bytes: usize) -> Result<Box<dyn Sampler>> {
         let sampler = self.build(d)?;
-        Ok(if self.cost_per_point_ns() >= 1_000.0 {
+        Ok(if self.patterns_worth_keeping() {
             Box::new(super::Memoized::new(sampler, budget_bytes))
         } else {
             sampler
@@ -492,6 +418,37 @@ impl SamplerKind {
             .filter(|k| k.dimensions().contains(&d))
             .collect()
     }
+}
+
+/// A sampler's facts as a table shows them ([`SamplerKind::summary`]).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SamplerSummary {
+    /// The sampler.
+    pub name: SamplerKind,
+    /// What it is.
+    pub description: &'static str,
+    /// The lowest dimension it supports.
+    pub min_dimension: usize,
+    /// The highest dimension it supports.
+    pub max_dimension: usize,
+    /// The rule N must follow, in words.
+    pub count_rule: String,
+    /// What is random in a pattern as drawn.
+    pub randomness: Randomness,
+    /// The randomization it is used with in practice.
+    pub native_randomization: Randomization,
+    /// Whether it draws one fixed pattern.
+    pub deterministic: bool,
+    /// How its expected spectrum depends on N.
+    pub scaling: Scaling,
+    /// Whether its expected spectrum is isotropic.
+    pub isotropic: bool,
+    /// Which symmetries of the cube leave it unchanged.
+    pub symmetry: Symmetry,
+    /// Its low-frequency exponent, where known.
+    pub known_alpha: Option<f64>,
+    /// Its generation cost per 2D point, in nanoseconds.
+    pub cost_per_point_ns: f64,
 }
 
 impl fmt::Display for SamplerKind {

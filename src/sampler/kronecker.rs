@@ -4,6 +4,27 @@ use super::{check_supported, Sampler, SamplerKind};
 use crate::error::Result;
 use crate::pointset::{PointSet, MAX_DIMENSION};
 use crate::spectrum::ClosedForm;
+use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
+use crate::randomization::Randomization;
+
+/// The Kronecker sequence: fixed, so used under a random shift.
+pub(crate) const FACTS: SamplerFacts = SamplerFacts {
+    name: "kronecker",
+    description: "Kronecker sequence frac(i alpha), alpha from x^(d+1) = x + 1 (R_d); deterministic",
+    dimensions: 1..=crate::pointset::MAX_DIMENSION,
+    count: CountRule::Any,
+    randomness: Randomness::Deterministic,
+    native_randomization: Randomization::Shift,
+    closed_form: ClosedFormRule::OfSampler,
+    known_alpha: None,
+    scaling: Scaling::Never,
+    isotropic: false,
+    symmetry: Symmetry::Partial,
+    correlation_reach: 2.0,
+    cost_per_point_ns: 8.0,
+    working_bytes: super::facts::one_word_per_point,
+};
+
 
 /// The Kronecker sequence `x_i = frac(i α)`, `i = 0 … N-1`, with `α_j = φ_d^{-j}` (`j = 1 … d`)
 /// and `φ_d` the positive root of `x^{d+1} = x + 1` (the golden ratio in 1D, the plastic

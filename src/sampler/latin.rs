@@ -4,6 +4,28 @@ use super::{check_supported, in_cell, random_permutation, uniform, Sampler, Samp
 use crate::error::Result;
 use crate::pointset::{PointSet, MAX_DIMENSION};
 use crate::rng::{realization_rng, Stream};
+use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
+use crate::randomization::Randomization;
+use crate::spectrum::ClosedForm;
+
+/// Latin hypercube sampling.
+pub(crate) const FACTS: SamplerFacts = SamplerFacts {
+    name: "lhs",
+    description: "Latin hypercube (N-rooks): one point per row per axis",
+    dimensions: 1..=crate::pointset::MAX_DIMENSION,
+    count: CountRule::Any,
+    randomness: Randomness::Stratified,
+    native_randomization: Randomization::None,
+    closed_form: ClosedFormRule::Always(ClosedForm::LatinHypercube),
+    known_alpha: None,
+    scaling: Scaling::Never,
+    isotropic: false,
+    symmetry: Symmetry::Cube,
+    correlation_reach: 2.0,
+    cost_per_point_ns: 30.0,
+    working_bytes: super::facts::one_word_per_point,
+};
+
 
 /// On every axis, the `N` points occupy the `N` intervals `[j/N, (j+1)/N)` once each, through an
 /// independent random permutation per axis, uniformly jittered inside the interval.

@@ -6,6 +6,7 @@
 
 mod ccvt;
 mod cmj;
+mod facts;
 mod gaussian_jitter;
 mod gbn;
 mod halton;
@@ -32,7 +33,10 @@ pub use gbn::{GaussianBlueNoise, GbnParams};
 pub use halton::Halton;
 pub use homogenize::{homogenize, homogenizing_shift, Homogenized};
 pub use jitter::Jitter;
-pub use kind::{Pool, SamplerKind, Scaling, MIN_POOL_PATTERNS};
+pub use facts::{
+    ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry, COST_TOLERANCE,
+};
+pub use kind::{costly_realizations, Pool, SamplerKind, SamplerSummary, MIN_POOL_PATTERNS};
 pub use kronecker::Kronecker;
 pub use latin::LatinHypercube;
 pub use memo::Memoized;
@@ -48,6 +52,7 @@ pub use sobol::Sobol;
 
 use crate::error::{Error, Result};
 use crate::pointset::PointSet;
+use crate::randomization::Randomization;
 use crate::spectrum::ClosedForm;
 use std::ops::RangeInclusive;
 
@@ -103,8 +108,8 @@ pub fn pattern_needs(sampler: &dyn Sampler, n: usize) -> crate::budget::Needs {
 }
 
 /// Realizations `realizations` of `seed` at `n` points, drawn in parallel (the same bits as
-/// one by one) and homogenized if asked ([`homogenize`], keyed by the same pair), after
-/// checking their memory and work against `budget`.
+/// one by one) and randomized by `randomization` (realization `r` by unit `r` of `seed`: for
+/// the shift, [`homogenize`]), after checking their memory and work against `budget`.
 ///
 /// # Errors
 /// A count the sampler cannot draw, no realizations, a budget the sets would exceed, or a
@@ -113,9 +118,10 @@ pub fn pattern_needs(sampler: &dyn Sampler, n: usize) -> crate::budget::Needs {
 /// # Examples
 /// ```
 /// use specvar::budget::Budget;
+/// use specvar::randomization::Randomization;
 /// use specvar::sampler::{draw_realizations, Jitter, Sampler};
 /// let jitter = Jitter::new(2)?;
-/// let sets = draw_realizations(&jitter, 16, 3, 4..6, false, &Budget::default())?;
+/// let sets = draw_realizations(&jitter, 16, 3, 4..6, Randomization::None, &Budget::default())?;
 /// assert_eq!(sets[1], jitter.sample(16, 3, 5)?);
 /// # Ok::<(), specvar::Error>(())
 /// ```
@@ -124,7 +130,7 @@ pub fn draw_realizations(
     n: usize,
     seed: u64,
     realizations: std::ops::Range<u64>,
-    homogenized: bool,
+    randomization: Randomization,
     budget: &crate::budget::Budget,
 ) -> Result<Vec<PointSet>> {
     use rayon::prelude::*;
@@ -147,13 +153,20 @@ pub fn draw_realizations(
     realizations
         .into_par_iter()
         .map(|r| {
-            let mut set = sampler.sample(n, seed, r)?;
-            if homogenized {
-                homogenize(&mut set, seed, r);
-            }
-            Ok(set)
+            let set = sampler.sample(n, seed, r)?;
+            Ok(match randomization {
+                Randomization::None => set,
+                _ => randomization.draw(set.dimension(), seed, r).apply(&set),
+            })
         })
         .collect()
+}
+
+/// The randomization patterns are used with in practice: a built-in sampler's native one
+/// ([`SamplerKind::native_randomization`]); for point sets of unknown origin (given sets, a
+/// sampler of one's own) none, since they are used as given.
+pub fn native_randomization(kind: Option<SamplerKind>) -> Randomization {
+    kind.map_or(Randomization::None, SamplerKind::native_randomization)
 }
 
 /// Errors unless `d` lies in `supported`.

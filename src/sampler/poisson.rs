@@ -13,6 +13,45 @@ use crate::pointset::{toroidal_distance_sq, wrap, PointSet};
 use crate::rng::{realization_rng, splitmix64, Stream};
 use rand_pcg::Pcg64;
 use std::f64::consts::PI;
+use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
+use crate::randomization::Randomization;
+
+/// Poisson disk by dart throwing (its grid of candidates: 64 bytes a point).
+pub(crate) const DART_FACTS: SamplerFacts = SamplerFacts {
+    name: "poisson",
+    description: "Poisson disk: toroidal dart throwing, relative radius 0.75 (0.65 in 1D)",
+    dimensions: 1..=3,
+    count: CountRule::Any,
+    randomness: Randomness::Relaxed,
+    native_randomization: Randomization::None,
+    closed_form: ClosedFormRule::None,
+    known_alpha: Some(0.0),
+    scaling: Scaling::Invariant,
+    isotropic: true,
+    symmetry: Symmetry::Cube,
+    correlation_reach: 2.0,
+    cost_per_point_ns: 4_500.0,
+    working_bytes: |n, _| n * 64.0,
+};
+
+/// Poisson disk by Bridson's algorithm.
+pub(crate) const BRIDSON_FACTS: SamplerFacts = SamplerFacts {
+    name: "bridson",
+    description: "Poisson disk: Bridson's algorithm on the torus, thinned to N",
+    dimensions: 1..=3,
+    count: CountRule::Any,
+    randomness: Randomness::Relaxed,
+    native_randomization: Randomization::None,
+    closed_form: ClosedFormRule::None,
+    known_alpha: Some(0.0),
+    scaling: Scaling::Invariant,
+    isotropic: true,
+    symmetry: Symmetry::Cube,
+    correlation_reach: 2.0,
+    cost_per_point_ns: 8_400.0,
+    working_bytes: |n, _| n * 64.0,
+};
+
 
 /// The neighbour distance of the densest packing of `n` balls on the unit `d`-torus.
 ///

@@ -4,6 +4,28 @@ use super::{check_supported, uniform, Sampler, SamplerKind};
 use crate::error::Result;
 use crate::pointset::{PointSet, MAX_DIMENSION};
 use crate::rng::{realization_rng, Stream};
+use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
+use crate::randomization::Randomization;
+use crate::spectrum::ClosedForm;
+
+/// White noise: no correlation between points, so no reach.
+pub(crate) const FACTS: SamplerFacts = SamplerFacts {
+    name: "random",
+    description: "white noise: independent uniform points",
+    dimensions: 1..=crate::pointset::MAX_DIMENSION,
+    count: CountRule::Any,
+    randomness: Randomness::Independent,
+    native_randomization: Randomization::None,
+    closed_form: ClosedFormRule::Always(ClosedForm::WhiteNoise),
+    known_alpha: Some(0.0),
+    scaling: Scaling::Invariant,
+    isotropic: true,
+    symmetry: Symmetry::Cube,
+    correlation_reach: 0.0,
+    cost_per_point_ns: 4.0,
+    working_bytes: super::facts::one_word_per_point,
+};
+
 
 /// Independent uniform points: the reference sampler, with `E[P_S(k)] = 1` for all `k ≠ 0`.
 #[derive(Debug, Clone, Copy)]

@@ -4,6 +4,45 @@ use super::{check_supported, Sampler, SamplerKind};
 use crate::error::{Error, Result};
 use crate::pointset::PointSet;
 use crate::spectrum::ClosedForm;
+use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
+use crate::randomization::Randomization;
+
+/// Korobov's lattice: fixed, so used under a random shift.
+pub(crate) const KOROBOV_FACTS: SamplerFacts = SamplerFacts {
+    name: "korobov",
+    description: "rank-1 lattice frac(i(1,a)/N), a with the best spectral test; deterministic",
+    dimensions: 2..=2,
+    count: CountRule::Any,
+    randomness: Randomness::Deterministic,
+    native_randomization: Randomization::Shift,
+    closed_form: ClosedFormRule::OfSampler,
+    known_alpha: None,
+    scaling: Scaling::Never,
+    isotropic: false,
+    symmetry: Symmetry::Partial,
+    correlation_reach: 2.0,
+    cost_per_point_ns: 40.0,
+    working_bytes: super::facts::one_word_per_point,
+};
+
+/// The Fibonacci lattice: fixed, so used under a random shift.
+pub(crate) const FIBONACCI_FACTS: SamplerFacts = SamplerFacts {
+    name: "fibonacci",
+    description: "Fibonacci lattice frac(i(1,F_{m-1})/F_m); deterministic",
+    dimensions: 2..=2,
+    count: CountRule::Fibonacci,
+    randomness: Randomness::Deterministic,
+    native_randomization: Randomization::Shift,
+    closed_form: ClosedFormRule::OfSampler,
+    known_alpha: None,
+    scaling: Scaling::Never,
+    isotropic: false,
+    symmetry: Symmetry::Partial,
+    correlation_reach: 2.0,
+    cost_per_point_ns: 5.0,
+    working_bytes: super::facts::one_word_per_point,
+};
+
 
 /// How the generating vector `(1, a)` is chosen.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -100,6 +139,11 @@ fn fibonacci_numbers() -> impl Iterator<Item = u64> {
         b.checked_add(a).map(|c| (b, c))
     })
     .map(|(a, _)| a)
+}
+
+/// Whether `n` is a Fibonacci number.
+pub(crate) fn is_fibonacci(n: usize) -> bool {
+    n >= 1 && fibonacci_below(n as u64).is_some()
 }
 
 /// `F_{m-1}` if `n = F_m` (with `F_1 = 1, F_2 = 2` so that `1, 2, 3, 5, 8, …`), else `None`.

@@ -3,6 +3,28 @@
 use super::{check_supported, cmj::near_square_factors, perfect_root, Sampler, SamplerKind};
 use crate::error::{Error, Result};
 use crate::pointset::{PointSet, MAX_DIMENSION};
+use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
+use crate::randomization::Randomization;
+use crate::spectrum::ClosedForm;
+
+/// The regular grid: fixed, so used under a random shift.
+pub(crate) const FACTS: SamplerFacts = SamplerFacts {
+    name: "regular",
+    description: "regular grid at cell centres (j + 1/2)/m; deterministic",
+    dimensions: 1..=crate::pointset::MAX_DIMENSION,
+    count: CountRule::Strata,
+    randomness: Randomness::Deterministic,
+    native_randomization: Randomization::Shift,
+    closed_form: ClosedFormRule::WithStrata(ClosedForm::RegularGrid),
+    known_alpha: None,
+    scaling: Scaling::Never,
+    isotropic: false,
+    symmetry: Symmetry::CubeWithSquareStrata,
+    correlation_reach: 2.0,
+    cost_per_point_ns: 4.0,
+    working_bytes: super::facts::one_word_per_point,
+};
+
 
 /// Points at the cell centres of a grid of [`strata`]: `m^d` cells, or in 2D a near-square
 /// `a × b` rectangle (`96 = 12 × 8`). Deterministic: the seed and the

@@ -4,6 +4,27 @@ use super::{check_supported, Sampler, SamplerKind};
 use crate::error::Result;
 use crate::pointset::{PointSet, MAX_DIMENSION};
 use crate::rng::{splitmix64, Stream};
+use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
+use crate::randomization::Randomization;
+
+/// Owen-scrambled Sobol'.
+pub(crate) const FACTS: SamplerFacts = SamplerFacts {
+    name: "sobol",
+    description: "Sobol (Joe-Kuo directions) with Owen scrambling",
+    dimensions: 1..=crate::pointset::MAX_DIMENSION,
+    count: CountRule::Any,
+    randomness: Randomness::ScrambledNet,
+    native_randomization: Randomization::None,
+    closed_form: ClosedFormRule::None,
+    known_alpha: None,
+    scaling: Scaling::Never,
+    isotropic: false,
+    symmetry: Symmetry::Partial,
+    correlation_reach: 2.0,
+    cost_per_point_ns: 80.0,
+    working_bytes: |_, _| 4096.0,
+};
+
 
 /// Primitive polynomials and initial direction numbers for axes 2 to 8, from Joe and Kuo's
 /// `new-joe-kuo-6.21201` table: (degree s, coefficients a, initial m_1..m_s).

@@ -2,6 +2,7 @@
 
 use super::problem::{ProblemArgs, Source};
 use specvar::montecarlo::{empirical_variances, empirical_variances_of_sets, McParams, McResult};
+use specvar::randomization::Randomization;
 use specvar::Result;
 
 /// Arguments of `specvar mc`.
@@ -19,8 +20,8 @@ pub struct Args {
     /// Seed.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
-    /// Use the patterns as drawn, without the random toroidal shift.
-    #[arg(long)]
+    /// Use the patterns as drawn: the same as --randomization none.
+    #[arg(long, conflicts_with = "randomization")]
     pub fixed: bool,
     /// JSON output.
     #[arg(long)]
@@ -32,24 +33,23 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
     let (source, f, n) = args.problem.build(ctx)?;
     let bars = super::bars::Bars::default();
     let stage = format!("monte carlo: {}", source.label());
+    let randomization = match args.fixed {
+        true => Randomization::None,
+        false => source.randomization(args.problem.randomization),
+    };
     let result = match &source {
         Source::Sampler(kind, sampler) => {
-            let mut params = McParams::pooled(*kind, args.trials, args.seed, !args.fixed);
-            if let Some(shifts) = args.shifts {
-                params.shifts = shifts;
-                params.patterns = args.trials / shifts.max(1);
-            }
-            params.budget = ctx.budget;
+            let params = McParams {
+                budget: ctx.budget,
+                ..McParams::for_sampler(*kind, args.trials, args.shifts, args.seed, randomization)
+            };
             specvar::progress::Progress::begin(&bars, &stage, params.patterns as u64);
             empirical_variances(sampler.as_ref(), &[f.as_ref()], n, &params, &bars)
         }
         Source::Sets(_, sets) => {
             let params = McParams {
-                patterns: sets.len(),
-                shifts: args.shifts.unwrap_or((args.trials / sets.len()).max(1)),
-                seed: args.seed,
-                homogenize: !args.fixed,
                 budget: ctx.budget,
+                ..McParams::for_sets(sets.len(), args.trials, args.shifts, args.seed, randomization)
             };
             specvar::progress::Progress::begin(&bars, &stage, sets.len() as u64);
             empirical_variances_of_sets(sets, &[f.as_ref()], &params, &bars)
@@ -68,11 +68,7 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
         )?;
         return Ok(());
     }
-    let how = if r.homogenized {
-        "homogenized"
-    } else {
-        "fixed"
-    };
+    let how = r.randomization.estimator();
     let units = if r.shifts > 1 {
         format!("{} patterns × {} shifts", r.patterns, r.shifts)
     } else {

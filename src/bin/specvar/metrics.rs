@@ -118,7 +118,7 @@ fn patterns(args: &Args, ctx: &super::Context) -> Result<(String, Vec<PointSet>)
         args.patterns.n,
         args.patterns.seed,
         0..args.patterns.realizations as u64,
-        false,
+        specvar::randomization::Randomization::None,
         &ctx.budget,
     )?;
     Ok((args.patterns.sampler.to_string(), sets))

@@ -1,5 +1,4 @@
-//! `specvar predict`: the variance of the homogenized estimator, from spectra, in one library
-//! call.
+//! `specvar predict`: the variance of an estimator, from spectra, in one library call.
 
 use super::problem::{ProblemArgs, Source};
 use specvar::predict::{
@@ -13,12 +12,14 @@ pub struct Args {
     /// Sampler or point-set file, integrand, N and dimension.
     #[command(flatten)]
     pub problem: ProblemArgs,
-    /// Spectrum: a closed form where the sampler has one (auto), closed, or estimated.
-    #[arg(long, value_enum)]
-    pub spectrum: Option<SpectrumArg>,
-    /// Form: the lattice form (auto: exact on the torus) or the polar form where it is valid.
-    #[arg(long, value_enum)]
-    pub form: Option<FormArg>,
+    /// Spectrum: auto (a closed form where the sampler has one, else an estimate), closed, or
+    /// estimated.
+    #[arg(long, default_value_t = SpectrumChoice::default())]
+    pub spectrum: SpectrumChoice,
+    /// Form: auto (the lattice form, exact on the torus, with the polar form beside it where
+    /// valid), lattice, or polar (where it is valid).
+    #[arg(long, default_value_t = FormChoice::default())]
+    pub form: FormChoice,
     /// The polar form's reference N for an estimated spectrum, rescaled to N.
     #[arg(long)]
     pub reference_n: Option<usize>,
@@ -39,44 +40,12 @@ pub struct Args {
     pub json: bool,
 }
 
-/// [`SpectrumChoice`] on the command line.
-#[derive(Debug, Clone, Copy, clap::ValueEnum)]
-pub enum SpectrumArg {
-    /// A closed form where there is one, else an estimate.
-    Auto,
-    /// The sampler's closed form.
-    Closed,
-    /// Estimated from realizations.
-    Estimated,
-}
-
-/// [`FormChoice`] on the command line.
-#[derive(Debug, Clone, Copy, clap::ValueEnum)]
-pub enum FormArg {
-    /// The lattice form, with the polar form as an alternative where valid.
-    Auto,
-    /// The lattice form.
-    Lattice,
-    /// The polar form.
-    Polar,
-}
-
 /// Predicts and prints.
 pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
     let defaults = PredictParams::default();
     let params = PredictParams {
-        spectrum: match args.spectrum {
-            Some(SpectrumArg::Auto) => SpectrumChoice::Auto,
-            Some(SpectrumArg::Closed) => SpectrumChoice::Closed,
-            Some(SpectrumArg::Estimated) => SpectrumChoice::Estimated,
-            None => defaults.spectrum,
-        },
-        form: match args.form {
-            Some(FormArg::Auto) => FormChoice::Auto,
-            Some(FormArg::Lattice) => FormChoice::Lattice,
-            Some(FormArg::Polar) => FormChoice::Polar,
-            None => defaults.form,
-        },
+        spectrum: args.spectrum,
+        form: args.form,
         reference_n: args.reference_n,
         realizations: args.realizations,
         target_noise: args.target_noise.unwrap_or(defaults.target_noise),
@@ -89,7 +58,8 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
     let problem = match &source {
         Source::Sampler(_, sampler) => Problem::new(sampler.as_ref(), f.as_ref(), n)?,
         Source::Sets(_, sets) => Problem::from_point_sets(sets, f.as_ref())?,
-    };
+    }
+    .with_randomization(source.randomization(args.problem.randomization));
     let p = predict_with(&problem, &params, &super::bars::Bars::default())?;
     if args.json {
         outln!(
@@ -108,6 +78,7 @@ struct Doc<'a> {
     integrand: &'a str,
     n: usize,
     dimension: usize,
+    randomization: specvar::randomization::Randomization,
     form: Form,
     variance: f64,
     variance_lattice: Option<f64>,
@@ -132,6 +103,7 @@ impl<'a> Doc<'a> {
             integrand,
             n: p.n,
             dimension: p.dimension,
+            randomization: p.randomization,
             form: p.route.form,
             variance: p.variance,
             variance_lattice: lattice,
@@ -149,7 +121,8 @@ impl<'a> Doc<'a> {
 
 fn print_text(sampler: &str, integrand: &str, p: &Prediction) -> Result<()> {
     outln!(
-        "sampler      {sampler} (homogenized), N = {}, d = {}",
+        "sampler      {sampler} ({}), N = {}, d = {}",
+        p.randomization.estimator(),
         p.n,
         p.dimension
     )?;

@@ -3,7 +3,8 @@
 use specvar::integrand::{Integrand, IntegrandSpec};
 use specvar::io::read_file;
 use specvar::pointset::PointSet;
-use specvar::sampler::{Sampler, SamplerKind};
+use specvar::randomization::{Randomization, RandomizationChoice};
+use specvar::sampler::{native_randomization, Sampler, SamplerKind};
 use specvar::Result;
 use std::path::PathBuf;
 
@@ -31,6 +32,12 @@ pub struct ProblemArgs {
     /// Dimension (with --input: taken from the file).
     #[arg(short = 'd', default_value_t = 2)]
     pub dimension: usize,
+    /// How each pattern is randomized, which decides the estimator: shift (a random toroidal
+    /// shift: the homogenized estimator), digital-shift (a random XOR of the binary digits),
+    /// none (the patterns as drawn, or as given), or native (the sampler's own: none for
+    /// random samplers and given sets, shift for fixed rules).
+    #[arg(long, default_value = "shift")]
+    pub randomization: RandomizationChoice,
 }
 
 /// What the arguments name: the patterns' source, the integrand, N.
@@ -64,6 +71,15 @@ impl ProblemArgs {
 }
 
 impl Source {
+    /// The randomization `choice` names for these patterns: a sampler's native one, or for
+    /// given sets their use as given.
+    pub fn randomization(&self, choice: RandomizationChoice) -> Randomization {
+        choice.resolve(native_randomization(match self {
+            Source::Sampler(kind, _) => Some(*kind),
+            Source::Sets(..) => None,
+        }))
+    }
+
     /// The sampler's name or the file's path.
     pub fn label(&self) -> String {
         match self {

@@ -1,5 +1,6 @@
 //! `specvar sample`: point sets as UTK text, UTK binary or JSON.
 
+use specvar::randomization::{Randomization, RandomizationChoice};
 use specvar::sampler::{draw_realizations, SamplerKind};
 use specvar::Result;
 use std::path::PathBuf;
@@ -22,8 +23,12 @@ pub struct Args {
     /// Number of realizations (0, 1, … M-1 of the seed).
     #[arg(long, short = 'm', default_value_t = 1)]
     pub realizations: u64,
-    /// Apply a random toroidal shift to each realization.
-    #[arg(long)]
+    /// How each realization is randomized: none (as drawn), shift (a random toroidal shift),
+    /// digital-shift (a random XOR of the binary digits), or native (the sampler's own).
+    #[arg(long, default_value = "none")]
+    pub randomization: RandomizationChoice,
+    /// Apply a random toroidal shift to each realization: the same as --randomization shift.
+    #[arg(long, conflicts_with = "randomization")]
     pub homogenize: bool,
     /// Output file (standard output if absent).
     #[arg(long, short = 'o')]
@@ -51,7 +56,12 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
         args.n,
         args.seed,
         0..args.realizations,
-        args.homogenize,
+        match args.homogenize {
+            true => Randomization::Shift,
+            false => args
+                .randomization
+                .resolve(args.sampler.native_randomization()),
+        },
         &ctx.budget,
     )?;
     if args.binary {

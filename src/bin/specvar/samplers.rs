@@ -1,6 +1,6 @@
 //! `specvar samplers`: the table of samplers and their facts.
 
-use specvar::sampler::SamplerKind;
+use specvar::sampler::{SamplerKind, SamplerSummary};
 
 /// Arguments of `specvar samplers`.
 #[derive(Debug, clap::Args)]
@@ -10,35 +10,9 @@ pub struct Args {
     pub json: bool,
 }
 
-#[derive(serde::Serialize)]
-struct Row {
-    name: SamplerKind,
-    min_dimension: usize,
-    max_dimension: usize,
-    n_rule: &'static str,
-    scaling: specvar::sampler::Scaling,
-    isotropic: bool,
-    known_alpha: Option<f64>,
-    cost_per_point_ns: f64,
-    description: &'static str,
-}
-
 /// Prints every sampler with its dimensions, N rule and facts.
 pub fn run(args: &Args) -> specvar::Result<()> {
-    let rows: Vec<Row> = SamplerKind::ALL
-        .iter()
-        .map(|&k| Row {
-            name: k,
-            min_dimension: *k.dimensions().start(),
-            max_dimension: *k.dimensions().end(),
-            n_rule: k.count_rule(),
-            scaling: k.scaling(),
-            isotropic: k.is_isotropic(),
-            known_alpha: k.known_alpha(),
-            cost_per_point_ns: k.cost_per_point_ns(),
-            description: k.description(),
-        })
-        .collect();
+    let rows: Vec<SamplerSummary> = SamplerKind::ALL.iter().map(|k| k.summary()).collect();
     if args.json {
         outln!("{}", super::to_json(&rows)?)?;
         return Ok(());
@@ -50,7 +24,7 @@ pub fn run(args: &Args) -> specvar::Result<()> {
     };
     let rule_width = rows
         .iter()
-        .map(|r| r.n_rule.chars().count())
+        .map(|r| r.count_rule.chars().count())
         .max()
         .unwrap_or(1);
     let name_width = rows.iter().map(|r| r.name.name().len()).max().unwrap_or(4);
@@ -69,7 +43,7 @@ pub fn run(args: &Args) -> specvar::Result<()> {
         let cells = [
             pad(r.name.name(), name_width),
             pad(&dims, 10),
-            pad(r.n_rule, rule_width),
+            pad(&r.count_rule, rule_width),
         ];
         outln!("{} {}", cells.join(" "), r.description)?;
     }

@@ -1,0 +1,183 @@
+//! The descriptor of a sampler: every fact the predictions, the atlas, the command line, the
+//! Python module and the docs need, stated once per sampler in its own file as a
+//! [`SamplerFacts`] constant. A struct literal names every field, so a new sampler cannot leave
+//! a fact out: the compiler lists what is missing.
+
+use crate::randomization::Randomization;
+use crate::spectrum::ClosedForm;
+use serde::Serialize;
+use std::fmt;
+use std::ops::RangeInclusive;
+
+/// Every fact about one sampler.
+#[derive(Debug, Clone)]
+pub struct SamplerFacts {
+    /// The command-line name.
+    pub name: &'static str,
+    /// One line saying what the sampler is.
+    pub description: &'static str,
+    /// The dimensions it supports.
+    pub dimensions: RangeInclusive<usize>,
+    /// The rule N must follow.
+    pub count: CountRule,
+    /// What is random in a pattern as drawn.
+    pub randomness: Randomness,
+    /// The randomization the sampler is used with in practice (by renderers and
+    /// quasi-Monte Carlo libraries): its patterns as drawn, or, for a fixed rule whose
+    /// unshifted estimator has a bias and no variance, a random toroidal shift.
+    pub native_randomization: Randomization,
+    /// Its exact expected spectrum, where one is known.
+    pub closed_form: ClosedFormRule,
+    /// The low-frequency exponent `α` of `P̆_S(ν) ≈ c ν^α` as `ν → 0`, where it is known.
+    pub known_alpha: Option<f64>,
+    /// How the expected spectrum depends on N.
+    pub scaling: Scaling,
+    /// Whether the expected spectrum depends on `|k|` alone (up to the torus).
+    pub isotropic: bool,
+    /// Which symmetries of the cube leave the law of its patterns unchanged.
+    pub symmetry: Symmetry,
+    /// How far its pair correlations reach, in mean spacings `N^{-1/d}` (largest component).
+    pub correlation_reach: f64,
+    /// The time to generate one point of a 2D pattern, in nanoseconds, measured at N = 1024 to
+    /// 4096 by `benches/samplers.rs` (which fails when a measurement leaves
+    /// [`COST_TOLERANCE`] of it). It sizes work estimates and Monte Carlo pools.
+    pub cost_per_point_ns: f64,
+    /// The generator's working memory, in bytes, for `n` points in dimension `d` (beyond the
+    /// points themselves).
+    pub working_bytes: fn(n: f64, d: usize) -> f64,
+}
+
+/// How far a measured cost per point may stray from the declared one (either way) before
+/// `benches/samplers.rs` fails: the decisions it drives (pools, the costly class) change at
+/// factors of ten, so a factor of three still leaves each sampler in its class.
+pub const COST_TOLERANCE: f64 = 3.0;
+
+/// The rule N must follow.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CountRule {
+    /// Any `N ≥ 1`.
+    Any,
+    /// `N = m^d` strata, or in 2D `a × b` with `b < a ≤ 2b`.
+    Strata,
+    /// A Fibonacci number.
+    Fibonacci,
+    /// `N = p²` for a prime `p` (an orthogonal array of strength 2 on `p` levels).
+    PrimeSquare,
+}
+
+impl CountRule {
+    /// Whether `n` points follow the rule in dimension `d`.
+    pub fn admits(self, n: usize, d: usize) -> bool {
+        match self {
+            CountRule::Any => n >= 1,
+            CountRule::Strata => super::strata(n, d).is_some(),
+            CountRule::Fibonacci => super::rank1::is_fibonacci(n),
+            CountRule::PrimeSquare => super::perfect_root(n, 2).is_some_and(is_prime),
+        }
+    }
+}
+
+impl fmt::Display for CountRule {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            CountRule::Any => "any N >= 1",
+            CountRule::Strata => "N = m^d; 2D: or a×b, b<a≤2b",
+            CountRule::Fibonacci => "N = F_m: 1, 2, 3, 5, 8, 13, 21, …",
+            CountRule::PrimeSquare => "N = p² for a prime p: 4, 9, 25, 49, 121, …",
+        })
+    }
+}
+
+/// Whether `p` is prime (trial division: the counts are squares of small numbers).
+pub(crate) fn is_prime(p: usize) -> bool {
+    p >= 2 && (2..).take_while(|q| q * q <= p).all(|q| !p.is_multiple_of(q))
+}
+
+/// What is random in a pattern as drawn, before any randomization is added.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Randomness {
+    /// Nothing: one fixed point set (the regular grid, rank-1 lattices, Kronecker).
+    Deterministic,
+    /// Independent uniform points.
+    Independent,
+    /// One uniform point in each stratum, with random choices of the strata's rows and columns
+    /// (jitter, multi-jitter, Latin hypercube, orthogonal arrays, Gaussian jitter's offsets).
+    Stratified,
+    /// A digital net under random digit scrambling (Owen's nested scrambling; the random
+    /// choices of the progressive construction).
+    ScrambledNet,
+    /// Radical inverses under random digit permutations.
+    PermutedDigits,
+    /// A random start relaxed by a translation-equivariant process on the torus (dart
+    /// throwing, Lloyd-like descents).
+    Relaxed,
+}
+
+impl Randomness {
+    /// Whether the law of the patterns is invariant under every toroidal translation, so that a
+    /// random shift leaves the estimator's law unchanged: independent points and processes on
+    /// the torus that treat every position alike.
+    pub fn is_stationary(self) -> bool {
+        matches!(self, Randomness::Independent | Randomness::Relaxed)
+    }
+
+    /// Whether patterns of this randomness under `randomization` integrate with the variance
+    /// of the shifted (homogenized) estimator: always under the shift itself; used as drawn,
+    /// for stationary laws, which a shift does not change; under a digital shift, for
+    /// independent points, which stay independent and uniform.
+    pub fn has_shifted_variance(self, randomization: Randomization) -> bool {
+        match randomization {
+            Randomization::Shift => true,
+            Randomization::None => self.is_stationary(),
+            Randomization::DigitalShift => self == Randomness::Independent,
+        }
+    }
+}
+
+/// Where a sampler's exact expected spectrum comes from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ClosedFormRule {
+    /// None is known.
+    None,
+    /// This one, at every N.
+    Always(ClosedForm),
+    /// This one, where N has strata ([`super::strata`]).
+    WithStrata(ClosedForm),
+    /// The built sampler's own, which depends on its parameters ([`super::Sampler::closed_form`]).
+    OfSampler,
+}
+
+/// How a sampler's expected spectrum depends on N: whether one spectrum, estimated at a
+/// reference N and read at `ν = ρ / N^{1/d}`, serves another N.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Scaling {
+    /// A function of `ν` alone at every N.
+    Invariant,
+    /// A function of `ν` alone at `N = m^d` (square strata); other strata are other shapes.
+    PerfectPowers,
+    /// Never: structure at `k/N` on the axes, lattices, or spikes whose height grows with N.
+    Never,
+}
+
+/// Which symmetries of the cube (permutations of the axes, reflections `x_a → 1 - x_a`) leave
+/// the law of a sampler's patterns, and so `E[P_S]`, unchanged.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Symmetry {
+    /// All of them.
+    Cube,
+    /// All of them where the strata are square (`N = m^d`); rectangular strata break the
+    /// transpositions.
+    CubeWithSquareStrata,
+    /// Not all: each axis is its own sequence (Halton, Sobol'), rows and columns are built
+    /// differently (correlated multi-jitter), or a lattice's generator is not symmetric.
+    Partial,
+}
+
+/// Working memory of samplers that hold nothing beyond a point's worth per point.
+pub(crate) fn one_word_per_point(n: f64, _d: usize) -> f64 {
+    n * 8.0
+}
