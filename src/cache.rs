@@ -207,7 +207,7 @@ impl Sampler for DiskCached {
 }
 
 /// Memory for keeping costly patterns during a study, a report or a render.
-pub(crate) const PATTERN_MEMORY: usize = 256 << 20;
+pub const PATTERN_MEMORY: usize = 256 << 20;
 
 /// `kind` in dimension `d`, its costly patterns (a microsecond per point or more) kept on disk
 /// under `dir` if given, and in memory up to `memory_bytes` in any case.

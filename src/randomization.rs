@@ -57,9 +57,9 @@ impl Randomization {
     /// Words for the estimator, as tables and reports print it.
     pub fn estimator(self) -> &'static str {
         match self {
-            Randomization::Shift => "randomly shifted (homogenized)",
+            Randomization::Shift => "randomly shifted",
             Randomization::DigitalShift => "digitally shifted",
-            Randomization::None => "as drawn (unshifted)",
+            Randomization::None => "as drawn",
         }
     }
 
@@ -254,7 +254,10 @@ mod tests {
             assert_eq!(c.to_string().parse::<RandomizationChoice>().unwrap(), c);
         }
         let native = RandomizationChoice::Native;
-        assert_eq!(native.to_string().parse::<RandomizationChoice>().unwrap(), native);
+        assert_eq!(
+            native.to_string().parse::<RandomizationChoice>().unwrap(),
+            native
+        );
         assert!("xor".parse::<RandomizationChoice>().is_err());
     }
 

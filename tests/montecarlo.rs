@@ -1,9 +1,9 @@
 //! Monte Carlo: intervals that cover exact variances, pools, fixed patterns, determinism.
 
-use specvar::randomization::Randomization;
 use specvar::integrand::*;
 use specvar::montecarlo::*;
 use specvar::predict::*;
+use specvar::randomization::Randomization;
 use specvar::sampler::*;
 use specvar::spectrum::*;
 use specvar::{PointSet, Result};

@@ -1,10 +1,10 @@
 //! The one-call prediction off the talk's setup: every route chosen by default, each against a
 //! truth computed by an independent route, and the error budget's coverage measured.
 
-use specvar::randomization::Randomization;
 use specvar::integrand::*;
 use specvar::montecarlo::{empirical_variance, McParams, Z_99};
 use specvar::predict::*;
+use specvar::randomization::Randomization;
 use specvar::sampler::*;
 use specvar::spectrum::ClosedForm;
 use std::f64::consts::PI;

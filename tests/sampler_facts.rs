@@ -110,7 +110,10 @@ fn square_count(kind: SamplerKind) -> usize {
 }
 
 fn check(name: &str, kind: SamplerKind, (z2, limit): (f64, f64)) {
-    assert!(z2 <= limit, "{kind}: {name} declared, mean z² {z2:.2} > {limit:.2}");
+    assert!(
+        z2 <= limit,
+        "{kind}: {name} declared, mean z² {z2:.2} > {limit:.2}"
+    );
 }
 
 #[test]

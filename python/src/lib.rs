@@ -24,9 +24,6 @@ use specvar::randomization::{Randomization, RandomizationChoice};
 use specvar::sampler::{draw_realizations, native_randomization, Sampler, SamplerKind};
 use specvar::spectrum::{estimate_with_progress, Engine, PatternSource, SpectrumParams};
 
-/// Memory for costly samplers' patterns kept between calls of one sampler object.
-const PATTERN_MEMORY: usize = 256 << 20;
-
 /// What one call may spend, checked before it starts (the command line's `--budget-memory`
 /// and `--budget-seconds`); [`set_budget`] changes it for the process.
 static BUDGET: std::sync::RwLock<Budget> = std::sync::RwLock::new(Budget {
@@ -75,7 +72,7 @@ const GIB: f64 = (1u64 << 30) as f64;
 fn build_sampler(name: &str, d: usize, cache: bool) -> specvar::Result<Box<dyn Sampler>> {
     let kind: SamplerKind = name.parse()?;
     let dir = cache.then(specvar::cache::default_dir);
-    specvar::cache::cached_sampler(kind, d, dir.as_deref(), PATTERN_MEMORY)
+    specvar::cache::cached_sampler(kind, d, dir.as_deref(), specvar::cache::PATTERN_MEMORY)
 }
 
 /// The patterns of a call: a sampler's realizations or the caller's point sets.
@@ -174,7 +171,9 @@ fn required_integrand(integrand: &Bound<'_, PyAny>, d: usize) -> PyResult<Box<dy
 fn serde_name<T: serde::Serialize>(value: &T) -> PyResult<String> {
     match serde_json::to_value(value) {
         Ok(serde_json::Value::String(s)) => Ok(s),
-        _ => Err(PyValueError::new_err("a fact that does not serialize to a name")),
+        _ => Err(PyValueError::new_err(
+            "a fact that does not serialize to a name",
+        )),
     }
 }
 
@@ -406,7 +405,15 @@ fn monte_carlo<'py>(
                      unset",
                 ));
                 }
-                callable_monte_carlo(py, &integrand, &source, trials, seed, randomization, integral)?
+                callable_monte_carlo(
+                    py,
+                    &integrand,
+                    &source,
+                    trials,
+                    seed,
+                    randomization,
+                    integral,
+                )?
             }
             None => return Err(PyValueError::new_err(
                 "the integrand must be a specification string, a 2D array of cell values, or a \

@@ -7,7 +7,6 @@ mod write;
 
 pub use write::{atlas_markdown, write_atlas};
 
-use crate::randomization::Randomization;
 use crate::error::Result;
 use crate::integrand::{Integrand, IntegrandSpec};
 use crate::metrics::{
@@ -18,6 +17,7 @@ use crate::montecarlo::{McParams, McResult, Z_99};
 use crate::pointset::PointSet;
 use crate::predict::{beside_monte_carlo, PredictParams, Prediction};
 use crate::progress::{Progress, Silent};
+use crate::randomization::Randomization;
 use crate::rate::{fit_alpha, theory_rate, AlphaFit};
 use crate::sampler::{Sampler, SamplerKind};
 use crate::spectrum::{estimate_with_progress, PatternSource, SpectrumEstimate, SpectrumParams};
@@ -193,10 +193,14 @@ fn entry(kind: SamplerKind, config: &AtlasConfig, fs: &[Box<dyn Integrand>]) -> 
     })
 }
 
-/// The spectrum at N up to `ν = 3`.
+/// How far in `ν` the atlas draws each spectrum: past the blue-noise peaks and the first
+/// replicas of the strata and lattices.
+const SPECTRUM_NU: f64 = 3.0;
+
+/// The spectrum at N up to [`SPECTRUM_NU`].
 fn spectrum_of(patterns: &[PointSet], n: usize) -> Result<SpectrumEstimate> {
     let params = SpectrumParams {
-        kmax: (3.0 * (n as f64).sqrt()).ceil() as usize,
+        kmax: crate::spectrum::kmax_at_nu(n, 2, SPECTRUM_NU),
         ..SpectrumParams::default()
     };
     estimate_with_progress(PatternSource::Sets(patterns), &params, &Silent)
@@ -220,7 +224,7 @@ fn alpha_at(
     let n = kind.nearest_count(config.alpha_n, 2);
     let realizations = kind.spectrum_realizations(config.realizations);
     let params = SpectrumParams {
-        kmax: (2.0 * ALPHA_BAND * (n as f64).sqrt()).ceil() as usize,
+        kmax: crate::spectrum::kmax_at_nu(n, 2, 2.0 * ALPHA_BAND),
         realizations,
         seed: config.seed,
         budget: config.budget,

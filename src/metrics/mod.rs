@@ -9,6 +9,16 @@ pub use discrepancy::{squared_discrepancy, DiscrepancyKind, MAX_DISCREPANCY_POIN
 pub use distance::{distances, effective_nyquist, hexagonal_nyquist, Distances, NYQUIST_THRESHOLD};
 pub use pcf::{pair_correlation, Pcf, PcfParams};
 
+/// How far in `ν` a summary of a pattern's spectrum reads it (the effective Nyquist
+/// frequency): past every blue-noise peak.
+pub const SUMMARY_NU: f64 = 1.5;
+
+/// The lattice extent of a summary's spectrum at `n` points in dimension `d`: up to
+/// [`SUMMARY_NU`], and at least 4.
+pub fn summary_kmax(n: usize, d: usize) -> usize {
+    crate::spectrum::kmax_at_nu(n, d, SUMMARY_NU).max(4)
+}
+
 use crate::error::Result;
 use crate::pointset::PointSet;
 

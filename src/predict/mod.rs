@@ -29,7 +29,7 @@ mod radial_table;
 mod route;
 mod space;
 
-pub use bias::{bias_of_pattern, regular_grid_bias, SpectralBias};
+pub use bias::{bias_of_pattern, regular_grid_bias, sampler_bias, BiasMethod, SpectralBias};
 pub use lattice::{
     predict_from_power, predict_lattice, predict_on_patterns, LatticePower, PatternPlan,
 };

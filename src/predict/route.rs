@@ -55,8 +55,9 @@ pub fn default_kmax(n_ref: usize, d: usize) -> usize {
 
 /// The initial lattice extent of a route: `ν = K/N^{1/d}` up to `nu`, at least 16.
 fn initial_kmax(n: usize, d: usize, nu: f64, budget: usize) -> usize {
-    let k = (nu * (n as f64).powf(1.0 / d as f64)).ceil() as usize;
-    k.max(16).min(largest_kmax(d, budget))
+    crate::spectrum::kmax_at_nu(n, d, nu)
+        .max(16)
+        .min(largest_kmax(d, budget))
 }
 
 /// The largest model error the polar form may carry, relative to its variance.
@@ -146,13 +147,15 @@ pub(crate) fn check_estimator(problem: &Problem<'_>) -> Result<()> {
     };
     match kind {
         Some(k) if k.facts().randomness.has_shifted_variance(r) => Ok(()),
-        Some(k) if k.is_deterministic() && r == Randomization::None => Err(Error::OutsideValidity {
-            route: "the spectral routes".into(),
-            reason: format!(
-                "{k} draws one fixed pattern: used as drawn, its estimator has a bias and no \
+        Some(k) if k.is_deterministic() && r == Randomization::None => {
+            Err(Error::OutsideValidity {
+                route: "the spectral routes".into(),
+                reason: format!(
+                    "{k} draws one fixed pattern: used as drawn, its estimator has a bias and no \
                  variance (`specvar bias`); randomize it with shift"
-            ),
-        }),
+                ),
+            })
+        }
         _ => Err(Error::OutsideValidity {
             route: "the spectral routes".into(),
             reason: format!(
@@ -498,11 +501,11 @@ fn rescaled_polar(
     sampler.check_count(n_ref)?;
     let spectrum = SpectrumParams {
         kmax: default_kmax(n_ref, d),
-        realizations: params.realizations.unwrap_or(
-            kind.map_or(INITIAL_REALIZATIONS, |k| {
+        realizations: params
+            .realizations
+            .unwrap_or(kind.map_or(INITIAL_REALIZATIONS, |k| {
                 k.spectrum_realizations(INITIAL_REALIZATIONS)
-            }),
-        ),
+            })),
         seed: params.seed,
         engine: Engine::Auto,
         bin_width: 1.0,

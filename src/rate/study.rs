@@ -2,7 +2,6 @@
 //! convergence rates. `specvar rates` and the report both run [`run_study`].
 
 use super::{fit_alpha, loglog_slope, loglog_slope_with_weights, theory_rate, AlphaFit, SlopeFit};
-use crate::randomization::Randomization;
 use crate::cache::PATTERN_MEMORY;
 use crate::error::{invalid, Result};
 use crate::integrand::{Integrand, IntegrandSpec};
@@ -11,6 +10,7 @@ use crate::montecarlo::{
 };
 use crate::predict::{predict_many, PredictParams, Prediction, Problem};
 use crate::progress::{stage, Progress};
+use crate::randomization::Randomization;
 use crate::sampler::SamplerKind;
 use crate::spectrum::{estimate, Engine, SpectrumEstimate, SpectrumParams};
 use serde::Serialize;

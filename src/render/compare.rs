@@ -22,6 +22,29 @@ pub const TALK_MSE: [(SamplerKind, f64); 4] = [
     (SamplerKind::Ccvt, 4.24e-4),
 ];
 
+/// The talk's measured MSE for a sampler (NaN for a sampler the talk did not render).
+pub fn talk_mse(sampler: SamplerKind) -> f64 {
+    TALK_MSE
+        .iter()
+        .find(|t| t.0 == sampler)
+        .map_or(f64::NAN, |t| t.1)
+}
+
+/// The ratio of two samplers' MSE in the talk's render, where it rendered both.
+///
+/// # Examples
+/// ```
+/// use specvar::render::talk_ratio;
+/// use specvar::sampler::SamplerKind;
+/// let r = talk_ratio(SamplerKind::Random, SamplerKind::Jitter).unwrap();
+/// assert!((r - 5.54).abs() < 0.005);
+/// assert!(talk_ratio(SamplerKind::Sobol, SamplerKind::Jitter).is_none());
+/// ```
+pub fn talk_ratio(a: SamplerKind, b: SamplerKind) -> Option<f64> {
+    let ratio = talk_mse(a) / talk_mse(b);
+    ratio.is_finite().then_some(ratio)
+}
+
 /// One sampler's render: measured and predicted MSE.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct ComparisonRow {

@@ -21,7 +21,7 @@ mod mse;
 
 pub use compare::{
     all_2d_samplers, compare, comparison_table, measured_ratio, run_comparison, samplers_for_rays,
-    write_comparison, Comparison, ComparisonConfig, ComparisonRow, TALK_MSE,
+    talk_mse, talk_ratio, write_comparison, Comparison, ComparisonConfig, ComparisonRow, TALK_MSE,
 };
 pub use image::{AoImage, Reference, ReferenceKey};
 pub use mse::{measure_mse, pixel_power, predict_mse, MseEstimate, PixelPowerParams};

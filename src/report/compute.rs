@@ -5,7 +5,6 @@ use super::model::{
     AmbientSection, Check, ClosureConfig, ClosureRow, ClosureTable, Crossover, EdgesConfig,
     EdgesSection, Illustration, PolarComparison, Report, ReportConfig, SeriesExtras, Timing,
 };
-use crate::randomization::Randomization;
 use crate::anisotropy::{
     edge_rates, variance_against_orientation, OrientationConfig, OrientationRow,
 };
@@ -18,8 +17,9 @@ use crate::predict::{
     PredictParams, Prediction, SpectrumSource,
 };
 use crate::progress::{Progress, Silent};
+use crate::randomization::Randomization;
 use crate::rate::{crossover, fit_low_band, run_study, SamplerSpectrum, Study, StudySeries};
-use crate::render::{measured_ratio, run_comparison, TALK_MSE};
+use crate::render::{measured_ratio, run_comparison, talk_mse};
 use crate::sampler::{Ccvt, Regular, Sampler, SamplerKind};
 use crate::spectrum::{periodogram, Engine};
 use rayon::prelude::*;
@@ -340,7 +340,12 @@ fn closure_cell(
     integrands: &[&dyn Integrand],
     n: usize,
 ) -> Result<Vec<ClosureRow>> {
-    let mut mc = McParams::pooled(kind, config.trials, seed ^ CLOSURE_MC_STREAM, Randomization::Shift);
+    let mut mc = McParams::pooled(
+        kind,
+        config.trials,
+        seed ^ CLOSURE_MC_STREAM,
+        Randomization::Shift,
+    );
     mc.budget = config.predict.budget;
     let results = beside_monte_carlo(sampler, integrands, n, &mc, params, ("", &Silent))?;
     Ok(integrands
@@ -478,14 +483,6 @@ fn prediction_check(series: &StudySeries, p: &Prediction, r: &McResult) -> Check
             100.0 * (p.variance / r.variance - 1.0)
         ),
     }
-}
-
-/// The talk's measured MSE for a sampler.
-pub(crate) fn talk_mse(sampler: SamplerKind) -> f64 {
-    TALK_MSE
-        .iter()
-        .find(|t| t.0 == sampler)
-        .map_or(f64::NAN, |t| t.1)
 }
 
 /// The rendering section's checks: the talk's orderings and each prediction against its

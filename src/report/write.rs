@@ -1,7 +1,6 @@
 //! Writing the report: plots, `report.md` and `report.json`, staged and moved into the output
 //! directory only when complete ([`crate::output::write_dir`]: files of the user's there stay).
 
-use super::compute::talk_mse;
 use super::model::{
     AmbientSection, ClosureTable, EdgesConfig, EdgesSection, PolarComparison, Report,
 };
@@ -11,6 +10,7 @@ use crate::montecarlo::Z_99;
 use crate::plot::{line_plot, Axes, Series, Style};
 use crate::predict::{Prediction, SpectrumOrigin};
 use crate::rate::Study;
+use crate::render::talk_mse;
 use crate::render::{measured_ratio, write_comparison};
 use crate::sampler::SamplerKind;
 use std::fmt::Write as _;

@@ -14,12 +14,12 @@
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
+use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
 use super::{check_supported, uniform, PoissonDisk, Sampler, SamplerKind};
 use crate::error::{invalid, Result};
 use crate::pointset::{near_delta, toroidal_delta, toroidal_distance_sq, wrap, PointSet};
-use crate::rng::{realization_rng, Stream};
-use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
 use crate::randomization::Randomization;
+use crate::rng::{realization_rng, Stream};
 
 /// CCVT's working memory: its `64 n` discrete points and, while assigning them, about `5^d`
 /// candidate pairs of 24 bytes per discrete point.
@@ -44,7 +44,6 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     cost_per_point_ns: 190_000.0,
     working_bytes,
 };
-
 
 /// CCVT parameters.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -73,8 +73,38 @@ impl CountRule {
             CountRule::Any => n >= 1,
             CountRule::Strata => super::strata(n, d).is_some(),
             CountRule::Fibonacci => super::rank1::is_fibonacci(n),
-            CountRule::PrimeSquare => super::perfect_root(n, 2).is_some_and(is_prime),
+            CountRule::PrimeSquare => {
+                super::perfect_root(n, 2).is_some_and(|p| is_prime(p) && p + 1 >= d)
+            }
         }
+    }
+
+    /// The admitted count nearest `n` (the smaller on ties), at least 1.
+    pub fn nearest(self, n: usize, d: usize) -> usize {
+        let n = n.max(1);
+        if self == CountRule::PrimeSquare {
+            return nearest_prime_square(n, d);
+        }
+        (0..n)
+            .flat_map(|step| [n - step, n + step])
+            .find(|&c| c >= 1 && self.admits(c, d))
+            .unwrap_or(1)
+    }
+}
+
+/// The square of a prime `p ≥ max(2, d − 1)` nearest `n` (the smaller on ties): primes are
+/// searched around `√n`, not counts around `n`, whose gaps grow like `√n`.
+fn nearest_prime_square(n: usize, d: usize) -> usize {
+    let least = d.saturating_sub(1).max(2);
+    let root = n.isqrt();
+    let below = (least..=root).rev().find(|&p| is_prime(p));
+    let above = (root.max(least)..).find(|&p| is_prime(p) && p.saturating_mul(p) >= n);
+    let square = |p: usize| p.saturating_mul(p);
+    match (below.map(square), above.map(square)) {
+        (Some(b), Some(a)) if n - b <= a - n => b,
+        (_, Some(a)) => a,
+        (Some(b), None) => b,
+        (None, None) => square(least),
     }
 }
 
@@ -91,7 +121,10 @@ impl fmt::Display for CountRule {
 
 /// Whether `p` is prime (trial division: the counts are squares of small numbers).
 pub(crate) fn is_prime(p: usize) -> bool {
-    p >= 2 && (2..).take_while(|q| q * q <= p).all(|q| !p.is_multiple_of(q))
+    p >= 2
+        && (2..)
+            .take_while(|q| q * q <= p)
+            .all(|q| !p.is_multiple_of(q))
 }
 
 /// What is random in a pattern as drawn, before any randomization is added.

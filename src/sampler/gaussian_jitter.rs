@@ -1,18 +1,19 @@
 //! Gaussian jitter: grid centres moved by Gaussian offsets (Subr and Kautz 2013).
 
+use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
 use super::regular::{check_strata, for_each_cell};
 use super::{check_supported, uniform, Sampler, SamplerKind};
 use crate::error::{invalid, Result};
 use crate::pointset::{wrap, PointSet, MAX_DIMENSION};
+use crate::randomization::Randomization;
 use crate::rng::{realization_rng, Stream};
 use crate::spectrum::ClosedForm;
-use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
-use crate::randomization::Randomization;
 
 /// Gaussian jitter: its closed form depends on its width.
 pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     name: "gjitter",
-    description: "Gaussian jitter (Subr and Kautz 2013): grid centres plus Gaussian offsets of 0.25 \
+    description:
+        "Gaussian jitter (Subr and Kautz 2013): grid centres plus Gaussian offsets of 0.25 \
                   strata",
     dimensions: 1..=crate::pointset::MAX_DIMENSION,
     count: CountRule::Strata,
@@ -27,7 +28,6 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     cost_per_point_ns: 55.0,
     working_bytes: super::facts::one_word_per_point,
 };
-
 
 /// The default width: a standard deviation of a quarter stratum, close to uniform jitter's
 /// `1/√12 ≈ 0.29`.

@@ -15,18 +15,19 @@
 //! is so large that an integrand's power reaches below `ν_r` (`docs/theory.md`). Each step moves every point from the same old positions (a Jacobi
 //! step), so a pattern is the same bits for any thread count.
 
+use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
 use super::{check_positive, check_supported, uniform, Sampler, SamplerKind};
 use crate::error::{invalid, Result};
 use crate::pointset::{near_delta, toroidal_delta, wrap, PointSet, MAX_DIMENSION};
+use crate::randomization::Randomization;
 use crate::rng::{realization_rng, Stream};
 use rayon::prelude::*;
-use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
-use crate::randomization::Randomization;
 
 /// Gaussian blue noise.
 pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     name: "gbn",
-    description: "Gaussian blue noise (after Ahmed et al. 2022): descent of a Gaussian-kernel energy",
+    description:
+        "Gaussian blue noise (after Ahmed et al. 2022): descent of a Gaussian-kernel energy",
     dimensions: 1..=3,
     count: CountRule::Any,
     randomness: Randomness::Relaxed,
@@ -40,7 +41,6 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     cost_per_point_ns: 180_000.0,
     working_bytes: super::facts::one_word_per_point,
 };
-
 
 /// The kernel is cut where it falls below `exp(-CUTOFF_SIGMAS² / 2)` (3e-4 of its peak).
 const CUTOFF_SIGMAS: f64 = 4.0;

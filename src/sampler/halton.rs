@@ -1,11 +1,11 @@
 //! Halton sequence with random digit permutations.
 
+use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
 use super::{check_supported, random_permutation, Sampler, SamplerKind, ONE_MINUS_EPS};
 use crate::error::Result;
 use crate::pointset::{PointSet, MAX_DIMENSION};
-use crate::rng::{realization_rng, Stream};
-use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
 use crate::randomization::Randomization;
+use crate::rng::{realization_rng, Stream};
 
 /// Halton: each axis its own radical inverse, so only partly symmetric.
 pub(crate) const FACTS: SamplerFacts = SamplerFacts {
@@ -24,7 +24,6 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     cost_per_point_ns: 35.0,
     working_bytes: |_, _| 4096.0,
 };
-
 
 const PRIMES: [u64; MAX_DIMENSION] = [2, 3, 5, 7, 11, 13, 17, 19];
 

@@ -1,12 +1,12 @@
 //! Jittered (stratified) sampling.
 
+use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
 use super::regular::{check_strata, for_each_cell};
 use super::{check_supported, in_cell, uniform, Sampler, SamplerKind};
 use crate::error::Result;
 use crate::pointset::{PointSet, MAX_DIMENSION};
-use crate::rng::{realization_rng, Stream};
-use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
 use crate::randomization::Randomization;
+use crate::rng::{realization_rng, Stream};
 use crate::spectrum::ClosedForm;
 
 /// Jitter: points correlate only within one stratum's reach.
@@ -26,7 +26,6 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     cost_per_point_ns: 8.0,
     working_bytes: super::facts::one_word_per_point,
 };
-
 
 /// One uniform point in each cell of a grid of [`super::strata`]: `N = m^d`, or in 2D a
 /// near-square `a × b` rectangle (`96 = 12 × 8`). Its expected power spectrum at integer

@@ -1,14 +1,14 @@
 //! Every sampler this crate provides, and every fact about each one, in one place.
 
+use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
 use super::{
     Ccvt, CorrelatedMultiJitter, GaussianBlueNoise, GaussianJitter, Halton, Jitter, Kronecker,
-    LatinHypercube, LatticeRule, MultiJitter, Pmj02, PoissonDisk, PoissonMethod, Random,
-    Rank1Lattice, Regular, Sampler, Sobol,
+    LatinHypercube, LatticeRule, MultiJitter, OrthogonalArray, Pmj02, PoissonDisk, PoissonMethod,
+    Random, Rank1Lattice, Regular, Sampler, Sobol,
 };
-use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
 use crate::budget::Needs;
-use crate::randomization::Randomization;
 use crate::error::{Error, Result};
+use crate::randomization::Randomization;
 use crate::spectrum::ClosedForm;
 use serde::Serialize;
 use std::fmt;
@@ -32,6 +32,8 @@ pub enum SamplerKind {
     Ccvt,
     /// Latin hypercube / N-rooks.
     LatinHypercube,
+    /// Orthogonal arrays of strength 2 with multi-jittered offsets.
+    OrthogonalArray,
     /// Randomly scrambled Halton.
     Halton,
     /// Owen-scrambled Sobol.
@@ -92,7 +94,7 @@ pub fn costly_realizations(cheap: usize) -> usize {
 
 impl SamplerKind {
     /// All kinds, in display order.
-    pub const ALL: [SamplerKind; 17] = [
+    pub const ALL: [SamplerKind; 18] = [
         SamplerKind::Random,
         SamplerKind::Regular,
         SamplerKind::Jitter,
@@ -106,6 +108,7 @@ impl SamplerKind {
         SamplerKind::Sobol,
         SamplerKind::MultiJitter,
         SamplerKind::Cmj,
+        SamplerKind::OrthogonalArray,
         SamplerKind::Pmj02,
         SamplerKind::Korobov,
         SamplerKind::Fibonacci,
@@ -122,6 +125,7 @@ impl SamplerKind {
             SamplerKind::Bridson => &super::poisson::BRIDSON_FACTS,
             SamplerKind::Ccvt => &super::ccvt::FACTS,
             SamplerKind::LatinHypercube => &super::latin::FACTS,
+            SamplerKind::OrthogonalArray => &super::orthogonal::FACTS,
             SamplerKind::Halton => &super::halton::FACTS,
             SamplerKind::Sobol => &super::sobol::FACTS,
             SamplerKind::Cmj => &super::cmj::FACTS,
@@ -166,12 +170,7 @@ impl SamplerKind {
     /// assert_eq!(SamplerKind::Sobol.nearest_count(97, 2), 97);
     /// ```
     pub fn nearest_count(self, n: usize, d: usize) -> usize {
-        let rule = self.count_rule();
-        let n = n.max(1);
-        (0..n)
-            .flat_map(|step| [n - step, n + step])
-            .find(|&c| c >= 1 && rule.admits(c, d))
-            .unwrap_or(1)
+        self.count_rule().nearest(n, d)
     }
 
     /// Whether the pattern ignores the seed and the realization: one fixed point set, which
@@ -398,6 +397,7 @@ impl SamplerKind {
             }
             SamplerKind::Ccvt => Box::new(Ccvt::new(d)?),
             SamplerKind::LatinHypercube => Box::new(LatinHypercube::new(d)?),
+            SamplerKind::OrthogonalArray => Box::new(OrthogonalArray::new(d)?),
             SamplerKind::Halton => Box::new(Halton::new(d)?),
             SamplerKind::Sobol => Box::new(Sobol::new(d)?),
             SamplerKind::Cmj => Box::new(CorrelatedMultiJitter::new(d)?),

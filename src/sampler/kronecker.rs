@@ -1,16 +1,17 @@
 //! The Kronecker sequence of Roberts' generalized golden ratio (the R_d sequence).
 
+use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
 use super::{check_supported, Sampler, SamplerKind};
 use crate::error::Result;
 use crate::pointset::{PointSet, MAX_DIMENSION};
-use crate::spectrum::ClosedForm;
-use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
 use crate::randomization::Randomization;
+use crate::spectrum::ClosedForm;
 
 /// The Kronecker sequence: fixed, so used under a random shift.
 pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     name: "kronecker",
-    description: "Kronecker sequence frac(i alpha), alpha from x^(d+1) = x + 1 (R_d); deterministic",
+    description:
+        "Kronecker sequence frac(i alpha), alpha from x^(d+1) = x + 1 (R_d); deterministic",
     dimensions: 1..=crate::pointset::MAX_DIMENSION,
     count: CountRule::Any,
     randomness: Randomness::Deterministic,
@@ -24,7 +25,6 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     cost_per_point_ns: 8.0,
     working_bytes: super::facts::one_word_per_point,
 };
-
 
 /// The Kronecker sequence `x_i = frac(i α)`, `i = 0 … N-1`, with `α_j = φ_d^{-j}` (`j = 1 … d`)
 /// and `φ_d` the positive root of `x^{d+1} = x + 1` (the golden ratio in 1D, the plastic

@@ -17,6 +17,7 @@ mod kronecker;
 mod latin;
 mod memo;
 mod multi_jitter;
+mod orthogonal;
 mod pmj02;
 mod poisson;
 mod random;
@@ -26,6 +27,9 @@ mod sobol;
 
 pub use ccvt::{Ccvt, CcvtParams, CcvtStats};
 pub use cmj::CorrelatedMultiJitter;
+pub use facts::{
+    ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry, COST_TOLERANCE,
+};
 pub use gaussian_jitter::{
     GaussianJitter, DEFAULT_GAUSSIAN_WIDTH, MAX_GAUSSIAN_WIDTH, MIN_GAUSSIAN_WIDTH,
 };
@@ -33,14 +37,12 @@ pub use gbn::{GaussianBlueNoise, GbnParams};
 pub use halton::Halton;
 pub use homogenize::{homogenize, homogenizing_shift, Homogenized};
 pub use jitter::Jitter;
-pub use facts::{
-    ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry, COST_TOLERANCE,
-};
 pub use kind::{costly_realizations, Pool, SamplerKind, SamplerSummary, MIN_POOL_PATTERNS};
 pub use kronecker::Kronecker;
 pub use latin::LatinHypercube;
 pub use memo::Memoized;
 pub use multi_jitter::MultiJitter;
+pub use orthogonal::OrthogonalArray;
 pub use pmj02::{Pmj02, MAX_PMJ02_POINTS};
 pub use poisson::{
     default_relative_radius, max_packing_radius, PoissonDisk, PoissonMethod, MAX_ATTEMPTS,

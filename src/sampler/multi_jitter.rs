@@ -1,12 +1,12 @@
 //! Multi-jittered sampling (Chiu, Shirley and Wang 1994).
 
 use super::cmj::near_square_factors;
+use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
 use super::{check_supported, in_cell, random_permutation, uniform, Sampler, SamplerKind};
 use crate::error::Result;
 use crate::pointset::PointSet;
-use crate::rng::{realization_rng, Stream};
-use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
 use crate::randomization::Randomization;
+use crate::rng::{realization_rng, Stream};
 
 /// Multi-jittered sampling.
 pub(crate) const FACTS: SamplerFacts = SamplerFacts {
@@ -25,7 +25,6 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     cost_per_point_ns: 30.0,
     working_bytes: super::facts::one_word_per_point,
 };
-
 
 /// `N = m × n` samples, one in each cell of the `m × n` grid (jittered) and one in each of the
 /// `N` columns and `N` rows of width `1/N` (N-rooks). It starts from the canonical arrangement

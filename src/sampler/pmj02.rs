@@ -1,16 +1,17 @@
 //! Progressive multi-jittered (0,2) sequences (Christensen, Kensler and Kilpatrick 2018).
 
+use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
 use super::{check_supported, uniform, uniform_index, Sampler, SamplerKind};
 use crate::error::{Error, Result};
 use crate::pointset::PointSet;
-use crate::rng::{realization_rng, Stream};
-use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
 use crate::randomization::Randomization;
+use crate::rng::{realization_rng, Stream};
 
 /// Progressive multi-jittered (0,2) sequences.
 pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     name: "pmj02",
-    description: "progressive multi-jittered (0,2) (Christensen et al. 2018): every 2^m prefix a net",
+    description:
+        "progressive multi-jittered (0,2) (Christensen et al. 2018): every 2^m prefix a net",
     dimensions: 2..=2,
     count: CountRule::Any,
     randomness: Randomness::ScrambledNet,
@@ -24,7 +25,6 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     cost_per_point_ns: 330.0,
     working_bytes: super::facts::one_word_per_point,
 };
-
 
 /// The largest count: `2^26` points (the occupancy of every elementary-interval shape at the
 /// last power of two takes `27 · 2^26` bits, 226 MB).

@@ -7,14 +7,14 @@
 //! density (1 in 1D, `π/(2√3)` for the hexagonal packing in 2D, `π/(3√2)` for FCC in 3D).
 //! In 2D this is `r_max = √(2 / (√3 N))` (Lagae and Dutré 2008).
 
+use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
 use super::{check_supported, uniform, uniform_index, Sampler, SamplerKind};
 use crate::error::{invalid, Error, Result};
 use crate::pointset::{toroidal_distance_sq, wrap, PointSet};
+use crate::randomization::Randomization;
 use crate::rng::{realization_rng, splitmix64, Stream};
 use rand_pcg::Pcg64;
 use std::f64::consts::PI;
-use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
-use crate::randomization::Randomization;
 
 /// Poisson disk by dart throwing (its grid of candidates: 64 bytes a point).
 pub(crate) const DART_FACTS: SamplerFacts = SamplerFacts {
@@ -51,7 +51,6 @@ pub(crate) const BRIDSON_FACTS: SamplerFacts = SamplerFacts {
     cost_per_point_ns: 8_400.0,
     working_bytes: |n, _| n * 64.0,
 };
-
 
 /// The neighbour distance of the densest packing of `n` balls on the unit `d`-torus.
 ///

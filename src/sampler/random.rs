@@ -1,11 +1,11 @@
 //! White noise.
 
+use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
 use super::{check_supported, uniform, Sampler, SamplerKind};
 use crate::error::Result;
 use crate::pointset::{PointSet, MAX_DIMENSION};
-use crate::rng::{realization_rng, Stream};
-use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
 use crate::randomization::Randomization;
+use crate::rng::{realization_rng, Stream};
 use crate::spectrum::ClosedForm;
 
 /// White noise: no correlation between points, so no reach.
@@ -25,7 +25,6 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     cost_per_point_ns: 4.0,
     working_bytes: super::facts::one_word_per_point,
 };
-
 
 /// Independent uniform points: the reference sampler, with `E[P_S(k)] = 1` for all `k ≠ 0`.
 #[derive(Debug, Clone, Copy)]

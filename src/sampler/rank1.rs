@@ -1,11 +1,11 @@
 //! Rank-1 lattices in 2D: Korobov's with the best spectral test, and Fibonacci's.
 
+use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
 use super::{check_supported, Sampler, SamplerKind};
 use crate::error::{Error, Result};
 use crate::pointset::PointSet;
-use crate::spectrum::ClosedForm;
-use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
 use crate::randomization::Randomization;
+use crate::spectrum::ClosedForm;
 
 /// Korobov's lattice: fixed, so used under a random shift.
 pub(crate) const KOROBOV_FACTS: SamplerFacts = SamplerFacts {
@@ -39,10 +39,9 @@ pub(crate) const FIBONACCI_FACTS: SamplerFacts = SamplerFacts {
     isotropic: false,
     symmetry: Symmetry::Partial,
     correlation_reach: 2.0,
-    cost_per_point_ns: 5.0,
+    cost_per_point_ns: 16.0,
     working_bytes: super::facts::one_word_per_point,
 };
-
 
 /// How the generating vector `(1, a)` is chosen.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -1,9 +1,9 @@
 //! The cell-centred regular grid.
 
+use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
 use super::{check_supported, cmj::near_square_factors, perfect_root, Sampler, SamplerKind};
 use crate::error::{Error, Result};
 use crate::pointset::{PointSet, MAX_DIMENSION};
-use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
 use crate::randomization::Randomization;
 use crate::spectrum::ClosedForm;
 
@@ -24,7 +24,6 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     cost_per_point_ns: 4.0,
     working_bytes: super::facts::one_word_per_point,
 };
-
 
 /// Points at the cell centres of a grid of [`strata`]: `m^d` cells, or in 2D a near-square
 /// `a × b` rectangle (`96 = 12 × 8`). Deterministic: the seed and the

@@ -1,11 +1,11 @@
 //! Sobol sequence with Owen (nested uniform) scrambling.
 
+use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
 use super::{check_supported, Sampler, SamplerKind};
 use crate::error::Result;
 use crate::pointset::{PointSet, MAX_DIMENSION};
-use crate::rng::{splitmix64, Stream};
-use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
 use crate::randomization::Randomization;
+use crate::rng::{splitmix64, Stream};
 
 /// Owen-scrambled Sobol'.
 pub(crate) const FACTS: SamplerFacts = SamplerFacts {
@@ -21,10 +21,9 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     isotropic: false,
     symmetry: Symmetry::Partial,
     correlation_reach: 2.0,
-    cost_per_point_ns: 80.0,
+    cost_per_point_ns: 25.0,
     working_bytes: |_, _| 4096.0,
 };
-
 
 /// Primitive polynomials and initial direction numbers for axes 2 to 8, from Joe and Kuo's
 /// `new-joe-kuo-6.21201` table: (degree s, coefficients a, initial m_1..m_s).

@@ -207,6 +207,18 @@ pub struct SpectrumEstimate {
     pub radial: RadialSpectrum,
 }
 
+/// The lattice extent that reaches the scaled frequency `ν = K / N^{1/d}` at `n` points in
+/// dimension `d`: `⌈ν N^{1/d}⌉`.
+///
+/// # Examples
+/// ```
+/// assert_eq!(specvar::spectrum::kmax_at_nu(256, 2, 3.0), 48);
+/// assert_eq!(specvar::spectrum::kmax_at_nu(1000, 3, 1.5), 15);
+/// ```
+pub fn kmax_at_nu(n: usize, d: usize, nu: f64) -> usize {
+    (nu * (n as f64).powf(1.0 / d as f64)).ceil() as usize
+}
+
 /// The periodogram `P_S(k)` of one point set on the lattice `|k_i| ≤ kmax`.
 ///
 /// # Errors

@@ -1,7 +1,7 @@
 //! `specvar bias`: the bias of a fixed (not homogenized) pattern, from its spectrum and directly.
 
 use specvar::integrand::IntegrandSpec;
-use specvar::predict::{bias_of_pattern, regular_grid_bias};
+use specvar::predict::sampler_bias;
 use specvar::sampler::SamplerKind;
 use specvar::Result;
 
@@ -43,35 +43,20 @@ struct Doc {
     bias_spectral: f64,
     remainder: f64,
     terms: usize,
-    method: &'static str,
+    method: String,
 }
 
 /// Computes the bias exactly and as a spectral sum, and prints both.
 pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
     let f = args.integrand.build(args.dimension)?;
-    let pattern = args.sampler.pattern_needs(args.n, args.dimension);
-    let lattice = (2.0 * args.kmax as f64 + 1.0).powi(args.dimension as i32);
-    let needs = pattern.and(specvar::budget::Needs {
-        memory_bytes: lattice * 32.0,
-        work_seconds: lattice * args.n as f64 * 0.5e-9,
-    });
-    ctx.budget
-        .check("the bias's spectral sum", needs, "lower --kmax or N")?;
-    let (b, method) = if args.sampler == SamplerKind::Regular {
-        (
-            regular_grid_bias(f.as_ref(), args.n)?,
-            "replica sum of the regular grid's exact spectrum",
-        )
-    } else {
-        let points = args
-            .sampler
-            .build(args.dimension)?
-            .sample(args.n, args.seed, 0)?;
-        (
-            bias_of_pattern(f.as_ref(), &points, args.kmax)?,
-            "lattice sum over realization 0's spectrum",
-        )
-    };
+    let (b, method) = sampler_bias(
+        args.sampler,
+        f.as_ref(),
+        args.n,
+        args.seed,
+        args.kmax,
+        &ctx.budget,
+    )?;
     let doc = Doc {
         sampler: args.sampler,
         integrand: f.label(),
@@ -82,7 +67,7 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
         bias_spectral: b.spectral,
         remainder: b.remainder,
         terms: b.terms,
-        method,
+        method: method.to_string(),
     };
     if args.json {
         outln!("{}", super::to_json(&doc)?)?;

@@ -76,7 +76,12 @@ pub struct Context {
 impl Context {
     /// A sampler by kind, its costly patterns cached.
     pub fn sampler(&self, kind: SamplerKind, d: usize) -> specvar::Result<Box<dyn Sampler>> {
-        specvar::cache::cached_sampler(kind, d, self.cache.as_deref(), 256 << 20)
+        specvar::cache::cached_sampler(
+            kind,
+            d,
+            self.cache.as_deref(),
+            specvar::cache::PATTERN_MEMORY,
+        )
     }
 }
 

@@ -49,7 +49,13 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
         Source::Sets(_, sets) => {
             let params = McParams {
                 budget: ctx.budget,
-                ..McParams::for_sets(sets.len(), args.trials, args.shifts, args.seed, randomization)
+                ..McParams::for_sets(
+                    sets.len(),
+                    args.trials,
+                    args.shifts,
+                    args.seed,
+                    randomization,
+                )
             };
             specvar::progress::Progress::begin(&bars, &stage, sets.len() as u64);
             empirical_variances_of_sets(sets, &[f.as_ref()], &params, &bars)

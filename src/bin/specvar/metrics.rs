@@ -128,10 +128,8 @@ fn summarize(label: &str, patterns: &[PointSet], ctx: &super::Context) -> Result
     let (n, d) = (patterns[0].len(), patterns[0].dimension());
     let discrepancies = discrepancy_means(patterns)?;
     let near = distance_summary(patterns)?;
-    // The radial spectrum up to ν = 1.5, where every blue-noise peak has passed.
-    let kmax = (1.5 * (n as f64).powf(1.0 / d as f64)).ceil() as usize;
     let params = SpectrumParams {
-        kmax: kmax.max(4),
+        kmax: specvar::metrics::summary_kmax(n, d),
         budget: ctx.budget,
         ..SpectrumParams::default()
     };

@@ -2,8 +2,8 @@
 //! and the MSE predicted from spectra.
 
 use specvar::render::{
-    comparison_table, measured_ratio, run_comparison, samplers_for_rays, write_comparison,
-    ComparisonConfig,
+    comparison_table, measured_ratio, run_comparison, samplers_for_rays, talk_ratio,
+    write_comparison, ComparisonConfig,
 };
 use specvar::sampler::SamplerKind;
 use specvar::Result;
@@ -154,8 +154,12 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
     )?;
     outln!("prediction: {}", run.power_label)?;
     out!("{}", comparison_table(&run.rows))?;
-    if let Some(r) = measured_ratio(&run.rows, SamplerKind::Random, SamplerKind::Jitter) {
-        outln!("random / jitter MSE: {r:.2} (talk: 5.54)")?;
+    let (random, jitter) = (SamplerKind::Random, SamplerKind::Jitter);
+    if let (Some(r), Some(talk)) = (
+        measured_ratio(&run.rows, random, jitter),
+        talk_ratio(random, jitter),
+    ) {
+        outln!("random / jitter MSE: {r:.2} (talk: {talk:.2})")?;
     }
     outln!("images and table in {}", args.out.display())?;
     Ok(())

@@ -1,0 +1,51 @@
+"""The estimator a prediction and a Monte Carlo run are for: how each pattern is randomized."""
+
+import numpy as np
+import pytest
+
+import specvar
+
+
+def test_monte_carlo_names_the_estimator_it_measured():
+    for name in ("shift", "digital-shift", "none"):
+        m = specvar.monte_carlo("disk", sampler="jitter", n=16, trials=400, randomization=name)
+        assert m.randomization == name
+    # Native: jitter is used as drawn.
+    m = specvar.monte_carlo("disk", sampler="jitter", n=16, trials=400, randomization="native")
+    assert m.randomization == "none"
+    with pytest.raises(ValueError, match="native, shift, digital-shift or none"):
+        specvar.monte_carlo("disk", sampler="jitter", n=16, trials=400, randomization="xor")
+
+
+def test_a_digital_shift_keeps_a_net_stratified():
+    # A digitally shifted (0,2)-net of 64 points has one point in each 1/64 column.
+    sets = specvar.sample("sobol", 64, realizations=3, randomization="digital-shift")
+    for points in sets:
+        assert sorted((points[:, 0] * 64).astype(int).tolist()) == list(range(64))
+
+
+def test_predictions_are_for_the_estimator_asked_or_refused():
+    # Toroidal dart throwing treats every position alike: unshifted is shifted.
+    p = specvar.predict("disk", sampler="poisson", n=64, randomization="none", realizations=8)
+    assert p.randomization == "none"
+    # Jitter's strata are not: the routes refuse, naming the Monte Carlo that measures it.
+    with pytest.raises(ValueError, match="mc --randomization none"):
+        specvar.predict("disk", sampler="jitter", n=64, randomization="none")
+    # A fixed rule used as drawn has a bias, not a variance.
+    with pytest.raises(ValueError, match="bias"):
+        specvar.predict("disk", sampler="korobov", n=89, randomization="none")
+
+
+def test_every_sampler_states_its_native_randomization():
+    facts = {s.name: s for s in specvar.samplers()}
+    assert facts["jitter"].native_randomization == "none"
+    assert facts["korobov"].native_randomization == "shift"
+    assert facts["orthogonal"].count_rule.startswith("N = p²")
+    assert all(s.randomness for s in facts.values())
+
+
+def test_results_ignore_fields_they_do_not_know():
+    raw = {"slope": 1.0, "stderr": 0.1, "ci": (0.8, 1.2), "intercept": 0.0, "points": 5, "new": 1}
+    fit = specvar._build(specvar.SlopeFit, raw)
+    assert fit.slope == 1.0 and not hasattr(fit, "new")
+    assert np.isfinite(fit.stderr)
