@@ -223,3 +223,57 @@ pub fn edge_rates(
         })
         .collect()
 }
+
+fn bad_angles(text: &str) -> crate::Error {
+    crate::Error::InvalidParameter {
+        name: "angles",
+        value: text.to_string(),
+        allowed: format!(
+            "START:END:STEP in degrees with STEP > 0 (e.g. 0:90:5) or a comma list, at most \
+             {MAX_ANGLES} angles"
+        ),
+    }
+}
+
+/// Angles in degrees from `START:END:STEP` (`0:90:5`: both ends included, the end kept
+/// against rounding of the steps) or a comma list (`0,30,45`), at most [`MAX_ANGLES`].
+///
+/// # Errors
+/// Text of neither form, a step that is not positive, an end below the start, or too many
+/// angles.
+///
+/// # Examples
+/// ```
+/// use specvar::anisotropy::parse_angles;
+/// assert_eq!(parse_angles("0:90:45")?, vec![0.0, 45.0, 90.0]);
+/// assert_eq!(parse_angles("0, 30")?, vec![0.0, 30.0]);
+/// assert!(parse_angles("0:90:0").is_err());
+/// # Ok::<(), specvar::Error>(())
+/// ```
+pub fn parse_angles(text: &str) -> Result<Vec<f64>> {
+    let number = |s: &str| s.trim().parse::<f64>().ok().filter(|v| v.is_finite());
+    let parts: Vec<&str> = text.split(':').collect();
+    if let [start, end, step] = parts.as_slice() {
+        let (start, end, step) = number(start)
+            .zip(number(end))
+            .zip(number(step))
+            .map(|((a, b), c)| (a, b, c))
+            .ok_or_else(|| bad_angles(text))?;
+        // A step count a rounding below an integer still reaches the end: 0:1:0.1 has 11.
+        let count = ((end - start) / step + 1e-9).floor() + 1.0;
+        if !(step > 0.0 && end >= start && count <= MAX_ANGLES as f64) {
+            return Err(bad_angles(text));
+        }
+        return Ok((0..count as usize)
+            .map(|i| start + i as f64 * step)
+            .collect());
+    }
+    let list = text
+        .split(',')
+        .map(|s| number(s).ok_or_else(|| bad_angles(text)))
+        .collect::<Result<Vec<_>>>()?;
+    if list.is_empty() || list.len() > MAX_ANGLES {
+        return Err(bad_angles(text));
+    }
+    Ok(list)
+}

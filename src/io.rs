@@ -94,6 +94,10 @@ pub fn read_text(text: &str) -> Result<Vec<PointSet>> {
     Ok(sets)
 }
 
+/// The memory formatted text takes per coordinate, in bytes (a shortest round-trip double and
+/// its separator, about 25 characters), to check against a budget before formatting.
+pub const TEXT_BYTES_PER_COORDINATE: f64 = 25.0;
+
 /// Formats point sets as UTK text: realizations separated by a `#` line.
 pub fn write_text(sets: &[PointSet]) -> String {
     let mut out = String::new();

@@ -422,6 +422,23 @@ pub fn errors_of_patterns(
     })
 }
 
+/// Patterns a run with an integrand of one's own (evaluated outside the library, e.g. in
+/// Python) draws at a time: it bounds the run's memory whatever its trials.
+pub const TRIAL_BLOCK: usize = 64;
+
+/// What a run of `patterns` trials of `sampler` at `n` points costs when its patterns are drawn
+/// [`TRIAL_BLOCK`] at a time ([`trial_pattern`]) for an integrand of one's own: the block's
+/// patterns (each and its randomized copy) and the drawing; the integrand's own cost is the
+/// caller's to judge.
+pub fn blocked_run_needs(sampler: &dyn Sampler, n: usize, patterns: usize) -> crate::budget::Needs {
+    let one = crate::sampler::pattern_needs(sampler, n);
+    let coordinates = n as f64 * sampler.dimension() as f64;
+    crate::budget::Needs {
+        memory_bytes: TRIAL_BLOCK as f64 * coordinates * 16.0 + one.memory_bytes,
+        work_seconds: patterns as f64 * one.work_seconds,
+    }
+}
+
 /// Trial `trial`'s point set as [`empirical_variances`] integrates it with one shift per
 /// pattern: realization `trial` of `params.seed`, under its unit's randomization (none for
 /// patterns used as drawn). Integrating a function of one's own on these sets, and passing the

@@ -15,14 +15,16 @@ use rayon::prelude::*;
 use specvar::budget::{Budget, DEFAULT_MEMORY_BYTES, DEFAULT_WORK_SECONDS};
 use specvar::integrand::{GridIntegrand, Integrand, IntegrandSpec};
 use specvar::montecarlo::{
-    empirical_variances, empirical_variances_of_sets, result_from_estimates, shifted_pattern,
-    trial_pattern, McParams, McResult,
+    blocked_run_needs, empirical_variances, empirical_variances_of_sets, result_from_estimates,
+    shifted_pattern, trial_pattern, McParams, McResult, TRIAL_BLOCK,
 };
 use specvar::pointset::PointSet;
 use specvar::predict::{predict as predict_variance, PredictParams, Problem};
 use specvar::randomization::{Randomization, RandomizationChoice};
 use specvar::sampler::{draw_realizations, native_randomization, Sampler, SamplerKind};
-use specvar::spectrum::{estimate_with_progress, Engine, PatternSource, SpectrumParams};
+use specvar::spectrum::{
+    estimate_with_progress, Engine, EngineChoice, PatternSource, SpectrumParams,
+};
 
 /// What one call may spend, checked before it starts (the command line's `--budget-memory`
 /// and `--budget-seconds`); [`set_budget`] changes it for the process.
@@ -233,14 +235,8 @@ fn sample<'py>(
 /// The engine named by `method` (`auto`, `direct`, `fast`), the fast one at `tolerance` or the
 /// tolerance the statistics of `realizations` sets of `n` points need.
 fn engine(method: &str, tolerance: Option<f64>, n: usize, realizations: usize) -> PyResult<Engine> {
-    match method {
-        "auto" => Ok(Engine::Auto),
-        "direct" => Ok(Engine::Direct),
-        "fast" => Ok(Engine::fast_at(tolerance, n, realizations)),
-        other => Err(PyValueError::new_err(format!(
-            "invalid engine: {other} (allowed: auto, direct or fast)"
-        ))),
-    }
+    let choice: EngineChoice = method.parse().or_value_error()?;
+    choice.engine(tolerance, n, realizations).or_value_error()
 }
 
 /// The periodogram `P(k) = |Σ e^{-2πi k·x}|² / N` of one point set `(N, d)` on the lattice
@@ -453,9 +449,6 @@ fn builtin_monte_carlo(
     .or_value_error()
 }
 
-/// Patterns drawn per call back into Python: bounds the memory of a run whatever its trials.
-const CALLABLE_BLOCK: usize = 64;
-
 /// Monte Carlo of a Python function: the patterns are drawn (and shifted) in parallel with the
 /// interpreter released, block by block; the function sees each pattern as an `(N, d)` array.
 fn callable_monte_carlo(
@@ -480,20 +473,15 @@ fn callable_monte_carlo(
     };
     let (n, d) = (source.n(), source.dimension());
     if let Source::Sampler(_, s, _) = source {
-        // The patterns' cost; the function's own is the caller's to judge.
-        let one = specvar::sampler::pattern_needs(s.as_ref(), n);
-        let needs = specvar::budget::Needs {
-            memory_bytes: CALLABLE_BLOCK as f64 * (n * d * 16) as f64 + one.memory_bytes,
-            work_seconds: patterns as f64 * one.work_seconds,
-        };
+        let needs = blocked_run_needs(s.as_ref(), n, patterns);
         params
             .budget
             .check("the Monte Carlo run", needs, "lower the trials or N")
             .or_value_error()?;
     }
     let mut estimates = Vec::with_capacity(patterns);
-    for first in (0..patterns).step_by(CALLABLE_BLOCK) {
-        let last = (first + CALLABLE_BLOCK).min(patterns);
+    for first in (0..patterns).step_by(TRIAL_BLOCK) {
+        let last = (first + TRIAL_BLOCK).min(patterns);
         let sets = py
             .detach(|| {
                 (first..last)

@@ -72,6 +72,25 @@ impl AtlasConfig {
             ..Self::full(seed)
         }
     }
+
+    /// Errors unless the configuration can be computed: N in [`ATLAS_N`].
+    ///
+    /// # Errors
+    /// An N outside [`ATLAS_N`].
+    pub fn check(&self) -> Result<()> {
+        if !ATLAS_N.contains(&self.n) {
+            return Err(crate::error::invalid(
+                "N",
+                self.n,
+                format!(
+                    "{} to {} (the metrics cost N² per pattern)",
+                    ATLAS_N.start(),
+                    ATLAS_N.end()
+                ),
+            ));
+        }
+        Ok(())
+    }
 }
 
 /// The upper end of the band where `α` is fitted.
@@ -137,6 +156,7 @@ pub struct Atlas {
 /// # Errors
 /// A sampler that cannot be drawn, or any computation's error (budgets, validity).
 pub fn compute_atlas(config: &AtlasConfig, progress: &dyn Progress) -> Result<Atlas> {
+    config.check()?;
     let fs: Vec<Box<dyn Integrand>> = IntegrandSpec::talk_pair()
         .iter()
         .map(|s| s.build(2))
@@ -192,6 +212,10 @@ fn entry(kind: SamplerKind, config: &AtlasConfig, fs: &[Box<dyn Integrand>]) -> 
         known_alpha,
     })
 }
+
+/// The points per pattern an atlas can show: enough for a spectrum, few enough for the pair
+/// metrics, which cost N² per pattern.
+pub const ATLAS_N: std::ops::RangeInclusive<usize> = 16..=65_536;
 
 /// How far in `ν` the atlas draws each spectrum: past the blue-noise peaks and the first
 /// replicas of the strata and lattices.

@@ -108,9 +108,6 @@ pub enum IntegrandSpec {
     },
 }
 
-const KEYS: &str = "accepted keys: r (ball radius), sigma (Gaussian width), a (height), \
-                    c (centre, one value or d values separated by ';'), each once";
-
 /// Every form [`parse_integrand`] accepts, in words: the one list the command line's help and
 /// the parser's errors both show.
 pub const INTEGRAND_FORMS: &str = "disk, ball or gaussian, with optional overrides such as \
@@ -137,67 +134,178 @@ pub const INTEGRAND_FORMS: &str = "disk, ball or gaussian, with optional overrid
 /// ```
 pub fn parse_integrand(text: &str) -> Result<IntegrandSpec> {
     let (kind, rest) = text.split_once(':').unwrap_or((text, ""));
-    let kind = match kind.trim() {
-        "disk" | "ball" => IntegrandKind::Ball,
-        "gaussian" => IntegrandKind::Gaussian,
-        "grid" | "image" => IntegrandKind::Grid,
-        "polygon" => return parse_polygon(rest),
-        "edge" => return parse_edge(rest),
-        "agaussian" => return parse_anisotropic(rest),
-        other => return Err(invalid("integrand", other, INTEGRAND_FORMS)),
-    };
-    if kind == IntegrandKind::Grid {
-        if rest.trim().is_empty() {
-            return Err(invalid("integrand", text, "grid:FILE with a file name"));
+    match kind.trim() {
+        "disk" | "ball" => {
+            let v = KeyValues::parse("disk", rest, BALL_KEYS)?;
+            Ok(IntegrandSpec::Ball {
+                radius: v.one("r").unwrap_or(0.25),
+                height: v.one("a").unwrap_or(1.0),
+                centre: v.list("c"),
+            })
         }
-        return Ok(IntegrandSpec::Grid {
+        "gaussian" => {
+            let v = KeyValues::parse("gaussian", rest, GAUSSIAN_KEYS)?;
+            Ok(IntegrandSpec::Gaussian {
+                sigma: v.one("sigma").unwrap_or(0.1),
+                height: v.one("a").unwrap_or(1.0),
+                centre: v.list("c"),
+            })
+        }
+        "edge" => {
+            let v = KeyValues::parse("edge", rest, EDGE_KEYS)?;
+            Ok(IntegrandSpec::Edge {
+                theta: v.one("theta").unwrap_or(0.0),
+                offset: v.one("offset").unwrap_or(0.5),
+                height: v.one("a").unwrap_or(1.0),
+            })
+        }
+        "agaussian" => {
+            let v = KeyValues::parse("agaussian", rest, ANISOTROPIC_KEYS)?;
+            Ok(IntegrandSpec::AnisotropicGaussian {
+                sigma_1: v.one("s1").unwrap_or(0.05),
+                sigma_2: v.one("s2").unwrap_or(0.02),
+                angle: v.one("angle").unwrap_or(0.0),
+                height: v.one("a").unwrap_or(1.0),
+                centre: v.list("c"),
+            })
+        }
+        "grid" | "image" if rest.trim().is_empty() => {
+            Err(invalid("integrand", text, "grid:FILE with a file name"))
+        }
+        "grid" | "image" => Ok(IntegrandSpec::Grid {
             path: rest.trim().into(),
-        });
+        }),
+        "polygon" => parse_polygon(rest),
+        other => Err(invalid("integrand", other, INTEGRAND_FORMS)),
     }
-    let (mut scale, mut height, mut centre) = (None, None, None);
-    for pair in rest.split(',').filter(|p| !p.trim().is_empty()) {
-        let (key, value) = pair
-            .split_once('=')
-            .ok_or_else(|| invalid("integrand override", pair, KEYS))?;
-        let key = key.trim();
-        let number = |v: &str| -> Result<f64> {
-            v.trim()
-                .parse::<f64>()
-                .map_err(|_| invalid("integrand value", format!("{key}={v}"), "a number"))
+}
+
+/// A key of the `name:key=value,…` grammar: its name, what it sets, and whether it takes a
+/// list of numbers separated by `;` (a centre) or one number.
+struct Key {
+    name: &'static str,
+    what: &'static str,
+    list: bool,
+}
+
+const HEIGHT: Key = Key {
+    name: "a",
+    what: "height",
+    list: false,
+};
+const CENTRE: Key = Key {
+    name: "c",
+    what: "centre, one value or d values separated by ';'",
+    list: true,
+};
+const BALL_KEYS: &[Key] = &[
+    Key {
+        name: "r",
+        what: "radius",
+        list: false,
+    },
+    HEIGHT,
+    CENTRE,
+];
+const GAUSSIAN_KEYS: &[Key] = &[
+    Key {
+        name: "sigma",
+        what: "width",
+        list: false,
+    },
+    HEIGHT,
+    CENTRE,
+];
+const EDGE_KEYS: &[Key] = &[
+    Key {
+        name: "theta",
+        what: "the normal's angle in degrees",
+        list: false,
+    },
+    Key {
+        name: "offset",
+        what: "fraction in (0, 1)",
+        list: false,
+    },
+    HEIGHT,
+];
+const ANISOTROPIC_KEYS: &[Key] = &[
+    Key {
+        name: "s1",
+        what: "width along the angle",
+        list: false,
+    },
+    Key {
+        name: "s2",
+        what: "width across",
+        list: false,
+    },
+    Key {
+        name: "angle",
+        what: "degrees",
+        list: false,
+    },
+    HEIGHT,
+    Key {
+        name: "c",
+        what: "centre x;y",
+        list: true,
+    },
+];
+
+/// The values of a `key=value,…` list, each key at most once and among the form's keys.
+struct KeyValues(Vec<(&'static str, Vec<f64>)>);
+
+impl KeyValues {
+    /// Parses `rest` against `keys`; errors list the accepted keys.
+    fn parse(form: &str, rest: &str, keys: &'static [Key]) -> Result<Self> {
+        let accepted = || {
+            let list: Vec<String> = keys
+                .iter()
+                .map(|k| format!("{} ({})", k.name, k.what))
+                .collect();
+            format!("accepted keys for {form}: {}, each once", list.join(", "))
         };
-        let slot_taken = match (key, kind) {
-            ("r", IntegrandKind::Ball) | ("sigma", IntegrandKind::Gaussian) => {
-                scale.replace(number(value)?).is_some()
-            }
-            ("a", _) => height.replace(number(value)?).is_some(),
-            ("c", _) => centre
-                .replace(value.split(';').map(number).collect::<Result<Vec<_>>>()?)
-                .is_some(),
-            (other, _) => {
+        let mut values: Vec<(&'static str, Vec<f64>)> = Vec::new();
+        for pair in rest.split(',').filter(|p| !p.trim().is_empty()) {
+            let (name, value) = pair
+                .split_once('=')
+                .ok_or_else(|| invalid("integrand override", pair, accepted()))?;
+            let name = name.trim();
+            let key = keys.iter().find(|k| k.name == name).ok_or_else(|| {
+                invalid("integrand key", format!("{name} (for {form})"), accepted())
+            })?;
+            if values.iter().any(|(k, _)| *k == key.name) {
                 return Err(invalid(
                     "integrand key",
-                    format!("{other} (for {kind})"),
-                    KEYS,
-                ))
+                    format!("{name} given twice"),
+                    accepted(),
+                ));
             }
-        };
-        if slot_taken {
-            return Err(invalid("integrand key", format!("{key} given twice"), KEYS));
+            let number = |v: &str| {
+                v.trim()
+                    .parse::<f64>()
+                    .map_err(|_| invalid("integrand value", format!("{name}={v}"), "a number"))
+            };
+            let parsed = match key.list {
+                true => value.split(';').map(number).collect::<Result<Vec<_>>>()?,
+                false => vec![number(value)?],
+            };
+            values.push((key.name, parsed));
         }
+        Ok(Self(values))
     }
-    let height = height.unwrap_or(1.0);
-    Ok(match kind {
-        IntegrandKind::Ball => IntegrandSpec::Ball {
-            radius: scale.unwrap_or(0.25),
-            height,
-            centre,
-        },
-        _ => IntegrandSpec::Gaussian {
-            sigma: scale.unwrap_or(0.1),
-            height,
-            centre,
-        },
-    })
+
+    fn list(&self, key: &str) -> Option<Vec<f64>> {
+        self.0
+            .iter()
+            .find(|(k, _)| *k == key)
+            .map(|(_, v)| v.clone())
+    }
+
+    fn one(&self, key: &str) -> Option<f64> {
+        self.list(key).map(|v| v[0])
+    }
 }
 
 /// `x,y;x,y;…`, or `@FILE` with one vertex `x y` (or `x,y`) per line.
@@ -233,93 +341,6 @@ fn parse_polygon(rest: &str) -> Result<IntegrandSpec> {
         })
         .collect::<Result<Vec<_>>>()?;
     Ok(IntegrandSpec::Polygon { vertices })
-}
-
-/// `s1=W,s2=W,angle=DEGREES,a=HEIGHT,c=X;Y`, each optional (0.05, 0.02, 0°, 1, centre).
-fn parse_anisotropic(rest: &str) -> Result<IntegrandSpec> {
-    const ANISOTROPIC_KEYS: &str = "accepted keys: s1 (width along the angle), s2 (width \
-                                    across), angle (degrees), a (height), c (centre x;y), each once";
-    let (mut s1, mut s2, mut angle, mut height, mut centre) = (None, None, None, None, None);
-    for pair in rest.split(',').filter(|p| !p.trim().is_empty()) {
-        let (key, value) = pair
-            .split_once('=')
-            .ok_or_else(|| invalid("integrand override", pair, ANISOTROPIC_KEYS))?;
-        let number = |v: &str| {
-            v.trim()
-                .parse::<f64>()
-                .map_err(|_| invalid("integrand value", format!("{key}={v}"), "a number"))
-        };
-        let taken = match key.trim() {
-            "s1" => s1.replace(number(value)?).is_some(),
-            "s2" => s2.replace(number(value)?).is_some(),
-            "angle" => angle.replace(number(value)?).is_some(),
-            "a" => height.replace(number(value)?).is_some(),
-            "c" => centre
-                .replace(value.split(';').map(number).collect::<Result<Vec<_>>>()?)
-                .is_some(),
-            other => {
-                return Err(invalid(
-                    "integrand key",
-                    format!("{other} (for agaussian)"),
-                    ANISOTROPIC_KEYS,
-                ))
-            }
-        };
-        if taken {
-            return Err(invalid(
-                "integrand key",
-                format!("{key} given twice"),
-                ANISOTROPIC_KEYS,
-            ));
-        }
-    }
-    Ok(IntegrandSpec::AnisotropicGaussian {
-        sigma_1: s1.unwrap_or(0.05),
-        sigma_2: s2.unwrap_or(0.02),
-        angle: angle.unwrap_or(0.0),
-        height: height.unwrap_or(1.0),
-        centre,
-    })
-}
-
-/// `theta=DEGREES,offset=FRACTION,a=HEIGHT`, each optional (0°, 0.5, 1).
-fn parse_edge(rest: &str) -> Result<IntegrandSpec> {
-    const EDGE_KEYS: &str = "accepted keys: theta (degrees), offset (fraction in (0, 1)), a \
-                             (height), each once";
-    let (mut theta, mut offset, mut height) = (None, None, None);
-    for pair in rest.split(',').filter(|p| !p.trim().is_empty()) {
-        let (key, value) = pair
-            .split_once('=')
-            .ok_or_else(|| invalid("integrand override", pair, EDGE_KEYS))?;
-        let number = value
-            .trim()
-            .parse::<f64>()
-            .map_err(|_| invalid("integrand value", format!("{key}={value}"), "a number"))?;
-        let slot = match key.trim() {
-            "theta" => &mut theta,
-            "offset" => &mut offset,
-            "a" => &mut height,
-            other => {
-                return Err(invalid(
-                    "integrand key",
-                    format!("{other} (for edge)"),
-                    EDGE_KEYS,
-                ))
-            }
-        };
-        if slot.replace(number).is_some() {
-            return Err(invalid(
-                "integrand key",
-                format!("{key} given twice"),
-                EDGE_KEYS,
-            ));
-        }
-    }
-    Ok(IntegrandSpec::Edge {
-        theta: theta.unwrap_or(0.0),
-        offset: offset.unwrap_or(0.5),
-        height: height.unwrap_or(1.0),
-    })
 }
 
 impl IntegrandSpec {

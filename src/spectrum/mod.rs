@@ -46,6 +46,113 @@ pub enum Engine {
     Auto,
 }
 
+/// An engine as a caller names it, before a fast engine's tolerance is known.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum EngineChoice {
+    /// The cheaper of the two, the fast one at the tolerance the statistics need.
+    #[default]
+    Auto,
+    /// Exact sums by phase recurrence.
+    Direct,
+    /// The non-uniform FFT.
+    Fast,
+}
+
+impl EngineChoice {
+    /// The engine: the fast one at `tolerance`, or at the [`statistical_tolerance`] of
+    /// `realizations` sets of `n` points when none is given; a tolerance with `Auto` asks for
+    /// the fast engine at it.
+    ///
+    /// # Errors
+    /// A tolerance with the direct engine, which is exact.
+    ///
+    /// # Examples
+    /// ```
+    /// use specvar::spectrum::{Engine, EngineChoice};
+    /// assert_eq!(EngineChoice::Auto.engine(None, 64, 8)?, Engine::Auto);
+    /// assert_eq!(
+    ///     EngineChoice::Auto.engine(Some(1e-9), 64, 8)?,
+    ///     Engine::Fast { tolerance: 1e-9 }
+    /// );
+    /// assert!(EngineChoice::Direct.engine(Some(1e-9), 64, 8).is_err());
+    /// # Ok::<(), specvar::Error>(())
+    /// ```
+    pub fn engine(self, tolerance: Option<f64>, n: usize, realizations: usize) -> Result<Engine> {
+        match (self, tolerance) {
+            (EngineChoice::Direct, Some(t)) => Err(invalid(
+                "tolerance",
+                t,
+                "only with the fast or automatic engine: the direct sum is exact",
+            )),
+            (EngineChoice::Direct, None) => Ok(Engine::Direct),
+            (EngineChoice::Fast, t) | (EngineChoice::Auto, t @ Some(_)) => {
+                Ok(Engine::fast_at(t, n, realizations))
+            }
+            (EngineChoice::Auto, None) => Ok(Engine::Auto),
+        }
+    }
+}
+
+impl std::fmt::Display for EngineChoice {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            EngineChoice::Auto => "auto",
+            EngineChoice::Direct => "direct",
+            EngineChoice::Fast => "fast",
+        })
+    }
+}
+
+impl std::str::FromStr for EngineChoice {
+    type Err = crate::Error;
+    /// `auto`, `direct` or `fast`.
+    fn from_str(s: &str) -> Result<Self> {
+        match s.trim() {
+            "auto" => Ok(EngineChoice::Auto),
+            "direct" => Ok(EngineChoice::Direct),
+            "fast" => Ok(EngineChoice::Fast),
+            other => Err(invalid("engine", other, "auto, direct or fast")),
+        }
+    }
+}
+
+impl std::fmt::Display for Engine {
+    /// `direct`, `auto`, or `fast:tolerance=T`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Engine::Direct => f.write_str("direct"),
+            Engine::Auto => f.write_str("auto"),
+            Engine::Fast { tolerance } => write!(f, "fast:tolerance={tolerance:e}"),
+        }
+    }
+}
+
+impl std::str::FromStr for Engine {
+    type Err = crate::Error;
+    /// `direct`, `auto`, `fast` (at the default tolerance) or `fast:tolerance=T`.
+    fn from_str(s: &str) -> Result<Self> {
+        let s = s.trim();
+        let allowed = "direct, auto, fast or fast:tolerance=T with T in (0, 1)";
+        match s.split_once(':') {
+            None => match s
+                .parse::<EngineChoice>()
+                .map_err(|_| invalid("engine", s, allowed))?
+            {
+                EngineChoice::Auto => Ok(Engine::Auto),
+                EngineChoice::Direct => Ok(Engine::Direct),
+                EngineChoice::Fast => Ok(Engine::fast()),
+            },
+            Some(("fast", rest)) => rest
+                .strip_prefix("tolerance=")
+                .and_then(|t| t.trim().parse::<f64>().ok())
+                .filter(|t| *t > 0.0 && *t < 1.0)
+                .map(|tolerance| Engine::Fast { tolerance })
+                .ok_or_else(|| invalid("engine", s, allowed)),
+            Some(_) => Err(invalid("engine", s, allowed)),
+        }
+    }
+}
+
 impl Engine {
     /// The fast engine at its default tolerance.
     pub fn fast() -> Self {

@@ -1,8 +1,6 @@
 //! `specvar anisotropy`: the variance of an edge against its angle, predicted and measured.
 
-use specvar::anisotropy::{
-    edge_rates, variance_against_orientation, OrientationConfig, MAX_ANGLES,
-};
+use specvar::anisotropy::{edge_rates, variance_against_orientation, OrientationConfig};
 use specvar::plot::{line_plot, Axes, Series, Style};
 use specvar::predict::PredictParams;
 use specvar::sampler::SamplerKind;
@@ -45,51 +43,12 @@ pub struct Args {
     pub json: bool,
 }
 
-fn bad_angles(text: &str) -> specvar::Error {
-    specvar::Error::InvalidParameter {
-        name: "angles",
-        value: text.to_string(),
-        allowed: format!(
-            "START:END:STEP in degrees with STEP > 0 (e.g. 0:90:5) or a comma list, at most \
-             {MAX_ANGLES} angles"
-        ),
-    }
-}
-
-/// `0:90:5` or `0,30,45`.
-fn parse_angles(text: &str) -> Result<Vec<f64>> {
-    let number = |s: &str| s.trim().parse::<f64>().ok().filter(|v| v.is_finite());
-    let parts: Vec<&str> = text.split(':').collect();
-    if let [start, end, step] = parts.as_slice() {
-        let (start, end, step) = number(start)
-            .zip(number(end))
-            .zip(number(step))
-            .map(|((a, b), c)| (a, b, c))
-            .ok_or_else(|| bad_angles(text))?;
-        let count = ((end - start) / step + 1e-9).floor() + 1.0;
-        if !(step > 0.0 && end >= start && count <= MAX_ANGLES as f64) {
-            return Err(bad_angles(text));
-        }
-        return Ok((0..count as usize)
-            .map(|i| start + i as f64 * step)
-            .collect());
-    }
-    let list = text
-        .split(',')
-        .map(|s| number(s).ok_or_else(|| bad_angles(text)))
-        .collect::<Result<Vec<_>>>()?;
-    if list.is_empty() || list.len() > MAX_ANGLES {
-        return Err(bad_angles(text));
-    }
-    Ok(list)
-}
-
 /// Predicts and measures every angle, prints the table, writes the plot.
 pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
     for path in args.plot.iter().chain(&args.polar) {
         specvar::plot::check_plot_path(path, false)?;
     }
-    let angles = parse_angles(&args.angles)?;
+    let angles = specvar::anisotropy::parse_angles(&args.angles)?;
     let sampler = ctx.sampler(args.sampler, 2)?;
     let config = OrientationConfig {
         n: args.n,

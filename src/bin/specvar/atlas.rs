@@ -34,14 +34,8 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
     } else {
         AtlasConfig::full(args.seed)
     };
-    if !(16..=65_536).contains(&args.n) {
-        return Err(specvar::Error::InvalidParameter {
-            name: "N",
-            value: args.n.to_string(),
-            allowed: "16 to 65536 (the metrics cost N² per pattern)".into(),
-        });
-    }
     config.n = args.n;
+    config.check()?;
     if !args.samplers.is_empty() {
         if let Some(k) = args.samplers.iter().find(|k| !k.dimensions().contains(&2)) {
             return Err(specvar::Error::UnsupportedDimension {

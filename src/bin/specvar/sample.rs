@@ -43,8 +43,9 @@ pub struct Args {
 
 /// Writes the realizations.
 pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
-    // Formatted text takes about 25 bytes a coordinate besides the sets the library holds.
-    let text = args.realizations as f64 * args.n as f64 * args.dimension as f64 * 25.0;
+    // Formatted text, besides the sets the library holds.
+    let coordinates = args.realizations as f64 * args.n as f64 * args.dimension as f64;
+    let text = coordinates * specvar::io::TEXT_BYTES_PER_COORDINATE;
     ctx.budget.check(
         "writing the points",
         specvar::budget::Needs::memory(text),

@@ -2,20 +2,9 @@
 
 use specvar::progress::Progress;
 use specvar::spectrum::export::{lattice_table, radial_table, TableFormat};
-use specvar::spectrum::{estimate_with_progress, Engine, PatternSource, SpectrumParams};
+use specvar::spectrum::{estimate_with_progress, EngineChoice, PatternSource, SpectrumParams};
 use specvar::Result;
 use std::path::PathBuf;
-
-/// The engine, as named on the command line.
-#[derive(Debug, Clone, Copy, clap::ValueEnum)]
-pub enum Method {
-    /// Exact sum by phase recurrence.
-    Direct,
-    /// Non-uniform FFT at --tolerance.
-    Fast,
-    /// The cheaper of the two, the fast one at the tolerance the statistics need.
-    Auto,
-}
 
 /// Arguments of `specvar spectrum`.
 #[derive(Debug, clap::Args)]
@@ -26,9 +15,10 @@ pub struct Args {
     /// Largest frequency per axis K: the lattice is (2K+1)^d.
     #[arg(long, default_value_t = 64)]
     pub kmax: usize,
-    /// Engine.
-    #[arg(long, value_enum, default_value = "auto")]
-    pub method: Method,
+    /// Engine: direct (exact sums), fast (non-uniform FFT at --tolerance), or auto (the cheaper
+    /// of the two, the fast one at the tolerance the statistics need).
+    #[arg(long, default_value_t = EngineChoice::Auto)]
+    pub method: EngineChoice,
     /// Guaranteed error of the fast engine, |S_fast - S| ≤ tolerance · N at every frequency
     /// [default: the statistical tolerance for N and the realizations, which keeps the error
     /// in P below 1% of its standard error and below 1e-8]
@@ -68,19 +58,7 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
         Some(sets) => (sets.first().map_or(0, |s| s.len()), sets.len()),
         None => (args.patterns.n, args.patterns.realizations),
     };
-    let engine = match (args.method, args.tolerance) {
-        (Method::Direct, Some(t)) => {
-            return Err(specvar::Error::InvalidParameter {
-                name: "tolerance",
-                value: t.to_string(),
-                allowed: "only with --method fast or auto: the direct sum is exact".into(),
-            })
-        }
-        (Method::Direct, None) => Engine::Direct,
-        // A tolerance asks for the fast engine at that tolerance.
-        (Method::Fast, t) | (Method::Auto, t @ Some(_)) => Engine::fast_at(t, n, realizations),
-        (Method::Auto, None) => Engine::Auto,
-    };
+    let engine = args.method.engine(args.tolerance, n, realizations)?;
     let params = SpectrumParams {
         kmax: args.kmax,
         realizations: args.patterns.realizations,
