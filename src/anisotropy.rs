@@ -2,10 +2,11 @@
 //! predicted by the default route (the lattice form with the sampler's full 2D spectrum) and
 //! measured by Monte Carlo on the same patterns.
 
+use crate::crosscheck::beside_monte_carlo;
 use crate::error::{invalid, Result};
 use crate::integrand::{Integrand, Polygon};
 use crate::montecarlo::{McParams, McResult, Z_99};
-use crate::predict::{beside_monte_carlo, PredictParams, Prediction};
+use crate::predict::{PredictParams, Prediction};
 use crate::progress::Progress;
 use crate::randomization::Randomization;
 use crate::sampler::{Sampler, SamplerKind};

@@ -84,6 +84,7 @@ pub mod anisotropy;
 pub mod atlas;
 pub mod budget;
 pub mod cache;
+mod crosscheck;
 pub mod error;
 pub mod integrand;
 pub mod io;

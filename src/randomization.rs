@@ -22,12 +22,12 @@
 use crate::error::{invalid, Error, Result};
 use crate::pointset::{wrap, PointSet, MAX_DIMENSION};
 use crate::rng::{realization_rng, Stream};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::fmt;
 
 /// How a pattern is randomized before it integrates.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
-#[serde(into = "&'static str")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(into = "&'static str", try_from = "String")]
 pub enum Randomization {
     /// A uniform random toroidal shift of the whole pattern: the homogenized estimator.
     Shift,
@@ -82,6 +82,13 @@ impl Randomization {
 impl fmt::Display for Randomization {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(self.name())
+    }
+}
+
+impl TryFrom<String> for Randomization {
+    type Error = Error;
+    fn try_from(name: String) -> Result<Self> {
+        name.parse()
     }
 }
 
@@ -212,7 +219,7 @@ pub fn toroidal_shift(d: usize, seed: u64, unit: u64) -> [f64; MAX_DIMENSION] {
     let mut rng = realization_rng(seed, unit, Stream::Shift);
     let mut shift = [0.0; MAX_DIMENSION];
     for s in shift.iter_mut().take(d) {
-        *s = crate::sampler::uniform(&mut rng);
+        *s = crate::rng::uniform(&mut rng);
     }
     shift
 }

@@ -51,3 +51,9 @@ pub fn realization_rng(seed: u64, realization: u64, purpose: Stream) -> Pcg64 {
     let stream = ((realization as u128) << 8) | p as u128;
     Pcg64::new(state, stream)
 }
+
+/// A uniform draw in `[0, 1)` with 53 random bits.
+#[inline]
+pub(crate) fn uniform<R: rand::Rng>(rng: &mut R) -> f64 {
+    (rng.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+}

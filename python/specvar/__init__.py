@@ -562,9 +562,11 @@ def _describe(
     seed: int,
     reference: Optional[dict],
     cache: bool,
+    randomization: str = "shift",
 ) -> str:
     return json.dumps(
         {
+            "randomization": randomization,
             "dimension": int(dimension),
             "samplers": list(samplers),
             "integrands": list(integrands),
@@ -589,15 +591,17 @@ def study(
     client: Any = None,
     patterns_per_block: int = 256,
     cache: bool = False,
+    randomization: Literal["shift", "digital-shift", "none"] = "shift",
 ) -> Study:
     """A rate study: every sampler on every integrand at every N, predicted and measured.
 
     ``reference`` overrides the reference spectrum (``{"n", "kmax", "realizations",
-    "costly_realizations"}``). Without ``client`` the study runs in this process; with a
+    "costly_realizations"}``). ``randomization`` names the estimator predicted and measured
+    (the random shift by default). Without ``client`` the study runs in this process; with a
     ``dask.distributed`` client its Monte Carlo runs on the cluster in blocks of
     ``patterns_per_block`` patterns (see :func:`specvar.cluster.study`), with the same bits.
     """
-    described = _describe(samplers, integrands, ns, trials, dimension, seed, reference, cache)
+    described = _describe(samplers, integrands, ns, trials, dimension, seed, reference, cache, randomization)
     if client is None:
         return Study._from(_specvar.run_study(described))
     from . import cluster

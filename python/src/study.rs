@@ -7,70 +7,13 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use specvar::montecarlo::PatternErrors;
 use specvar::progress::Silent;
-use specvar::rate::{BlockErrors, McBlock, ReferenceSpectrum, StudyConfig};
+use specvar::rate::{BlockErrors, McBlock, StudyConfig, StudyDescription};
 
-/// A study as the Python layer describes it (JSON, so that it travels to workers as text).
-#[derive(serde::Deserialize)]
-#[serde(deny_unknown_fields)]
-struct Described {
-    dimension: usize,
-    samplers: Vec<String>,
-    integrands: Vec<String>,
-    ns: Vec<usize>,
-    trials: usize,
-    seed: u64,
-    reference: Option<Reference>,
-    cache: bool,
-}
-
-#[derive(serde::Deserialize)]
-#[serde(deny_unknown_fields)]
-struct Reference {
-    n: usize,
-    kmax: usize,
-    realizations: usize,
-    costly_realizations: usize,
-}
-
-/// The library's configuration from its description; the defaults are the library's
-/// ([`StudyConfig::in_dimension`]).
+/// The library's configuration from its description ([`StudyDescription`], the one schema of
+/// a study outside Rust), under the module's budget.
 fn config(described: &str) -> PyResult<StudyConfig> {
-    let c: Described = serde_json::from_str(described)
-        .map_err(|e| PyValueError::new_err(format!("invalid study description: {e}")))?;
-    let defaults = StudyConfig::in_dimension(c.dimension);
-    let samplers = c
-        .samplers
-        .iter()
-        .map(|s| s.parse())
-        .collect::<specvar::Result<_>>()
-        .or_value_error()?;
-    let integrands = c
-        .integrands
-        .iter()
-        .map(|s| s.parse())
-        .collect::<specvar::Result<_>>()
-        .or_value_error()?;
-    Ok(StudyConfig {
-        dimension: c.dimension,
-        samplers,
-        integrands,
-        ns: c.ns,
-        trials: c.trials,
-        seed: c.seed,
-        reference: c
-            .reference
-            .map_or(defaults.reference, |r| ReferenceSpectrum {
-                n: r.n,
-                kmax: r.kmax,
-                realizations: r.realizations,
-                costly_realizations: r.costly_realizations,
-            }),
-        patterns_cache: c.cache.then(specvar::cache::default_dir),
-        predict: specvar::predict::PredictParams {
-            budget: crate::budget(),
-            ..defaults.predict
-        },
-    })
+    let description = StudyDescription::from_json(described).or_value_error()?;
+    Ok(description.into_config(crate::budget()))
 }
 
 /// A block as Python holds it: `(sampler, n, start, count)`.

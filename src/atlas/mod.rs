@@ -7,6 +7,7 @@ mod write;
 
 pub use write::{atlas_markdown, write_atlas};
 
+use crate::crosscheck::beside_monte_carlo;
 use crate::error::Result;
 use crate::integrand::{Integrand, IntegrandSpec};
 use crate::metrics::{
@@ -15,7 +16,7 @@ use crate::metrics::{
 };
 use crate::montecarlo::{McParams, McResult, Z_99};
 use crate::pointset::PointSet;
-use crate::predict::{beside_monte_carlo, PredictParams, Prediction};
+use crate::predict::{PredictParams, Prediction};
 use crate::progress::{Progress, Silent};
 use crate::randomization::Randomization;
 use crate::rate::{fit_alpha, theory_rate, AlphaFit};

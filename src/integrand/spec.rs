@@ -511,3 +511,13 @@ impl Serialize for IntegrandSpec {
         serializer.serialize_str(&self.to_string())
     }
 }
+
+impl<'de> serde::Deserialize<'de> for IntegrandSpec {
+    /// The text [`parse_integrand`] reads.
+    fn deserialize<D: serde::Deserializer<'de>>(
+        deserializer: D,
+    ) -> std::result::Result<Self, D::Error> {
+        let text = String::deserialize(deserializer)?;
+        text.parse().map_err(serde::de::Error::custom)
+    }
+}

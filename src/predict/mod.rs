@@ -575,32 +575,6 @@ pub fn predict_many(
         .collect()
 }
 
-/// Every integrand's default prediction beside Monte Carlo, for one sampler at `n`: one
-/// Monte Carlo run shared by the integrands (shown as the stage `stage` of `progress`) and one
-/// prediction of them all ([`predict_many`]), in the integrands' order.
-///
-/// # Errors
-/// As [`empirical_variances`](crate::montecarlo::empirical_variances) and [`predict_many`].
-pub(crate) fn beside_monte_carlo(
-    sampler: &dyn Sampler,
-    integrands: &[&dyn Integrand],
-    n: usize,
-    mc: &crate::montecarlo::McParams,
-    params: &PredictParams,
-    (stage, progress): (&str, &dyn Progress),
-) -> Result<Vec<(crate::montecarlo::McResult, Prediction)>> {
-    progress.begin(stage, mc.patterns as u64);
-    let measured = crate::montecarlo::empirical_variances(sampler, integrands, n, mc, progress);
-    progress.end();
-    let measured = measured?;
-    let problems = integrands
-        .iter()
-        .map(|f| Problem::new(sampler, *f, n))
-        .collect::<Result<Vec<_>>>()?;
-    let predictions = predict_many(&problems, params, progress)?;
-    Ok(measured.into_iter().zip(predictions).collect())
-}
-
 fn check_params(params: &PredictParams) -> Result<()> {
     if !(params.target_noise > 0.0 && params.target_noise.is_finite()) {
         return Err(invalid(

@@ -14,7 +14,7 @@ mod study;
 pub use alpha::{fit_alpha, fit_low_band, AlphaFit, LowBandFit};
 pub use study::{
     finish_study, rate_ns, run_study, AlphaSource, BlockErrors, McBlock, ReferenceSpectrum,
-    SamplerSpectrum, Study, StudyConfig, StudyRow, StudySeries,
+    SamplerSpectrum, Study, StudyConfig, StudyDescription, StudyRow, StudySeries,
 };
 
 use crate::error::{invalid, Result};

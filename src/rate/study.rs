@@ -16,7 +16,8 @@ use crate::spectrum::{estimate, Engine, SpectrumEstimate, SpectrumParams};
 use serde::Serialize;
 
 /// The spectrum each sampler's predictions are rescaled from.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct ReferenceSpectrum {
     /// The reference N.
     pub n: usize,
@@ -60,6 +61,9 @@ pub struct StudyConfig {
     pub seed: u64,
     /// The reference spectrum (for `α` and the plots; predictions estimate what they need).
     pub reference: ReferenceSpectrum,
+    /// How each pattern is randomized: the estimator predicted and measured (by default the
+    /// random shift, the talk's homogenized estimator).
+    pub randomization: Randomization,
     /// The predictions' parameters (their seed is the study's prediction stream).
     #[serde(skip)]
     pub predict: PredictParams,
@@ -99,8 +103,87 @@ impl StudyConfig {
                 realizations: 64,
                 costly_realizations: crate::sampler::costly_realizations(64),
             },
+            randomization: Randomization::Shift,
             predict: PredictParams::default(),
             patterns_cache: None,
+        }
+    }
+}
+
+/// A study as text describes it (JSON from Python, or a file), with the library's defaults
+/// ([`StudyConfig::in_dimension`]) for what it leaves out: the one schema of a study outside
+/// Rust.
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StudyDescription {
+    /// Dimension (1 to 3).
+    pub dimension: usize,
+    /// Samplers, by name.
+    pub samplers: Vec<SamplerKind>,
+    /// Integrands, as specification text.
+    pub integrands: Vec<IntegrandSpec>,
+    /// The N values.
+    pub ns: Vec<usize>,
+    /// Monte Carlo evaluations per N.
+    pub trials: usize,
+    /// Seed.
+    pub seed: u64,
+    /// The reference spectrum (`null`: the default for the dimension).
+    #[serde(default)]
+    pub reference: Option<ReferenceSpectrum>,
+    /// The estimator (`shift`, `digital-shift` or `none`; by default `shift`).
+    #[serde(default = "shifted")]
+    pub randomization: Randomization,
+    /// Whether costly patterns are kept in the cache directory between runs.
+    #[serde(default)]
+    pub cache: bool,
+}
+
+fn shifted() -> Randomization {
+    Randomization::Shift
+}
+
+impl StudyDescription {
+    /// Parses a description from JSON.
+    ///
+    /// # Errors
+    /// Text that is not such a description: malformed JSON, an unknown field, an unknown
+    /// sampler or integrand.
+    ///
+    /// # Examples
+    /// ```
+    /// use specvar::rate::StudyDescription;
+    /// let d = StudyDescription::from_json(
+    ///     r#"{"dimension": 2, "samplers": ["jitter"], "integrands": ["disk:r=0.2"],
+    ///         "ns": [16, 64], "trials": 400, "seed": 1}"#,
+    /// )?;
+    /// let config = d.into_config(specvar::budget::Budget::default());
+    /// assert_eq!(config.samplers, vec![specvar::SamplerKind::Jitter]);
+    /// assert!(StudyDescription::from_json(r#"{"dimension": 2, "sampler": []}"#).is_err());
+    /// # Ok::<(), specvar::Error>(())
+    /// ```
+    pub fn from_json(text: &str) -> Result<Self> {
+        serde_json::from_str(text)
+            .map_err(|e| invalid("study description", e, "the fields of StudyDescription"))
+    }
+
+    /// The study it describes, under `budget`, with the library's defaults for the rest.
+    pub fn into_config(self, budget: crate::budget::Budget) -> StudyConfig {
+        let defaults = StudyConfig::in_dimension(self.dimension);
+        StudyConfig {
+            dimension: self.dimension,
+            samplers: self.samplers,
+            integrands: self.integrands,
+            ns: self.ns,
+            trials: self.trials,
+            seed: self.seed,
+            reference: self.reference.unwrap_or(defaults.reference),
+            randomization: self.randomization,
+            patterns_cache: self.cache.then(crate::cache::default_dir),
+            predict: PredictParams {
+                budget,
+                ..defaults.predict
+            },
         }
     }
 }
@@ -152,7 +235,7 @@ impl StudyConfig {
             .unwrap_or(0)
             .max(self.reference.n);
         for &kind in &self.samplers {
-            let pool = kind.pool(self.trials);
+            let pool = self.mc_params(kind);
             let one = kind.pattern_needs(largest, d);
             let needs = crate::budget::Needs {
                 memory_bytes: one.memory_bytes * rayon::current_num_threads().max(1) as f64,
@@ -365,13 +448,9 @@ pub type BlockErrors = Vec<Vec<PatternErrors>>;
 impl StudyConfig {
     /// The Monte Carlo parameters of `kind`'s runs (the same at every N).
     fn mc_params(&self, kind: SamplerKind) -> McParams {
-        let pool = kind.pool(self.trials);
         McParams {
-            patterns: pool.patterns,
-            shifts: pool.shifts,
-            seed: self.seed ^ MC_STREAM,
-            randomization: Randomization::Shift,
             budget: self.predict.budget,
+            ..McParams::pooled(kind, self.trials, self.seed ^ MC_STREAM, self.randomization)
         }
     }
 
@@ -465,7 +544,10 @@ pub fn finish_study(
             .map(|&n| {
                 let problems = f_refs
                     .iter()
-                    .map(|f| Problem::new(sampler.as_ref(), *f, n))
+                    .map(|f| {
+                        Problem::new(sampler.as_ref(), *f, n)
+                            .map(|p| p.with_randomization(config.randomization))
+                    })
                     .collect::<Result<Vec<_>>>()?;
                 predict_many(&problems, &params, progress)
             })

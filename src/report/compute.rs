@@ -9,12 +9,13 @@ use crate::anisotropy::{
     edge_rates, variance_against_orientation, OrientationConfig, OrientationRow,
 };
 use crate::cache::PATTERN_MEMORY;
+use crate::crosscheck::beside_monte_carlo;
 use crate::error::Result;
 use crate::integrand::{Gaussian, Integrand};
 use crate::montecarlo::{McParams, McResult, Z_99};
 use crate::predict::{
-    beside_monte_carlo, polar_validity, predict_polar, regular_grid_bias, PolarParams,
-    PredictParams, Prediction, SpectrumSource,
+    polar_validity, predict_polar, regular_grid_bias, PolarParams, PredictParams, Prediction,
+    SpectrumSource,
 };
 use crate::progress::{Progress, Silent};
 use crate::randomization::Randomization;

@@ -3,6 +3,7 @@
 use crate::integrand::IntegrandSpec;
 use crate::montecarlo::McResult;
 use crate::predict::{PredictParams, Prediction};
+use crate::randomization::Randomization;
 use crate::rate::{LowBandFit, ReferenceSpectrum, Study, StudyConfig};
 use crate::render::{ComparisonConfig, ComparisonRow, PixelPowerParams, Reference, RenderParams};
 use crate::sampler::SamplerKind;
@@ -185,6 +186,7 @@ impl ReportConfig {
                     realizations: 256,
                     costly_realizations: 16,
                 },
+                randomization: Randomization::Shift,
                 predict: PredictParams::default(),
                 patterns_cache: None,
             },

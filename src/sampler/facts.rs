@@ -3,8 +3,8 @@
 //! [`SamplerFacts`] constant. A struct literal names every field, so a new sampler cannot leave
 //! a fact out: the compiler lists what is missing.
 
+use super::ClosedForm;
 use crate::randomization::Randomization;
-use crate::spectrum::ClosedForm;
 use serde::Serialize;
 use std::fmt;
 use std::ops::RangeInclusive;
@@ -72,7 +72,7 @@ impl CountRule {
         match self {
             CountRule::Any => n >= 1,
             CountRule::Strata => super::strata(n, d).is_some(),
-            CountRule::Fibonacci => super::rank1::is_fibonacci(n),
+            CountRule::Fibonacci => super::fibonacci::is_fibonacci(n),
             CountRule::PrimeSquare => {
                 super::perfect_root(n, 2).is_some_and(|p| is_prime(p) && p + 1 >= d)
             }

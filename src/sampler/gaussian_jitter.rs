@@ -2,12 +2,12 @@
 
 use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
 use super::regular::{check_strata, for_each_cell};
+use super::ClosedForm;
 use super::{check_supported, uniform, Sampler, SamplerKind};
 use crate::error::{invalid, Result};
 use crate::pointset::{wrap, PointSet, MAX_DIMENSION};
 use crate::randomization::Randomization;
 use crate::rng::{realization_rng, Stream};
-use crate::spectrum::ClosedForm;
 
 /// Gaussian jitter: its closed form depends on its width.
 pub(crate) const FACTS: SamplerFacts = SamplerFacts {

@@ -1,9 +1,9 @@
 //! Homogenization: a random toroidal shift (Cranley–Patterson rotation).
 
+use super::ClosedForm;
 use super::{Sampler, SamplerKind};
 use crate::error::Result;
 use crate::pointset::{PointSet, MAX_DIMENSION};
-use crate::spectrum::ClosedForm;
 
 /// Adds one uniform random vector to every point, modulo 1, drawn from the shift stream of
 /// `(seed, realization)` ([`homogenizing_shift`]). Any pattern so shifted gives an unbiased

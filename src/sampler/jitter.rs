@@ -2,12 +2,12 @@
 
 use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
 use super::regular::{check_strata, for_each_cell};
+use super::ClosedForm;
 use super::{check_supported, in_cell, uniform, Sampler, SamplerKind};
 use crate::error::Result;
 use crate::pointset::{PointSet, MAX_DIMENSION};
 use crate::randomization::Randomization;
 use crate::rng::{realization_rng, Stream};
-use crate::spectrum::ClosedForm;
 
 /// Jitter: points correlate only within one stratum's reach.
 pub(crate) const FACTS: SamplerFacts = SamplerFacts {

@@ -1,6 +1,7 @@
 //! Every sampler this crate provides, and every fact about each one, in one place.
 
 use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
+use super::ClosedForm;
 use super::{
     Ccvt, CorrelatedMultiJitter, GaussianBlueNoise, GaussianJitter, Halton, Jitter, Kronecker,
     LatinHypercube, LatticeRule, MultiJitter, OrthogonalArray, Pmj02, PoissonDisk, PoissonMethod,
@@ -9,14 +10,13 @@ use super::{
 use crate::budget::Needs;
 use crate::error::{Error, Result};
 use crate::randomization::Randomization;
-use crate::spectrum::ClosedForm;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::ops::RangeInclusive;
 
 /// Every sampler this crate provides.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
-#[serde(into = "&'static str")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(into = "&'static str", try_from = "String")]
 pub enum SamplerKind {
     /// White noise.
     Random,
@@ -461,6 +461,13 @@ impl std::str::FromStr for SamplerKind {
     type Err = Error;
     fn from_str(s: &str) -> Result<Self> {
         Self::from_name(s.trim())
+    }
+}
+
+impl TryFrom<String> for SamplerKind {
+    type Error = Error;
+    fn try_from(name: String) -> Result<Self> {
+        name.parse()
     }
 }
 

@@ -1,11 +1,11 @@
 //! The Kronecker sequence of Roberts' generalized golden ratio (the R_d sequence).
 
 use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
+use super::ClosedForm;
 use super::{check_supported, Sampler, SamplerKind};
 use crate::error::Result;
 use crate::pointset::{PointSet, MAX_DIMENSION};
 use crate::randomization::Randomization;
-use crate::spectrum::ClosedForm;
 
 /// The Kronecker sequence: fixed, so used under a random shift.
 pub(crate) const FACTS: SamplerFacts = SamplerFacts {
@@ -34,7 +34,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
 /// `α` is held as 64-bit binary fractions and the points are computed in that fixed point,
 /// `frac(i α) = (i · A mod 2^64) / 2^64` (then rounded once to a double), so the pattern is `N`
 /// points of the Kronecker sequence of `A / 2^64` to the last bit, and its power spectrum is
-/// the Fejér kernel [`crate::spectrum::fejer`] of `k·α`.
+/// the Fejér kernel [`super::fejer`] of `k·α`.
 ///
 /// # Examples
 /// ```

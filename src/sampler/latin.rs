@@ -1,12 +1,12 @@
 //! Latin hypercube (N-rooks) sampling.
 
 use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
+use super::ClosedForm;
 use super::{check_supported, in_cell, random_permutation, uniform, Sampler, SamplerKind};
 use crate::error::Result;
 use crate::pointset::{PointSet, MAX_DIMENSION};
 use crate::randomization::Randomization;
 use crate::rng::{realization_rng, Stream};
-use crate::spectrum::ClosedForm;
 
 /// Latin hypercube sampling.
 pub(crate) const FACTS: SamplerFacts = SamplerFacts {

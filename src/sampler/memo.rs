@@ -66,7 +66,7 @@ impl<S: Sampler> Sampler for Memoized<S> {
     fn check_count(&self, n: usize) -> Result<()> {
         self.inner.check_count(n)
     }
-    fn closed_form(&self, n: usize) -> Option<crate::spectrum::ClosedForm> {
+    fn closed_form(&self, n: usize) -> Option<super::ClosedForm> {
         self.inner.closed_form(n)
     }
     fn sample(&self, n: usize, seed: u64, realization: u64) -> Result<PointSet> {

@@ -5,8 +5,10 @@
 //! is the same on any machine and thread count.
 
 mod ccvt;
+mod closed_form;
 mod cmj;
 mod facts;
+mod fibonacci;
 mod gaussian_jitter;
 mod gbn;
 mod halton;
@@ -26,6 +28,7 @@ mod regular;
 mod sobol;
 
 pub use ccvt::{Ccvt, CcvtParams, CcvtStats};
+pub use closed_form::{fejer, sinc, ClosedForm, ClosedLattice, TailDeviation};
 pub use cmj::CorrelatedMultiJitter;
 pub use facts::{
     ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry, COST_TOLERANCE,
@@ -55,7 +58,6 @@ pub use sobol::Sobol;
 use crate::error::{Error, Result};
 use crate::pointset::PointSet;
 use crate::randomization::Randomization;
-use crate::spectrum::ClosedForm;
 use std::ops::RangeInclusive;
 
 /// A generator of point sets on `[0,1)^d` for a fixed dimension `d`. Its `Debug` text names
@@ -208,11 +210,7 @@ pub fn perfect_root(n: usize, d: usize) -> Option<usize> {
     (guess.saturating_sub(1)..=guess + 1).find(|&m| m >= 1 && m.checked_pow(d as u32) == Some(n))
 }
 
-/// A uniform draw in `[0, 1)` with 53 random bits.
-#[inline]
-pub(crate) fn uniform<R: rand::Rng>(rng: &mut R) -> f64 {
-    (rng.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
-}
+pub(crate) use crate::rng::uniform;
 
 /// A uniform index in `0..n` (Lemire's multiply-shift; bias below 2^-32 for n < 2^32).
 #[inline]

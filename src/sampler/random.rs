@@ -1,12 +1,12 @@
 //! White noise.
 
 use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
+use super::ClosedForm;
 use super::{check_supported, uniform, Sampler, SamplerKind};
 use crate::error::Result;
 use crate::pointset::{PointSet, MAX_DIMENSION};
 use crate::randomization::Randomization;
 use crate::rng::{realization_rng, Stream};
-use crate::spectrum::ClosedForm;
 
 /// White noise: no correlation between points, so no reach.
 pub(crate) const FACTS: SamplerFacts = SamplerFacts {

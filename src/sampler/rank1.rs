@@ -1,11 +1,12 @@
 //! Rank-1 lattices in 2D: Korobov's with the best spectral test, and Fibonacci's.
 
 use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
+use super::fibonacci::{fibonacci_below, fibonacci_numbers};
+use super::ClosedForm;
 use super::{check_supported, Sampler, SamplerKind};
 use crate::error::{Error, Result};
 use crate::pointset::PointSet;
 use crate::randomization::Randomization;
-use crate::spectrum::ClosedForm;
 
 /// Korobov's lattice: fixed, so used under a random shift.
 pub(crate) const KOROBOV_FACTS: SamplerFacts = SamplerFacts {
@@ -130,34 +131,6 @@ fn korobov_generator(n: u64) -> u64 {
         .map(|a| (shortest_dual_vector_sq(n, a), a))
         .max_by(|x, y| x.0.cmp(&y.0).then(y.1.cmp(&x.1)))
         .map_or(1, |(_, a)| a)
-}
-
-/// The Fibonacci numbers up to 2^63.
-fn fibonacci_numbers() -> impl Iterator<Item = u64> {
-    std::iter::successors(Some((1u64, 2u64)), |&(a, b)| {
-        b.checked_add(a).map(|c| (b, c))
-    })
-    .map(|(a, _)| a)
-}
-
-/// Whether `n` is a Fibonacci number.
-pub(crate) fn is_fibonacci(n: usize) -> bool {
-    n >= 1 && fibonacci_below(n as u64).is_some()
-}
-
-/// `F_{m-1}` if `n = F_m` (with `F_1 = 1, F_2 = 2` so that `1, 2, 3, 5, 8, …`), else `None`.
-fn fibonacci_below(n: u64) -> Option<u64> {
-    let mut previous = 1;
-    for f in fibonacci_numbers() {
-        if f == n {
-            return Some(previous);
-        }
-        if f > n {
-            return None;
-        }
-        previous = f;
-    }
-    None
 }
 
 impl Sampler for Rank1Lattice {

@@ -1,11 +1,11 @@
 //! The cell-centred regular grid.
 
 use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
+use super::ClosedForm;
 use super::{check_supported, cmj::near_square_factors, perfect_root, Sampler, SamplerKind};
 use crate::error::{Error, Result};
 use crate::pointset::{PointSet, MAX_DIMENSION};
 use crate::randomization::Randomization;
-use crate::spectrum::ClosedForm;
 
 /// The regular grid: fixed, so used under a random shift.
 pub(crate) const FACTS: SamplerFacts = SamplerFacts {

@@ -12,7 +12,6 @@
 //! spectrum with per-frequency standard errors, and a [`RadialSpectrum`].
 
 mod accumulate;
-mod closed;
 pub mod export;
 mod in_order;
 pub mod lattice;
@@ -21,7 +20,8 @@ mod radial;
 mod sector;
 
 pub use accumulate::{PatternSource, SpectrumAccumulator, WeightedMean};
-pub use closed::{fejer, sinc, ClosedForm, ClosedLattice, TailDeviation};
+// Closed forms are facts about samplers; the spectra read them.
+pub use crate::sampler::{fejer, sinc, ClosedForm, ClosedLattice, TailDeviation};
 pub use lattice::Lattice;
 pub use radial::{RadialBin, RadialSpectrum};
 pub use sector::{sector_spectrum, SectorRing, SectorSpectrum, MAX_SECTORS};

@@ -15,6 +15,7 @@
 
 pub mod choice;
 pub mod kernel;
+mod ring;
 mod spread;
 mod stream;
 mod transform;
@@ -24,10 +25,10 @@ use crate::pointset::PointSet;
 use choice::Choice;
 use kernel::{EsKernel, KernelTable};
 use num_complex::Complex64;
+use ring::Ring;
 use rustfft::{Fft, FftPlanner};
 use spread::{Padded, SortScratch};
 use std::sync::Arc;
-use stream::Ring;
 
 /// The tolerance of [`Engine::fast`](super::Engine::fast): `|δP| ≤ 2ε√(NP) + ε²N` keeps
 /// `|P_fast - P_direct|` below `1e-8` for every `P ≤ 10` up to `N = 10^5` points.
@@ -188,7 +189,7 @@ impl NufftPlan {
             rows: vec![zero; rows * (k + 1)],
             spare: vec![zero; spare],
             fft: vec![zero; self.fft.get_inplace_scratch_len()],
-            batch: vec![zero; transform::BATCH * g],
+            batch: vec![zero; ring::BATCH * g],
             sort: SortScratch::default(),
         }
     }

@@ -9,14 +9,11 @@
 //! place, [`BATCH`] at a time, and each batch is cropped into the next layout (or, after the
 //! first axis, written deconvolved) while it is in cache.
 
+use super::ring::{Ring, BATCH};
 use super::spread::fold_row;
-use super::stream::Ring;
 use super::{NufftPlan, NufftScratch};
 use num_complex::Complex64;
 use std::ops::Range;
-
-/// Lines transformed together.
-pub(super) const BATCH: usize = 32;
 
 impl NufftPlan {
     /// Transforms the rows' half spectra in `scratch.rows` (from

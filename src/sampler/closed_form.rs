@@ -1,9 +1,9 @@
 //! Closed-form expected power spectra: white noise, jitter, Gaussian jitter, Latin hypercube,
 //! the regular grid, rank-1 lattices and Kronecker sequences.
 
+use super::strata;
 use crate::pointset::MAX_DIMENSION;
 use crate::quadrature::GaussLegendre;
-use crate::sampler::strata;
 use std::f64::consts::PI;
 
 /// `sin(x)/x`, with its limit 1 at 0.
