@@ -63,6 +63,15 @@ impl Randomization {
         }
     }
 
+    /// What it does to each trial's pattern, in words.
+    pub fn per_trial(self) -> &'static str {
+        match self {
+            Randomization::Shift => "a random toroidal shift per trial",
+            Randomization::DigitalShift => "a random digital shift per trial",
+            Randomization::None => "each pattern as drawn",
+        }
+    }
+
     /// Whether one pattern serves many independent randomizations, so that a costly pattern is
     /// worth reusing in a Monte Carlo pool: every randomization but none.
     pub fn reuses_patterns(self) -> bool {

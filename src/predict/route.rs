@@ -149,7 +149,7 @@ pub(crate) fn check_estimator(problem: &Problem<'_>) -> Result<()> {
         Some(k) if k.facts().randomness.has_shifted_variance(r) => Ok(()),
         Some(k) if k.is_deterministic() && r == Randomization::None => {
             Err(Error::OutsideValidity {
-                route: "the spectral routes".into(),
+                route: "a spectral route".into(),
                 reason: format!(
                     "{k} draws one fixed pattern: used as drawn, its estimator has a bias and no \
                  variance (`specvar bias`); randomize it with shift"
@@ -157,11 +157,11 @@ pub(crate) fn check_estimator(problem: &Problem<'_>) -> Result<()> {
             })
         }
         _ => Err(Error::OutsideValidity {
-            route: "the spectral routes".into(),
+            route: "a spectral route".into(),
             reason: format!(
-                "they predict the randomly shifted estimator, and {} patterns {} integrate \
-                 with another variance; measure it with `specvar mc --randomization {r}`, or \
-                 predict with --randomization shift",
+                "every route predicts the randomly shifted estimator, and {} patterns {} \
+                 integrate with another variance; measure it with `specvar mc --randomization \
+                 {r}`, or predict with --randomization shift",
                 kind.map_or("given".to_string(), |k| k.to_string()),
                 match r {
                     Randomization::None => "used as drawn",

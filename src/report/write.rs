@@ -331,7 +331,10 @@ fn variance_plots(dir: &Path, report: &Report) -> Result<()> {
         }
         series.extend(reference_slopes(&series, &ns));
         let axes = Axes {
-            title: format!("variance of the homogenized estimator, {title}"),
+            title: format!(
+                "variance of the {} estimator, {title}",
+                study.config.randomization.estimator()
+            ),
             x_label: "N".into(),
             y_label: "Var".into(),
             log_x: true,
@@ -563,9 +566,11 @@ fn markdown(report: &Report) -> String {
     );
     let _ = writeln!(
         md,
-        "{} run. Dimension 2. Every variance is that of the **homogenized** estimator (a random \
-         toroidal shift per trial). Integrands: {}. N = {:?}. Cross-checks passed: **{passed} of {}**.\n",
+        "{} run. Dimension 2. Every variance is that of the **{}** estimator ({}), the \
+         talk's setting. Integrands: {}. N = {:?}. Cross-checks passed: **{passed} of {}**.\n",
         if report.config.quick { "Quick" } else { "Full" },
+        study.config.randomization.estimator(),
+        study.config.randomization.per_trial(),
         labels.join(" and "),
         study.config.ns,
         report.checks.len()

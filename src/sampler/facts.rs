@@ -182,6 +182,18 @@ pub enum ClosedFormRule {
     OfSampler,
 }
 
+impl ClosedFormRule {
+    /// Where the closed form comes from, in words, for tables.
+    pub fn describe(self) -> String {
+        match self {
+            ClosedFormRule::None => "none".into(),
+            ClosedFormRule::Always(c) => format!("{} (every N)", c.name()),
+            ClosedFormRule::WithStrata(c) => format!("{} (N with strata)", c.name()),
+            ClosedFormRule::OfSampler => "from its parameters (every valid N)".into(),
+        }
+    }
+}
+
 /// How a sampler's expected spectrum depends on N: whether one spectrum, estimated at a
 /// reference N and read at `ν = ρ / N^{1/d}`, serves another N.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]

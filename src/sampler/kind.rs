@@ -294,6 +294,37 @@ impl SamplerKind {
         self.cost_per_point_ns() >= KEEP_NS
     }
 
+    /// Every sampler's facts as a Markdown table (the README's list of samplers is this table,
+    /// and a test keeps it so).
+    pub fn markdown_table() -> String {
+        let mut table = String::from(
+            "| name | dimensions | N | drawn with | used with | closed form | what it is |\n\
+             |---|---|---|---|---|---|---|\n",
+        );
+        for kind in Self::ALL {
+            let f = kind.facts();
+            let (lo, hi) = (f.dimensions.start(), f.dimensions.end());
+            let dims = if lo == hi {
+                lo.to_string()
+            } else {
+                format!("{lo}–{hi}")
+            };
+            let randomness = serde_json::to_value(f.randomness)
+                .ok()
+                .and_then(|v| v.as_str().map(|s| s.replace('_', " ")))
+                .unwrap_or_default();
+            table.push_str(&format!(
+                "| `{}` | {dims} | {} | {randomness} | {} | {} | {} |\n",
+                f.name,
+                f.count,
+                f.native_randomization.estimator(),
+                f.closed_form.describe(),
+                f.description
+            ));
+        }
+        table
+    }
+
     /// The facts a table of samplers shows, as one serializable row.
     pub fn summary(self) -> SamplerSummary {
         let f = self.facts();

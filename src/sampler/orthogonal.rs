@@ -140,11 +140,17 @@ mod tests {
     use super::*;
 
     #[test]
-    fn every_pair_of_axes_is_jittered_on_p_by_p_cells() {
-        for (d, p) in [(2, 2), (3, 3), (4, 5), (8, 7)] {
+    fn every_pair_of_axes_is_jittered_on_p_by_p_cells_and_every_axis_on_n() {
+        for (d, p) in [(2, 2), (3, 2), (3, 3), (4, 5), (8, 7)] {
             let n = p * p;
             let points = OrthogonalArray::new(d).unwrap().sample(n, 9, 1).unwrap();
             for a in 0..d {
+                let mut intervals: Vec<usize> = points
+                    .points()
+                    .map(|x| (x[a] * n as f64) as usize)
+                    .collect();
+                intervals.sort();
+                assert_eq!(intervals, (0..n).collect::<Vec<_>>(), "axis {a} at p = {p}");
                 for b in a + 1..d {
                     let mut cells: Vec<usize> = points
                         .points()

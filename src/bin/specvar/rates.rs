@@ -2,6 +2,7 @@
 //! call the report makes.
 
 use specvar::integrand::IntegrandSpec;
+use specvar::randomization::Randomization;
 use specvar::rate::{rate_ns, run_study, StudyConfig};
 use specvar::sampler::SamplerKind;
 use specvar::Result;
@@ -27,6 +28,10 @@ pub struct Args {
     /// Seed.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
+    /// How each pattern is randomized, for the predictions and the Monte Carlo alike: shift
+    /// (the homogenized estimator), digital-shift, or none (the patterns as drawn).
+    #[arg(long, default_value_t = Randomization::Shift)]
+    pub randomization: Randomization,
     /// JSON output.
     #[arg(long)]
     pub json: bool,
@@ -45,6 +50,7 @@ impl Args {
             },
             trials: self.trials.unwrap_or(defaults.trials),
             seed: self.seed,
+            randomization: self.randomization,
             predict: specvar::predict::PredictParams {
                 budget: ctx.budget,
                 ..defaults.predict

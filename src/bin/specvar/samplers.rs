@@ -6,13 +6,20 @@ use specvar::sampler::{SamplerKind, SamplerSummary};
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Print JSON instead of a table.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "markdown")]
     pub json: bool,
+    /// Print the facts as a Markdown table (the README's list).
+    #[arg(long)]
+    pub markdown: bool,
 }
 
 /// Prints every sampler with its dimensions, N rule and facts.
 pub fn run(args: &Args) -> specvar::Result<()> {
     let rows: Vec<SamplerSummary> = SamplerKind::ALL.iter().map(|k| k.summary()).collect();
+    if args.markdown {
+        out!("{}", SamplerKind::markdown_table())?;
+        return Ok(());
+    }
     if args.json {
         outln!("{}", super::to_json(&rows)?)?;
         return Ok(());
