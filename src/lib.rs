@@ -31,10 +31,14 @@
 //!
 //! ## Map of the crate
 //!
-//! - [`sampler`]: seventeen samplers behind one [`Sampler`] trait, keyed by (seed, realization),
-//!   from white noise to PMJ02, rank-1 lattices and the Kronecker sequence; [`SamplerKind`]
-//!   holds every fact about each (closed form, scale invariance, isotropy, cost, N rule);
-//!   [`sampler::Homogenized`] adds the random shift.
+//! - [`sampler`]: eighteen samplers behind one [`Sampler`] trait, keyed by (seed, realization),
+//!   from white noise to PMJ02, orthogonal arrays, rank-1 lattices and the Kronecker sequence;
+//!   each states every fact about itself once, in its own file, as a
+//!   [`sampler::SamplerFacts`] descriptor (N rule, randomness, native randomization, closed
+//!   form, scale invariance, symmetry, cost), which [`SamplerKind`] reads.
+//! - [`randomization`]: how a pattern is randomized before it integrates (a random shift, a
+//!   digital shift, none), which decides the estimator a prediction and a Monte Carlo run are
+//!   for.
 //! - [`pointset`] and [`io`]: point sets and their files (UTK text and binary, JSON).
 //! - [`spectrum`]: periodograms (direct and NUFFT engines, with caller-owned scratch), expected,
 //!   radial and directional spectra, closed forms.

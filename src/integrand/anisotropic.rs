@@ -62,7 +62,7 @@ impl AnisotropicGaussian {
     /// Widths `sigma_1` along the direction at `angle_degrees` and `sigma_2` across it.
     ///
     /// # Errors
-    /// Widths not positive and finite (at most [`MAX_LOBE_SIGMA`]), a centre outside the
+    /// Widths not positive and finite (at most `MAX_LOBE_SIGMA`), a centre outside the
     /// square, or a non-finite angle or height.
     pub fn new(
         sigma_1: f64,
