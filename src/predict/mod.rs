@@ -525,13 +525,32 @@ pub fn predict_with(
     route::check_estimator(problem)?;
     route::predict_routed(problem, params, progress)
         .and_then(finite_prediction)
-        .map(|p| for_estimator(p, problem.randomization))
+        .map(|p| for_estimator(p, problem))
 }
 
-/// `p`, which a route computed for the shifted estimator, labelled with the estimator it
-/// predicts: [`route::check_estimator`] admitted only randomizations with the same variance.
-fn for_estimator(p: Prediction, randomization: Randomization) -> Prediction {
-    Prediction { randomization, ..p }
+/// `p`, which a route computed for the shifted estimator, labelled with the estimator of
+/// `problem` it predicts ([`route::check_estimator`] admitted only randomizations with the same
+/// variance), its reason saying why the two agree.
+fn for_estimator(p: Prediction, problem: &Problem<'_>) -> Prediction {
+    let randomization = problem.randomization;
+    let why = match problem.patterns {
+        Patterns::Sampler(s) if randomization != Randomization::Shift => s
+            .kind()
+            .and_then(|k| k.facts().randomness.why_shifted_variance(randomization)),
+        _ => None,
+    };
+    let reason = match why {
+        Some(why) => format!(
+            "{}; under randomization {randomization} the variance is the shifted one's: {why}",
+            p.reason
+        ),
+        None => p.reason,
+    };
+    Prediction {
+        randomization,
+        reason,
+        ..p
+    }
 }
 
 /// Predicts several integrands on the same patterns (one sampler and N, or the same point
@@ -571,7 +590,7 @@ pub fn predict_many(
     route::predict_routed_many(problems, params, progress)?
         .into_iter()
         .zip(problems)
-        .map(|(p, problem)| finite_prediction(p).map(|p| for_estimator(p, problem.randomization)))
+        .map(|(p, problem)| finite_prediction(p).map(|p| for_estimator(p, problem)))
         .collect()
 }
 

@@ -161,10 +161,21 @@ impl Randomness {
     /// for stationary laws, which a shift does not change; under a digital shift, for
     /// independent points, which stay independent and uniform.
     pub fn has_shifted_variance(self, randomization: Randomization) -> bool {
+        self.why_shifted_variance(randomization).is_some()
+    }
+
+    /// Why patterns of this randomness under `randomization` integrate with the shifted
+    /// estimator's variance, in words, or `None` where they do not
+    /// ([`has_shifted_variance`](Self::has_shifted_variance)).
+    pub fn why_shifted_variance(self, randomization: Randomization) -> Option<&'static str> {
         match randomization {
-            Randomization::Shift => true,
-            Randomization::None => self.is_stationary(),
-            Randomization::DigitalShift => self == Randomness::Independent,
+            Randomization::Shift => Some("the shift is the routes' own estimator"),
+            Randomization::None => self.is_stationary().then_some(
+                "the patterns' law is invariant under translation on the torus, so a shift \
+                 leaves the estimator's law unchanged",
+            ),
+            Randomization::DigitalShift => (self == Randomness::Independent)
+                .then_some("independent points stay independent and uniform under a digital shift"),
         }
     }
 }
