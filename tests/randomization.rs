@@ -20,7 +20,11 @@ fn agree(sampler: &dyn Sampler, f: &dyn Integrand, n: usize, r: Randomization, t
     let p = predict(&problem, &params).unwrap();
     assert_eq!(p.randomization, r);
     // The reason says why the shifted route serves this estimator.
-    assert!(p.reason.contains("the variance is the shifted one's"), "{}", p.reason);
+    assert!(
+        p.reason.contains("the variance is the shifted one's"),
+        "{}",
+        p.reason
+    );
     let mc = McParams {
         patterns: trials,
         seed: 17,

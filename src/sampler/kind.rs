@@ -1,4 +1,5 @@
-//! Every sampler this crate provides, and every fact about each one, in one place.
+//! Every sampler this crate provides: the registry of their descriptors (each states its facts
+//! in its own file), and the policies the library derives from them.
 
 use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
 use super::ClosedForm;
@@ -69,10 +70,13 @@ pub struct Pool {
 /// The fewest independent patterns a pool uses, so that its interval rests on enough units.
 pub const MIN_POOL_PATTERNS: usize = 32;
 
-/// The cost of one integrand evaluation in a Monte Carlo trial, per point, in nanoseconds (a
-/// disk or Gaussian with the shift, measured by `benches/montecarlo.rs`): a pattern is worth
-/// reusing under as many shifts as its generation costs evaluations.
-const EVALUATION_NS: f64 = 140.0;
+/// The pool rule ([`SamplerKind::pool`]): a pattern is used under one shift per this many
+/// nanoseconds of its declared generation cost per point. A fixed rule, not a measured time, so
+/// that pools, and with them every Monte Carlo result, do not move with the machine: it was
+/// the cost of one evaluation with its shift when the rule was set. Evaluations have since
+/// become about 10 ns (`benches/sampler_costs.rs` prints the current cost beside it), so the
+/// rule reuses patterns less than the costs alone would.
+pub const POOL_NS_PER_SHIFT: f64 = 140.0;
 
 /// Generation costs per point above this (in nanoseconds) make a sampler costly: its spectrum
 /// estimates use fewer realizations, since drawing them would dwarf the transforms.
@@ -358,7 +362,9 @@ impl SamplerKind {
     /// assert_eq!((ccvt.patterns, ccvt.shifts), (32, 125));
     /// ```
     pub fn pool(self, trials: usize) -> Pool {
-        let worth = (self.cost_per_point_ns() / EVALUATION_NS).round().max(1.0) as usize;
+        let worth = (self.cost_per_point_ns() / POOL_NS_PER_SHIFT)
+            .round()
+            .max(1.0) as usize;
         let cap = (trials / MIN_POOL_PATTERNS).max(1);
         let shifts = worth.min(cap);
         Pool {

@@ -40,7 +40,9 @@ pub use gbn::{GaussianBlueNoise, GbnParams};
 pub use halton::Halton;
 pub use homogenize::{homogenize, homogenizing_shift, Homogenized};
 pub use jitter::Jitter;
-pub use kind::{costly_realizations, Pool, SamplerKind, SamplerSummary, MIN_POOL_PATTERNS};
+pub use kind::{
+    costly_realizations, Pool, SamplerKind, SamplerSummary, MIN_POOL_PATTERNS, POOL_NS_PER_SHIFT,
+};
 pub use kronecker::Kronecker;
 pub use latin::LatinHypercube;
 pub use memo::Memoized;
