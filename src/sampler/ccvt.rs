@@ -90,7 +90,7 @@ impl Ccvt {
     /// # Errors
     /// An unsupported dimension.
     pub fn new(d: usize) -> Result<Self> {
-        check_supported("ccvt", d, 1..=3)?;
+        check_supported(&FACTS, d)?;
         Ok(Self {
             dimension: d,
             params: CcvtParams::default(),
@@ -169,7 +169,7 @@ impl Ccvt {
 
 impl Sampler for Ccvt {
     fn name(&self) -> &'static str {
-        "ccvt"
+        FACTS.name
     }
     fn dimension(&self) -> usize {
         self.dimension

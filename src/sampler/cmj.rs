@@ -40,7 +40,7 @@ impl CorrelatedMultiJitter {
     /// # Errors
     /// Any dimension other than 2.
     pub fn new(d: usize) -> Result<Self> {
-        check_supported("cmj", d, 2..=2)?;
+        check_supported(&FACTS, d)?;
         Ok(Self { dimension: d })
     }
 }
@@ -57,7 +57,7 @@ pub(crate) fn near_square_factors(n: usize) -> (usize, usize) {
 
 impl Sampler for CorrelatedMultiJitter {
     fn name(&self) -> &'static str {
-        "cmj"
+        FACTS.name
     }
     fn dimension(&self) -> usize {
         self.dimension

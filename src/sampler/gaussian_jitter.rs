@@ -5,7 +5,7 @@ use super::regular::{check_strata, for_each_cell};
 use super::ClosedForm;
 use super::{check_supported, uniform, Sampler, SamplerKind};
 use crate::error::{invalid, Result};
-use crate::pointset::{wrap, PointSet, MAX_DIMENSION};
+use crate::pointset::{wrap, PointSet};
 use crate::randomization::Randomization;
 use crate::rng::{realization_rng, Stream};
 
@@ -75,7 +75,7 @@ impl GaussianJitter {
     /// # Errors
     /// An unsupported dimension.
     pub fn new(d: usize) -> Result<Self> {
-        check_supported("gjitter", d, 1..=MAX_DIMENSION)?;
+        check_supported(&FACTS, d)?;
         Ok(Self {
             dimension: d,
             width: DEFAULT_GAUSSIAN_WIDTH,
@@ -114,7 +114,7 @@ fn standard_normal_pair<R: rand::Rng>(rng: &mut R) -> (f64, f64) {
 
 impl Sampler for GaussianJitter {
     fn name(&self) -> &'static str {
-        "gjitter"
+        FACTS.name
     }
     fn dimension(&self) -> usize {
         self.dimension

@@ -98,7 +98,7 @@ impl GaussianBlueNoise {
     /// An unsupported dimension, a width outside 0.1–2 spacings, no iterations, or a step
     /// outside (0, 2.5].
     pub fn with_params(d: usize, params: GbnParams) -> Result<Self> {
-        check_supported("gbn", d, 1..=3)?;
+        check_supported(&FACTS, d)?;
         if !(0.1..=2.0).contains(&params.sigma) {
             return Err(invalid("GBN sigma", params.sigma, "0.1 to 2 spacings"));
         }
@@ -146,7 +146,7 @@ impl GaussianBlueNoise {
 
 impl Sampler for GaussianBlueNoise {
     fn name(&self) -> &'static str {
-        "gbn"
+        FACTS.name
     }
     fn dimension(&self) -> usize {
         self.dimension

@@ -42,7 +42,7 @@ impl Halton {
     /// # Errors
     /// An unsupported dimension.
     pub fn new(d: usize) -> Result<Self> {
-        check_supported("halton", d, 1..=MAX_DIMENSION)?;
+        check_supported(&FACTS, d)?;
         Ok(Self { dimension: d })
     }
 }
@@ -84,7 +84,7 @@ fn zero_digit_tails(b: u64, perms: &[Vec<usize>]) -> Vec<f64> {
 
 impl Sampler for Halton {
     fn name(&self) -> &'static str {
-        "halton"
+        FACTS.name
     }
     fn dimension(&self) -> usize {
         self.dimension

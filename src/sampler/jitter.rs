@@ -5,7 +5,7 @@ use super::regular::{check_strata, for_each_cell};
 use super::ClosedForm;
 use super::{check_supported, in_cell, uniform, Sampler, SamplerKind};
 use crate::error::Result;
-use crate::pointset::{PointSet, MAX_DIMENSION};
+use crate::pointset::PointSet;
 use crate::randomization::Randomization;
 use crate::rng::{realization_rng, Stream};
 
@@ -41,14 +41,14 @@ impl Jitter {
     /// # Errors
     /// An unsupported dimension.
     pub fn new(d: usize) -> Result<Self> {
-        check_supported("jitter", d, 1..=MAX_DIMENSION)?;
+        check_supported(&FACTS, d)?;
         Ok(Self { dimension: d })
     }
 }
 
 impl Sampler for Jitter {
     fn name(&self) -> &'static str {
-        "jitter"
+        FACTS.name
     }
     fn dimension(&self) -> usize {
         self.dimension

@@ -57,7 +57,7 @@ impl Kronecker {
     /// # Errors
     /// An unsupported dimension.
     pub fn new(d: usize) -> Result<Self> {
-        check_supported("kronecker", d, 1..=MAX_DIMENSION)?;
+        check_supported(&FACTS, d)?;
         Ok(Self {
             dimension: d,
             fractions: generalized_golden_fractions(d),
@@ -93,7 +93,7 @@ fn generalized_golden_fractions(d: usize) -> [u64; MAX_DIMENSION] {
 
 impl Sampler for Kronecker {
     fn name(&self) -> &'static str {
-        "kronecker"
+        FACTS.name
     }
     fn dimension(&self) -> usize {
         self.dimension

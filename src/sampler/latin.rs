@@ -4,7 +4,7 @@ use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling,
 use super::ClosedForm;
 use super::{check_supported, in_cell, random_permutation, uniform, Sampler, SamplerKind};
 use crate::error::Result;
-use crate::pointset::{PointSet, MAX_DIMENSION};
+use crate::pointset::PointSet;
 use crate::randomization::Randomization;
 use crate::rng::{realization_rng, Stream};
 
@@ -39,14 +39,14 @@ impl LatinHypercube {
     /// # Errors
     /// An unsupported dimension.
     pub fn new(d: usize) -> Result<Self> {
-        check_supported("lhs", d, 1..=MAX_DIMENSION)?;
+        check_supported(&FACTS, d)?;
         Ok(Self { dimension: d })
     }
 }
 
 impl Sampler for LatinHypercube {
     fn name(&self) -> &'static str {
-        "lhs"
+        FACTS.name
     }
     fn dimension(&self) -> usize {
         self.dimension

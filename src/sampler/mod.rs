@@ -60,7 +60,6 @@ pub use sobol::Sobol;
 use crate::error::{Error, Result};
 use crate::pointset::PointSet;
 use crate::randomization::Randomization;
-use std::ops::RangeInclusive;
 
 /// A generator of point sets on `[0,1)^d` for a fixed dimension `d`. Its `Debug` text names
 /// every parameter that shapes its patterns (the derived form does): caches key patterns by it.
@@ -175,17 +174,14 @@ pub fn native_randomization(kind: Option<SamplerKind>) -> Randomization {
     kind.map_or(Randomization::None, SamplerKind::native_randomization)
 }
 
-/// Errors unless `d` lies in `supported`.
-pub(crate) fn check_supported(
-    sampler: &'static str,
-    d: usize,
-    supported: RangeInclusive<usize>,
-) -> Result<()> {
+/// Errors unless `d` lies in the dimensions `facts` declares.
+pub(crate) fn check_supported(facts: &SamplerFacts, d: usize) -> Result<()> {
+    let supported = &facts.dimensions;
     if supported.contains(&d) {
         Ok(())
     } else {
         Err(Error::UnsupportedDimension {
-            sampler,
+            sampler: facts.name,
             dimension: d,
             supported: format!("{} to {}", supported.start(), supported.end()),
         })

@@ -51,14 +51,14 @@ impl MultiJitter {
     /// # Errors
     /// Any dimension other than 2.
     pub fn new(d: usize) -> Result<Self> {
-        check_supported("mj", d, 2..=2)?;
+        check_supported(&FACTS, d)?;
         Ok(Self)
     }
 }
 
 impl Sampler for MultiJitter {
     fn name(&self) -> &'static str {
-        "mj"
+        FACTS.name
     }
     fn dimension(&self) -> usize {
         2

@@ -67,7 +67,7 @@ impl OrthogonalArray {
     /// # Errors
     /// A dimension outside 2 to 8.
     pub fn new(d: usize) -> Result<Self> {
-        check_supported(FACTS.name, d, FACTS.dimensions)?;
+        check_supported(&FACTS, d)?;
         Ok(Self { dimension: d })
     }
 }

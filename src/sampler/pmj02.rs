@@ -67,7 +67,7 @@ impl Pmj02 {
     /// # Errors
     /// Any dimension other than 2.
     pub fn new(d: usize) -> Result<Self> {
-        check_supported("pmj02", d, 2..=2)?;
+        check_supported(&FACTS, d)?;
         Ok(Self)
     }
 }
@@ -176,7 +176,7 @@ fn quarter(v: f64, k: u32) -> u64 {
 
 impl Sampler for Pmj02 {
     fn name(&self) -> &'static str {
-        "pmj02"
+        FACTS.name
     }
     fn dimension(&self) -> usize {
         2

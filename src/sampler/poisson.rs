@@ -119,7 +119,7 @@ impl PoissonDisk {
     /// # Errors
     /// An unsupported dimension.
     pub fn new(d: usize) -> Result<Self> {
-        check_supported("poisson", d, 1..=3)?;
+        check_supported(&DART_FACTS, d)?;
         Ok(Self {
             dimension: d,
             relative_radius: default_relative_radius(d),
@@ -154,8 +154,8 @@ impl PoissonDisk {
 impl Sampler for PoissonDisk {
     fn name(&self) -> &'static str {
         match self.method {
-            PoissonMethod::DartThrowing => "poisson",
-            PoissonMethod::Bridson => "bridson",
+            PoissonMethod::DartThrowing => DART_FACTS.name,
+            PoissonMethod::Bridson => BRIDSON_FACTS.name,
         }
     }
     fn dimension(&self) -> usize {

@@ -82,12 +82,17 @@ impl Rank1Lattice {
     /// # Errors
     /// A dimension other than 2.
     pub fn new(d: usize, rule: LatticeRule) -> Result<Self> {
-        let name = match rule {
-            LatticeRule::Korobov => "korobov",
-            LatticeRule::Fibonacci => "fibonacci",
-        };
-        check_supported(name, d, 2..=2)?;
-        Ok(Self { rule })
+        let lattice = Self { rule };
+        check_supported(lattice.facts(), d)?;
+        Ok(lattice)
+    }
+
+    /// This rule's facts.
+    fn facts(&self) -> &'static SamplerFacts {
+        match self.rule {
+            LatticeRule::Korobov => &KOROBOV_FACTS,
+            LatticeRule::Fibonacci => &FIBONACCI_FACTS,
+        }
     }
 
     /// The second component `a` of the generating vector at `n` points.
@@ -135,10 +140,7 @@ fn korobov_generator(n: u64) -> u64 {
 
 impl Sampler for Rank1Lattice {
     fn name(&self) -> &'static str {
-        match self.rule {
-            LatticeRule::Korobov => "korobov",
-            LatticeRule::Fibonacci => "fibonacci",
-        }
+        self.facts().name
     }
     fn dimension(&self) -> usize {
         2

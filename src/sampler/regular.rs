@@ -4,7 +4,7 @@ use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling,
 use super::ClosedForm;
 use super::{check_supported, cmj::near_square_factors, perfect_root, Sampler, SamplerKind};
 use crate::error::{Error, Result};
-use crate::pointset::{PointSet, MAX_DIMENSION};
+use crate::pointset::PointSet;
 use crate::randomization::Randomization;
 
 /// The regular grid: fixed, so used under a random shift.
@@ -39,7 +39,7 @@ impl Regular {
     /// # Errors
     /// An unsupported dimension.
     pub fn new(d: usize) -> Result<Self> {
-        check_supported("regular", d, 1..=MAX_DIMENSION)?;
+        check_supported(&FACTS, d)?;
         Ok(Self { dimension: d })
     }
 }
@@ -108,7 +108,7 @@ pub(crate) fn for_each_cell(cells: &[usize], mut f: impl FnMut(usize, usize, usi
 
 impl Sampler for Regular {
     fn name(&self) -> &'static str {
-        "regular"
+        FACTS.name
     }
     fn dimension(&self) -> usize {
         self.dimension

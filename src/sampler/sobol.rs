@@ -210,14 +210,14 @@ impl Sobol {
     /// # Errors
     /// An unsupported dimension.
     pub fn new(d: usize) -> Result<Self> {
-        check_supported("sobol", d, 1..=MAX_DIMENSION)?;
+        check_supported(&FACTS, d)?;
         Ok(Self { dimension: d })
     }
 }
 
 impl Sampler for Sobol {
     fn name(&self) -> &'static str {
-        "sobol"
+        FACTS.name
     }
     fn dimension(&self) -> usize {
         self.dimension
