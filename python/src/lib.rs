@@ -169,16 +169,6 @@ fn required_integrand(integrand: &Bound<'_, PyAny>, d: usize) -> PyResult<Box<dy
     })
 }
 
-/// The serialized name of a unit enum value (`snake_case`, as in JSON).
-fn serde_name<T: serde::Serialize>(value: &T) -> PyResult<String> {
-    match serde_json::to_value(value) {
-        Ok(serde_json::Value::String(s)) => Ok(s),
-        _ => Err(PyValueError::new_err(
-            "a fact that does not serialize to a name",
-        )),
-    }
-}
-
 /// Every sampler with its facts.
 #[pyfunction]
 fn samplers(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
@@ -192,10 +182,10 @@ fn samplers(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
         row.set_item("deterministic", s.deterministic)?;
         row.set_item("isotropic", s.isotropic)?;
         row.set_item("known_alpha", s.known_alpha)?;
-        row.set_item("randomness", serde_name(&s.randomness)?)?;
+        row.set_item("randomness", s.randomness.to_string())?;
         row.set_item("native_randomization", s.native_randomization.name())?;
-        row.set_item("symmetry", serde_name(&s.symmetry)?)?;
-        row.set_item("scaling", serde_name(&s.scaling)?)?;
+        row.set_item("symmetry", s.symmetry.to_string())?;
+        row.set_item("scaling", s.scaling.to_string())?;
         row.set_item("cost_per_point_ns", s.cost_per_point_ns)?;
         Ok(row)
     });

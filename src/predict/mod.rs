@@ -353,6 +353,15 @@ impl<'a> Problem<'a> {
     pub fn dimension(&self) -> usize {
         self.integrand.dimension()
     }
+
+    /// Which of this crate's samplers draws the patterns, if one does (`None` for point sets
+    /// and samplers of one's own).
+    pub fn kind(&self) -> Option<crate::sampler::SamplerKind> {
+        match self.patterns {
+            Patterns::Sampler(s) => s.kind(),
+            Patterns::PointSets(_) => None,
+        }
+    }
 }
 
 fn check_dimensions(d: usize, f: &dyn Integrand) -> Result<()> {
@@ -533,11 +542,11 @@ pub fn predict_with(
 /// variance), its reason saying why the two agree.
 fn for_estimator(p: Prediction, problem: &Problem<'_>) -> Prediction {
     let randomization = problem.randomization;
-    let why = match problem.patterns {
-        Patterns::Sampler(s) if randomization != Randomization::Shift => s
+    let why = match randomization {
+        Randomization::Shift => None,
+        _ => problem
             .kind()
             .and_then(|k| k.facts().randomness.why_shifted_variance(randomization)),
-        _ => None,
     };
     let reason = match why {
         Some(why) => format!(

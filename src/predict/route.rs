@@ -141,10 +141,7 @@ pub(crate) fn check_estimator(problem: &Problem<'_>) -> Result<()> {
     if r == Randomization::Shift {
         return Ok(());
     }
-    let kind = match problem.patterns {
-        Patterns::Sampler(s) => s.kind(),
-        Patterns::PointSets(_) => None,
-    };
+    let kind = problem.kind();
     match kind {
         Some(k) if k.facts().randomness.has_shifted_variance(r) => Ok(()),
         Some(k) if k.is_deterministic() && r == Randomization::None => {
@@ -178,10 +175,7 @@ pub(crate) fn predict_routed(
     progress: &dyn Progress,
 ) -> Result<Prediction> {
     let n = problem.n;
-    let kind = match problem.patterns {
-        Patterns::Sampler(s) => s.kind(),
-        Patterns::PointSets(_) => None,
-    };
+    let kind = problem.kind();
     let closed = match (params.spectrum, problem.patterns) {
         (SpectrumChoice::Estimated, _) | (_, Patterns::PointSets(_)) => None,
         (_, Patterns::Sampler(s)) => s.closed_form(n),
@@ -692,10 +686,7 @@ pub(crate) fn predict_routed_many(
         ));
     }
     let n = first.n;
-    let kind = match first.patterns {
-        Patterns::Sampler(s) => s.kind(),
-        Patterns::PointSets(_) => None,
-    };
+    let kind = first.kind();
     let closed = params.spectrum != SpectrumChoice::Estimated
         && matches!(first.patterns, Patterns::Sampler(s) if s.closed_form(n).is_some());
     if closed || params.form == FormChoice::Polar || params.spectrum == SpectrumChoice::Closed {

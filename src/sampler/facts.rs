@@ -237,3 +237,19 @@ pub enum Symmetry {
 pub(crate) fn one_word_per_point(n: f64, _d: usize) -> f64 {
     n * 8.0
 }
+
+/// The names of the facts' values, as in JSON (`snake_case`).
+macro_rules! display_as_serialized {
+    ($($t:ty),*) => {$(
+        impl fmt::Display for $t {
+            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                match serde_json::to_value(self) {
+                    Ok(serde_json::Value::String(name)) => f.write_str(&name),
+                    _ => Err(fmt::Error),
+                }
+            }
+        }
+    )*};
+}
+
+display_as_serialized!(Randomness, Scaling, Symmetry);

@@ -313,10 +313,7 @@ impl SamplerKind {
             } else {
                 format!("{lo}–{hi}")
             };
-            let randomness = serde_json::to_value(f.randomness)
-                .ok()
-                .and_then(|v| v.as_str().map(|s| s.replace('_', " ")))
-                .unwrap_or_default();
+            let randomness = f.randomness.to_string().replace('_', " ");
             table.push_str(&format!(
                 "| `{}` | {dims} | {} | {randomness} | {} | {} | {} |\n",
                 f.name,
