@@ -243,10 +243,11 @@ macro_rules! display_as_serialized {
     ($($t:ty),*) => {$(
         impl fmt::Display for $t {
             fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-                match serde_json::to_value(self) {
-                    Ok(serde_json::Value::String(name)) => f.write_str(&name),
-                    _ => Err(fmt::Error),
-                }
+                // Unit variants serialize to their name, so the `else` is never taken.
+                let Ok(serde_json::Value::String(name)) = serde_json::to_value(self) else {
+                    return Err(fmt::Error);
+                };
+                f.write_str(&name)
             }
         }
     )*};
