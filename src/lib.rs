@@ -70,13 +70,14 @@
 //!
 //! let disk = Ball::new(0.25, vec![0.5, 0.5], 1.0)?;
 //! let jitter = Jitter::new(2)?;
-//! // One call: the route (here the polar form with jitter's closed-form spectrum), its reason
-//! // and its error budget.
+//! // One call: the route, its reason and its error budget. Jitter is used as drawn (its native
+//! // randomization), so the route is the per-stratum cell form, exact.
 //! let problem = Problem::new(&jitter, &disk, 64)?;
-//! let params = PredictParams { spectrum: SpectrumChoice::Closed, ..Default::default() };
-//! let predicted = predict(&problem, &params)?;
-//! // Monte Carlo of the homogenized estimator at N = 64.
-//! let measured = empirical_variance(&jitter, &disk, 64, &McParams { patterns: 4000, ..Default::default() })?;
+//! let predicted = predict(&problem, &PredictParams::default())?;
+//! assert_eq!(predicted.route.form, Form::Cells);
+//! // Monte Carlo of the same estimator at N = 64.
+//! let mc = McParams { patterns: 4000, randomization: problem.randomization, ..Default::default() };
+//! let measured = empirical_variance(&jitter, &disk, 64, &mc)?;
 //! let band = predicted.budget.half_width(3.0);
 //! assert!(predicted.variance + band > measured.ci_low && predicted.variance - band < measured.ci_high);
 //! # Ok::<(), specvar::Error>(())
@@ -121,9 +122,10 @@ pub mod prelude {
     pub use crate::montecarlo::{empirical_variance, McParams, McResult};
     pub use crate::pointset::PointSet;
     pub use crate::predict::{
-        predict, predict_many, PredictParams, Prediction, Problem, SpectrumChoice,
+        predict, predict_many, Form, PredictParams, Prediction, Problem, SpectrumChoice,
     };
     pub use crate::progress::{Progress, Silent};
+    pub use crate::randomization::Randomization;
     pub use crate::rate::{run_study, StudyConfig};
     pub use crate::sampler::{
         Ccvt, CorrelatedMultiJitter, Halton, Homogenized, Jitter, LatinHypercube, PoissonDisk,

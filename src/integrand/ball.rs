@@ -141,6 +141,34 @@ fn lens_2d_shape(x: f64, one_minus_x: f64) -> f64 {
 }
 
 impl Integrand for Ball {
+    fn box_moments(&self, lo: &[f64], hi: &[f64]) -> Option<(f64, f64)> {
+        // The ball is wrapped around the torus: its images at the 3^d integer offsets of
+        // {-1, 0, 1}^d (radius at most 1/2, so no farther image meets the cube) each meet the
+        // box in a plain ball–box volume, and they do not overlap one another.
+        let (d, r) = (self.d(), self.radius);
+        // The image at c − 1 meets the cube only if c + r > 1, the one at c + 1 only if c < r.
+        let mut offsets = [[0.0; 3]; 3];
+        let mut counts = [1usize; 3];
+        for (a, &c) in self.centre.iter().enumerate() {
+            for (wraps, o) in [(c + r > 1.0, -1.0), (c < r, 1.0)] {
+                if wraps {
+                    offsets[a][counts[a]] = o;
+                    counts[a] += 1;
+                }
+            }
+        }
+        let mut volume = 0.0;
+        let mut image = [0.0; 3];
+        for code in 0..counts[..d].iter().product::<usize>() {
+            let mut rest = code;
+            for a in 0..d {
+                image[a] = self.centre[a] + offsets[a][rest % counts[a]];
+                rest /= counts[a];
+            }
+            volume += super::ball_in_box::ball_in_box(&image[..d], r, lo, hi);
+        }
+        Some((self.height * volume, self.height * self.height * volume))
+    }
     fn kind(&self) -> IntegrandKind {
         IntegrandKind::Ball
     }

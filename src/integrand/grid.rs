@@ -218,7 +218,32 @@ fn fill_phases(t: f64, phases: &mut [Complex64]) {
     }
 }
 
+impl GridIntegrand {
+    /// The cells of one axis (`m` of them) that `[lo, hi]` meets, each with its overlap length.
+    fn overlaps(lo: f64, hi: f64, m: usize) -> impl Iterator<Item = (usize, f64)> {
+        let w = 1.0 / m as f64;
+        let first = ((lo * m as f64).floor().max(0.0) as usize).min(m - 1);
+        let last = ((hi * m as f64).ceil().max(1.0) as usize).min(m);
+        (first..last).filter_map(move |i| {
+            let len = (hi.min((i + 1) as f64 * w) - lo.max(i as f64 * w)).max(0.0);
+            (len > 0.0).then_some((i, len))
+        })
+    }
+}
+
 impl Integrand for GridIntegrand {
+    fn box_moments(&self, lo: &[f64], hi: &[f64]) -> Option<(f64, f64)> {
+        // Piecewise constant: each cell's value times the area it shares with the box.
+        let (mut mass, mut square) = (0.0, 0.0);
+        for (y, ly) in Self::overlaps(lo[1], hi[1], self.height) {
+            for (x, lx) in Self::overlaps(lo[0], hi[0], self.width) {
+                let v = self.values[y * self.width + x];
+                mass += v * lx * ly;
+                square += v * v * lx * ly;
+            }
+        }
+        Some((mass, square))
+    }
     fn kind(&self) -> IntegrandKind {
         IntegrandKind::Grid
     }

@@ -13,6 +13,7 @@
 
 mod anisotropic;
 mod ball;
+mod ball_in_box;
 mod gaussian;
 mod grid;
 mod grid_io;
@@ -78,6 +79,14 @@ pub trait Integrand: Send + Sync {
     /// `(1/N) Σ_{k≠0} |f̂(k)|² P(k) = (1/N²) Σ_{i,j} a_f(x_i - x_j) - I²`.
     fn autocorrelation(&self, r: &[f64]) -> Option<f64> {
         let _ = r;
+        None
+    }
+    /// `(∫_B f, ∫_B f²)` over the box `B = [lo, hi]` inside the unit cube, of the function
+    /// [`eval`](Self::eval) defines (jumps, wrapping and all), exactly or to rounding; `None`
+    /// where the integrand has no such form. The unshifted estimator of a stratified sampler
+    /// is a sum over its cells of these two numbers (`docs/theory.md`, "Strata in space").
+    fn box_moments(&self, lo: &[f64], hi: &[f64]) -> Option<(f64, f64)> {
+        let _ = (lo, hi);
         None
     }
     /// `f̂(ω)` over the whole space, in closed form (the polar form's transform).

@@ -245,7 +245,49 @@ fn clip(polygon: &[[f64; 2]], n: [f64; 2], level: f64) -> Vec<[f64; 2]> {
     out
 }
 
+impl Polygon {
+    /// The area of the polygon inside the box `[lo, hi]`: the polygon clipped by the box's four
+    /// half-planes (Sutherland–Hodgman keeps the area of any simple polygon clipped by a convex
+    /// window; the edges it adds along the window enclose nothing).
+    fn area_in_box(&self, lo: &[f64], hi: &[f64]) -> f64 {
+        let [x0, y0, x1, y1] = [lo[0], lo[1], hi[0], hi[1]];
+        let (min, max) = self.vertices.iter().fold(
+            ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]),
+            |(mn, mx), v| {
+                (
+                    [mn[0].min(v[0]), mn[1].min(v[1])],
+                    [mx[0].max(v[0]), mx[1].max(v[1])],
+                )
+            },
+        );
+        if max[0] <= x0 || min[0] >= x1 || max[1] <= y0 || min[1] >= y1 {
+            return 0.0;
+        }
+        let mut part = self.vertices.clone();
+        for (n, level) in [
+            ([-1.0, 0.0], -x0),
+            ([1.0, 0.0], x1),
+            ([0.0, -1.0], -y0),
+            ([0.0, 1.0], y1),
+        ] {
+            if part.len() < 3 {
+                return 0.0;
+            }
+            part = clip(&part, n, level);
+        }
+        if part.len() < 3 {
+            0.0
+        } else {
+            signed_area(&part).max(0.0)
+        }
+    }
+}
+
 impl Integrand for Polygon {
+    fn box_moments(&self, lo: &[f64], hi: &[f64]) -> Option<(f64, f64)> {
+        let area = self.area_in_box(lo, hi);
+        Some((self.height * area, self.height * self.height * area))
+    }
     fn kind(&self) -> IntegrandKind {
         IntegrandKind::Polygon
     }

@@ -22,6 +22,7 @@
 //! The bias of a fixed pattern is [`bias_of_pattern`] and [`regular_grid_bias`].
 
 mod bias;
+mod cells;
 mod lattice;
 mod pair;
 mod polar;
@@ -30,6 +31,10 @@ mod route;
 mod space;
 
 pub use bias::{bias_of_pattern, regular_grid_bias, sampler_bias, BiasMethod, SpectralBias};
+pub use cells::{
+    fixed_strata_variance, latin_hypercube_variance, occupancy_variance, CellOrigin, CellSum,
+    Occupancy, OccupancyEstimate,
+};
 pub use lattice::{
     predict_from_power, predict_lattice, predict_on_patterns, LatticePower, PatternPlan,
 };
@@ -81,6 +86,8 @@ impl SpectrumSource<'_> {
 pub enum SpectrumOrigin {
     /// A closed form.
     Closed(ClosedForm),
+    /// No spectrum: the unshifted estimator summed over cells in space.
+    Cells(CellOrigin),
     /// Estimated from `realizations` patterns of `n` points on the lattice `|k_i| ≤ kmax`.
     Estimated {
         /// The N of the patterns.
@@ -96,6 +103,7 @@ impl fmt::Display for SpectrumOrigin {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             SpectrumOrigin::Closed(c) => write!(f, "closed form ({})", c.name()),
+            SpectrumOrigin::Cells(c) => c.fmt(f),
             SpectrumOrigin::Estimated {
                 n,
                 realizations,
@@ -116,6 +124,8 @@ pub enum Form {
     Polar,
     /// The sum over the integer lattice (exact on the torus).
     Lattice,
+    /// The sum over a sampler's cells in space (the unshifted estimator of strata and nets).
+    Cells,
 }
 
 impl fmt::Display for Form {
@@ -123,6 +133,7 @@ impl fmt::Display for Form {
         f.write_str(match self {
             Form::Polar => "polar form",
             Form::Lattice => "lattice form",
+            Form::Cells => "cell form",
         })
     }
 }
@@ -262,14 +273,16 @@ pub struct Problem<'a> {
     pub integrand: &'a dyn Integrand,
     /// Points per pattern.
     pub n: usize,
-    /// How each pattern is randomized (by default a random toroidal shift: the homogenized
-    /// estimator).
+    /// How each pattern is randomized: by default a sampler's native randomization (how it is
+    /// used in practice: strata and nets as drawn, fixed rules under a random shift), and the
+    /// random toroidal shift for point sets and samplers of unknown law.
     pub randomization: Randomization,
 }
 
 impl<'a> Problem<'a> {
-    /// A sampler's problem, under a random toroidal shift ([`with_randomization`](Self::with_randomization)
-    /// chooses another estimator).
+    /// A sampler's problem, under its native randomization
+    /// ([`crate::sampler::native_randomization`]: the estimator it is used with in practice);
+    /// [`with_randomization`](Self::with_randomization) chooses another.
     ///
     /// # Errors
     /// Mismatched dimensions, or an N the sampler cannot produce.
@@ -280,11 +293,14 @@ impl<'a> Problem<'a> {
             patterns: Patterns::Sampler(sampler),
             integrand,
             n,
-            randomization: Randomization::Shift,
+            randomization: sampler
+                .kind()
+                .map_or(Randomization::Shift, |k| k.native_randomization()),
         })
     }
 
-    /// The problem of given point sets (all of one N and dimension).
+    /// The problem of given point sets (all of one N and dimension), under a random toroidal
+    /// shift: the one estimator the spectral routes predict for patterns of unknown law.
     ///
     /// # Errors
     /// No sets, sets of different sizes, or a dimension other than the integrand's.
@@ -336,10 +352,14 @@ impl<'a> Problem<'a> {
     /// let problem = Problem::new(&poisson, &f, 64)?.with_randomization(Randomization::None);
     /// let params = PredictParams { target_noise: 0.1, ..PredictParams::default() };
     /// assert_eq!(predict(&problem, &params)?.randomization, Randomization::None);
-    /// // Jitter's strata are not: the shifted routes do not predict it as drawn.
+    /// // Jitter's strata are not: as drawn (its native use) the cell form predicts it, and the
+    /// // centred disk, symmetric about the strata, is luckier than under a shift.
     /// let jitter = Jitter::new(2)?;
-    /// let unshifted = Problem::new(&jitter, &f, 64)?.with_randomization(Randomization::None);
-    /// assert!(predict(&unshifted, &params).is_err());
+    /// let drawn = predict(&Problem::new(&jitter, &f, 64)?, &params)?;
+    /// assert_eq!(drawn.randomization, Randomization::None);
+    /// assert_eq!(drawn.route.form, Form::Cells);
+    /// let shifted = Problem::new(&jitter, &f, 64)?.with_randomization(Randomization::Shift);
+    /// assert!(predict(&shifted, &params)?.variance > drawn.variance);
     /// # Ok::<(), specvar::Error>(())
     /// ```
     pub fn with_randomization(self, randomization: Randomization) -> Self {
@@ -509,9 +529,9 @@ impl Default for PredictParams {
 /// let jitter = Jitter::new(2)?;
 /// let p = predict(&Problem::new(&jitter, &disk, 256)?, &PredictParams::default())?;
 /// println!("{:.4e} by the {} ({})", p.variance, p.route, p.reason);
-/// // Jitter has a closed form: no spectrum noise, an exact tail bound.
+/// // Jitter is used as drawn: the per-stratum form, exact, with no noise and no tail.
 /// assert!(p.variance > 0.0 && p.budget.spectrum_noise == 0.0);
-/// assert!(p.budget.truncation < 1e-3 * p.variance);
+/// assert!(p.budget.truncation == 0.0);
 /// # Ok::<(), specvar::Error>(())
 /// ```
 pub fn predict(problem: &Problem<'_>, params: &PredictParams) -> Result<Prediction> {

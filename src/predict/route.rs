@@ -12,7 +12,7 @@ use crate::error::{invalid, Error, Result};
 use crate::integrand::Integrand;
 use crate::progress::{stage, Progress};
 use crate::randomization::Randomization;
-use crate::sampler::{perfect_root, strata, SamplerKind};
+use crate::sampler::{perfect_root, strata, CellRule, SamplerKind};
 use crate::spectrum::{estimate, ClosedForm, Engine, Lattice, PatternSource, SpectrumParams};
 
 /// The default reference N for a rescaled spectrum: 4096 in 1D and 2D, 32768 in 3D.
@@ -144,6 +144,7 @@ pub(crate) fn check_estimator(problem: &Problem<'_>) -> Result<()> {
     let kind = problem.kind();
     match kind {
         Some(k) if k.facts().randomness.has_shifted_variance(r) => Ok(()),
+        Some(_) if uses_cells(problem) => Ok(()),
         Some(k) if k.is_deterministic() && r == Randomization::None => {
             Err(Error::OutsideValidity {
                 route: "a spectral route".into(),
@@ -153,6 +154,19 @@ pub(crate) fn check_estimator(problem: &Problem<'_>) -> Result<()> {
                 ),
             })
         }
+        None => Err(Error::OutsideValidity {
+            route: "a spectral route".into(),
+            reason: format!(
+                "given point sets of unknown law used {} have no route: the cell form needs the \
+                 cells in which a sampler's points are uniform, and the shifted routes predict \
+                 another estimator; measure these sets with `specvar mc --input …`, or predict \
+                 the shifted estimator with --randomization shift",
+                match r {
+                    Randomization::None => "as given",
+                    _ => "under a digital shift",
+                }
+            ),
+        }),
         _ => Err(Error::OutsideValidity {
             route: "a spectral route".into(),
             reason: format!(
@@ -169,6 +183,16 @@ pub(crate) fn check_estimator(problem: &Problem<'_>) -> Result<()> {
     }
 }
 
+/// Whether `problem` is the unshifted estimator of a sampler whose law a shift would change and
+/// whose points are independent and uniform in known cells: the cell form predicts it.
+fn uses_cells(problem: &Problem<'_>) -> bool {
+    problem.randomization == Randomization::None
+        && problem.kind().is_some_and(|k| {
+            let facts = k.facts();
+            facts.cells != CellRule::None && !facts.randomness.is_stationary()
+        })
+}
+
 pub(crate) fn predict_routed(
     problem: &Problem<'_>,
     params: &PredictParams,
@@ -176,6 +200,11 @@ pub(crate) fn predict_routed(
 ) -> Result<Prediction> {
     let n = problem.n;
     let kind = problem.kind();
+    if let (true, Patterns::Sampler(sampler), Some(k)) =
+        (uses_cells(problem), problem.patterns, kind)
+    {
+        return super::cells::predict_cells(problem.integrand, sampler, k, n, params, progress);
+    }
     let closed = match (params.spectrum, problem.patterns) {
         (SpectrumChoice::Estimated, _) | (_, Patterns::PointSets(_)) => None,
         (_, Patterns::Sampler(s)) => s.closed_form(n),
@@ -643,7 +672,7 @@ fn estimated_reason(
 ) -> Prediction {
     let realizations = match p.route.spectrum {
         SpectrumOrigin::Estimated { realizations, .. } => realizations,
-        SpectrumOrigin::Closed(_) => 0,
+        SpectrumOrigin::Closed(_) | SpectrumOrigin::Cells(_) => 0,
     };
     let why = match kind {
         None => format!("{what}: no closed form is known"),
@@ -673,6 +702,7 @@ pub(crate) fn predict_routed_many(
     };
     let same = |p: &Problem<'_>| {
         p.n == first.n
+            && p.randomization == first.randomization
             && match (p.patterns, first.patterns) {
                 (Patterns::Sampler(a), Patterns::Sampler(b)) => std::ptr::addr_eq(a, b),
                 (Patterns::PointSets(a), Patterns::PointSets(b)) => std::ptr::eq(a, b),
@@ -681,7 +711,8 @@ pub(crate) fn predict_routed_many(
     };
     if !problems.iter().all(same) {
         return Err(Error::Mismatch(
-            "problems predicted together must share their sampler and N, or their point sets"
+            "problems predicted together must share their sampler, N and randomization, or their \
+             point sets"
                 .into(),
         ));
     }
@@ -689,7 +720,11 @@ pub(crate) fn predict_routed_many(
     let kind = first.kind();
     let closed = params.spectrum != SpectrumChoice::Estimated
         && matches!(first.patterns, Patterns::Sampler(s) if s.closed_form(n).is_some());
-    if closed || params.form == FormChoice::Polar || params.spectrum == SpectrumChoice::Closed {
+    if closed
+        || uses_cells(first)
+        || params.form == FormChoice::Polar
+        || params.spectrum == SpectrumChoice::Closed
+    {
         return problems
             .iter()
             .map(|p| predict_routed(p, params, progress))

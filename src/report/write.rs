@@ -23,6 +23,7 @@ fn route_short(p: &Prediction) -> String {
         SpectrumOrigin::Estimated { realizations, .. } => {
             format!("{}, estimated at N ({realizations} patterns)", p.route.form)
         }
+        SpectrumOrigin::Cells(c) => format!("{}, {c}", p.route.form),
     }
 }
 

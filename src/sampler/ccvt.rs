@@ -14,7 +14,9 @@
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
-use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
+use super::facts::{
+    CellRule, ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry,
+};
 use super::{check_supported, uniform, PoissonDisk, Sampler, SamplerKind};
 use crate::error::{invalid, Result};
 use crate::pointset::{near_delta, toroidal_delta, toroidal_distance_sq, wrap, PointSet};
@@ -35,6 +37,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     count: CountRule::Any,
     randomness: Randomness::Relaxed,
     native_randomization: Randomization::None,
+    cells: CellRule::None,
     closed_form: ClosedFormRule::None,
     known_alpha: Some(2.0),
     scaling: Scaling::Invariant,

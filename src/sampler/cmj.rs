@@ -1,6 +1,8 @@
 //! Correlated multi-jittered sampling (Kensler 2013).
 
-use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
+use super::facts::{
+    CellRule, ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry,
+};
 use super::{check_supported, in_cell, random_permutation, uniform, Sampler, SamplerKind};
 use crate::error::Result;
 use crate::pointset::PointSet;
@@ -15,6 +17,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     count: CountRule::Any,
     randomness: Randomness::Stratified,
     native_randomization: Randomization::None,
+    cells: CellRule::Rows,
     closed_form: ClosedFormRule::None,
     known_alpha: None,
     scaling: Scaling::Never,

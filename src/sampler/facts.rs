@@ -26,6 +26,9 @@ pub struct SamplerFacts {
     /// quasi-Monte Carlo libraries): its patterns as drawn, or, for a fixed rule whose
     /// unshifted estimator has a bias and no variance, a random toroidal shift.
     pub native_randomization: Randomization,
+    /// The grid of cells in which its points, used as drawn, are independent and uniform
+    /// once their cells are known: the form of its unshifted estimator.
+    pub cells: CellRule,
     /// Its exact expected spectrum, where one is known.
     pub closed_form: ClosedFormRule,
     /// The low-frequency exponent `α` of `P̆_S(ν) ≈ c ν^α` as `ν → 0`, where it is known.
@@ -180,6 +183,49 @@ impl Randomness {
     }
 }
 
+/// The cells of a sampler's patterns as drawn: a grid such that, given the cell each point
+/// falls in, the points are independent and uniform in their cells. Its unshifted estimator is
+/// then the cells' means weighted by their random occupancy, plus the variance within the cells
+/// (`docs/theory.md`, "Strata in space").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CellRule {
+    /// No such grid is known.
+    None,
+    /// One cell, the whole cube: independent uniform points.
+    Whole,
+    /// The strata ([`super::strata`]), one point in each: the occupancy is fixed.
+    Strata,
+    /// `N` cells on each axis: one point in each row of every axis (N-rooks), uniform inside
+    /// its cell of the `N^d` grid.
+    Rows,
+    /// `2^⌈log2 N⌉` cells on each axis: a base-2 net scrambled so that the digits below those
+    /// its points all differ in are independent and uniform.
+    Dyadic,
+}
+
+impl CellRule {
+    /// The cells on each axis for `n` points in dimension `d`, or `None` where the rule has no
+    /// grid (or `n` has no strata).
+    pub fn grid(self, n: usize, d: usize) -> Option<Vec<usize>> {
+        match self {
+            CellRule::None => None,
+            CellRule::Whole => Some(vec![1; d]),
+            CellRule::Strata => super::strata(n, d),
+            CellRule::Rows => Some(vec![n; d]),
+            CellRule::Dyadic => {
+                let bits = usize::BITS - n.max(1).saturating_sub(1).leading_zeros();
+                Some(vec![1usize << bits; d])
+            }
+        }
+    }
+
+    /// Whether the occupancy of the cells is fixed (one point in each stratum).
+    pub fn is_fixed(self) -> bool {
+        matches!(self, CellRule::Whole | CellRule::Strata)
+    }
+}
+
 /// Where a sampler's exact expected spectrum comes from.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum ClosedFormRule {
@@ -253,4 +299,4 @@ macro_rules! display_as_serialized {
     )*};
 }
 
-display_as_serialized!(Randomness, Scaling, Symmetry);
+display_as_serialized!(Randomness, Scaling, Symmetry, CellRule);

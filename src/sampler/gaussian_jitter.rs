@@ -1,6 +1,8 @@
 //! Gaussian jitter: grid centres moved by Gaussian offsets (Subr and Kautz 2013).
 
-use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
+use super::facts::{
+    CellRule, ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry,
+};
 use super::regular::{check_strata, for_each_cell};
 use super::ClosedForm;
 use super::{check_supported, uniform, Sampler, SamplerKind};
@@ -19,6 +21,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     count: CountRule::Strata,
     randomness: Randomness::Stratified,
     native_randomization: Randomization::None,
+    cells: CellRule::None,
     closed_form: ClosedFormRule::OfSampler,
     known_alpha: Some(2.0),
     scaling: Scaling::Never,

@@ -15,7 +15,9 @@
 //! is so large that an integrand's power reaches below `ν_r` (`docs/theory.md`). Each step moves every point from the same old positions (a Jacobi
 //! step), so a pattern is the same bits for any thread count.
 
-use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
+use super::facts::{
+    CellRule, ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry,
+};
 use super::{check_positive, check_supported, uniform, Sampler, SamplerKind};
 use crate::error::{invalid, Result};
 use crate::pointset::{near_delta, toroidal_delta, wrap, PointSet, MAX_DIMENSION};
@@ -32,6 +34,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     count: CountRule::Any,
     randomness: Randomness::Relaxed,
     native_randomization: Randomization::None,
+    cells: CellRule::None,
     closed_form: ClosedFormRule::None,
     known_alpha: Some(0.0),
     scaling: Scaling::Invariant,

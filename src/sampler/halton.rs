@@ -1,6 +1,8 @@
 //! Halton sequence with random digit permutations.
 
-use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
+use super::facts::{
+    CellRule, ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry,
+};
 use super::{check_supported, random_permutation, Sampler, SamplerKind, ONE_MINUS_EPS};
 use crate::error::Result;
 use crate::pointset::{PointSet, MAX_DIMENSION};
@@ -15,6 +17,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     count: CountRule::Any,
     randomness: Randomness::PermutedDigits,
     native_randomization: Randomization::None,
+    cells: CellRule::None,
     closed_form: ClosedFormRule::None,
     known_alpha: None,
     scaling: Scaling::Never,

@@ -1,6 +1,8 @@
 //! Jittered (stratified) sampling.
 
-use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
+use super::facts::{
+    CellRule, ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry,
+};
 use super::regular::{check_strata, for_each_cell};
 use super::ClosedForm;
 use super::{check_supported, in_cell, uniform, Sampler, SamplerKind};
@@ -17,6 +19,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     count: CountRule::Strata,
     randomness: Randomness::Stratified,
     native_randomization: Randomization::None,
+    cells: CellRule::Strata,
     closed_form: ClosedFormRule::WithStrata(ClosedForm::Jitter),
     known_alpha: Some(2.0),
     scaling: Scaling::PerfectPowers,

@@ -1,7 +1,9 @@
 //! Every sampler this crate provides: the registry of their descriptors (each states its facts
 //! in its own file), and the policies the library derives from them.
 
-use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
+use super::facts::{
+    CellRule, ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry,
+};
 use super::ClosedForm;
 use super::{
     Ccvt, CorrelatedMultiJitter, GaussianBlueNoise, GaussianJitter, Halton, Jitter, Kronecker,
@@ -337,6 +339,7 @@ impl SamplerKind {
             count_rule: f.count.to_string(),
             randomness: f.randomness,
             native_randomization: f.native_randomization,
+            cells: f.cells,
             deterministic: self.is_deterministic(),
             scaling: f.scaling,
             isotropic: f.isotropic,
@@ -471,6 +474,8 @@ pub struct SamplerSummary {
     pub randomness: Randomness,
     /// The randomization it is used with in practice.
     pub native_randomization: Randomization,
+    /// The cells in which its points, used as drawn, are independent and uniform.
+    pub cells: CellRule,
     /// Whether it draws one fixed pattern.
     pub deterministic: bool,
     /// How its expected spectrum depends on N.

@@ -1,6 +1,8 @@
 //! The Kronecker sequence of Roberts' generalized golden ratio (the R_d sequence).
 
-use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
+use super::facts::{
+    CellRule, ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry,
+};
 use super::ClosedForm;
 use super::{check_supported, Sampler, SamplerKind};
 use crate::error::Result;
@@ -16,6 +18,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     count: CountRule::Any,
     randomness: Randomness::Deterministic,
     native_randomization: Randomization::Shift,
+    cells: CellRule::None,
     closed_form: ClosedFormRule::OfSampler,
     known_alpha: None,
     scaling: Scaling::Never,

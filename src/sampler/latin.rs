@@ -1,6 +1,8 @@
 //! Latin hypercube (N-rooks) sampling.
 
-use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
+use super::facts::{
+    CellRule, ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry,
+};
 use super::ClosedForm;
 use super::{check_supported, in_cell, random_permutation, uniform, Sampler, SamplerKind};
 use crate::error::Result;
@@ -16,6 +18,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     count: CountRule::Any,
     randomness: Randomness::Stratified,
     native_randomization: Randomization::None,
+    cells: CellRule::Rows,
     closed_form: ClosedFormRule::Always(ClosedForm::LatinHypercube),
     known_alpha: None,
     scaling: Scaling::Never,

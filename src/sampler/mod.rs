@@ -31,7 +31,8 @@ pub use ccvt::{Ccvt, CcvtParams, CcvtStats};
 pub use closed_form::{fejer, sinc, ClosedForm, ClosedLattice, TailDeviation};
 pub use cmj::CorrelatedMultiJitter;
 pub use facts::{
-    ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry, COST_TOLERANCE,
+    CellRule, ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry,
+    COST_TOLERANCE,
 };
 pub use gaussian_jitter::{
     GaussianJitter, DEFAULT_GAUSSIAN_WIDTH, MAX_GAUSSIAN_WIDTH, MIN_GAUSSIAN_WIDTH,

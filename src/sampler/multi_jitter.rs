@@ -1,7 +1,9 @@
 //! Multi-jittered sampling (Chiu, Shirley and Wang 1994).
 
 use super::cmj::near_square_factors;
-use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
+use super::facts::{
+    CellRule, ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry,
+};
 use super::{check_supported, in_cell, random_permutation, uniform, Sampler, SamplerKind};
 use crate::error::Result;
 use crate::pointset::PointSet;
@@ -16,6 +18,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     count: CountRule::Any,
     randomness: Randomness::Stratified,
     native_randomization: Randomization::None,
+    cells: CellRule::Rows,
     closed_form: ClosedFormRule::None,
     known_alpha: None,
     scaling: Scaling::Never,

@@ -2,7 +2,9 @@
 //! rendering"): Bose's orthogonal arrays of strength 2 with multi-jittered offsets, as the
 //! `orthogonal` sampler of renderers draws them.
 
-use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
+use super::facts::{
+    CellRule, ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry,
+};
 use super::{
     check_positive, check_supported, in_cell, perfect_root, random_permutation, uniform, Sampler,
     SamplerKind,
@@ -22,6 +24,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     count: CountRule::PrimeSquare,
     randomness: Randomness::Stratified,
     native_randomization: Randomization::None,
+    cells: CellRule::Rows,
     closed_form: ClosedFormRule::None,
     known_alpha: None,
     scaling: Scaling::Never,

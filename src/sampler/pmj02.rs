@@ -1,6 +1,8 @@
 //! Progressive multi-jittered (0,2) sequences (Christensen, Kensler and Kilpatrick 2018).
 
-use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
+use super::facts::{
+    CellRule, ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry,
+};
 use super::{check_supported, uniform, uniform_index, Sampler, SamplerKind};
 use crate::error::{Error, Result};
 use crate::pointset::PointSet;
@@ -16,6 +18,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     count: CountRule::Any,
     randomness: Randomness::ScrambledNet,
     native_randomization: Randomization::None,
+    cells: CellRule::Dyadic,
     closed_form: ClosedFormRule::None,
     known_alpha: None,
     scaling: Scaling::Never,

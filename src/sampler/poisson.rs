@@ -7,7 +7,9 @@
 //! density (1 in 1D, `π/(2√3)` for the hexagonal packing in 2D, `π/(3√2)` for FCC in 3D).
 //! In 2D this is `r_max = √(2 / (√3 N))` (Lagae and Dutré 2008).
 
-use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
+use super::facts::{
+    CellRule, ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry,
+};
 use super::{check_supported, uniform, uniform_index, Sampler, SamplerKind};
 use crate::error::{invalid, Error, Result};
 use crate::pointset::{toroidal_distance_sq, wrap, PointSet};
@@ -24,6 +26,7 @@ pub(crate) const DART_FACTS: SamplerFacts = SamplerFacts {
     count: CountRule::Any,
     randomness: Randomness::Relaxed,
     native_randomization: Randomization::None,
+    cells: CellRule::None,
     closed_form: ClosedFormRule::None,
     known_alpha: Some(0.0),
     scaling: Scaling::Invariant,
@@ -42,6 +45,7 @@ pub(crate) const BRIDSON_FACTS: SamplerFacts = SamplerFacts {
     count: CountRule::Any,
     randomness: Randomness::Relaxed,
     native_randomization: Randomization::None,
+    cells: CellRule::None,
     closed_form: ClosedFormRule::None,
     known_alpha: Some(0.0),
     scaling: Scaling::Invariant,

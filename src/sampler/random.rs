@@ -1,6 +1,8 @@
 //! White noise.
 
-use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
+use super::facts::{
+    CellRule, ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry,
+};
 use super::ClosedForm;
 use super::{check_supported, uniform, Sampler, SamplerKind};
 use crate::error::Result;
@@ -16,6 +18,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     count: CountRule::Any,
     randomness: Randomness::Independent,
     native_randomization: Randomization::None,
+    cells: CellRule::Whole,
     closed_form: ClosedFormRule::Always(ClosedForm::WhiteNoise),
     known_alpha: Some(0.0),
     scaling: Scaling::Invariant,

@@ -1,6 +1,8 @@
 //! Rank-1 lattices in 2D: Korobov's with the best spectral test, and Fibonacci's.
 
-use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
+use super::facts::{
+    CellRule, ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry,
+};
 use super::fibonacci::{fibonacci_below, fibonacci_numbers};
 use super::ClosedForm;
 use super::{check_supported, Sampler, SamplerKind};
@@ -16,6 +18,7 @@ pub(crate) const KOROBOV_FACTS: SamplerFacts = SamplerFacts {
     count: CountRule::Any,
     randomness: Randomness::Deterministic,
     native_randomization: Randomization::Shift,
+    cells: CellRule::None,
     closed_form: ClosedFormRule::OfSampler,
     known_alpha: None,
     scaling: Scaling::Never,
@@ -34,6 +37,7 @@ pub(crate) const FIBONACCI_FACTS: SamplerFacts = SamplerFacts {
     count: CountRule::Fibonacci,
     randomness: Randomness::Deterministic,
     native_randomization: Randomization::Shift,
+    cells: CellRule::None,
     closed_form: ClosedFormRule::OfSampler,
     known_alpha: None,
     scaling: Scaling::Never,

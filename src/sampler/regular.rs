@@ -1,6 +1,8 @@
 //! The cell-centred regular grid.
 
-use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
+use super::facts::{
+    CellRule, ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry,
+};
 use super::ClosedForm;
 use super::{check_supported, cmj::near_square_factors, perfect_root, Sampler, SamplerKind};
 use crate::error::{Error, Result};
@@ -15,6 +17,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     count: CountRule::Strata,
     randomness: Randomness::Deterministic,
     native_randomization: Randomization::Shift,
+    cells: CellRule::None,
     closed_form: ClosedFormRule::WithStrata(ClosedForm::RegularGrid),
     known_alpha: None,
     scaling: Scaling::Never,

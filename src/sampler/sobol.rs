@@ -1,6 +1,8 @@
 //! Sobol sequence with Owen (nested uniform) scrambling.
 
-use super::facts::{ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry};
+use super::facts::{
+    CellRule, ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry,
+};
 use super::{check_supported, Sampler, SamplerKind};
 use crate::error::Result;
 use crate::pointset::{PointSet, MAX_DIMENSION};
@@ -15,6 +17,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     count: CountRule::Any,
     randomness: Randomness::ScrambledNet,
     native_randomization: Randomization::None,
+    cells: CellRule::Dyadic,
     closed_form: ClosedFormRule::None,
     known_alpha: None,
     scaling: Scaling::Never,

@@ -32,11 +32,12 @@ pub struct ProblemArgs {
     /// Dimension (with --input: taken from the file).
     #[arg(short = 'd', default_value_t = 2)]
     pub dimension: usize,
-    /// How each pattern is randomized, which decides the estimator: shift (a random toroidal
-    /// shift: the homogenized estimator), digital-shift (a random XOR of the binary digits),
-    /// none (the patterns as drawn, or as given), or native (the sampler's own: none for
-    /// random samplers and given sets, shift for fixed rules).
-    #[arg(long, default_value = "shift")]
+    /// How each pattern is randomized, which decides the estimator: native (the default: the
+    /// sampler's own use, as drawn for strata, nets and random samplers, under a shift for
+    /// fixed rules; as given for --input), shift (a random toroidal shift: the homogenized
+    /// estimator of the talk), digital-shift (a random XOR of the binary digits), or none (the
+    /// patterns as drawn, or as given).
+    #[arg(long, default_value = "native")]
     pub randomization: RandomizationChoice,
 }
 

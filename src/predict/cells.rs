@@ -1,0 +1,647 @@
+//! The unshifted estimator of a sampler whose points are independent and uniform in their cells
+//! once the cells are known ([`CellRule`]): jittered strata, N-rooks (Latin hypercube,
+//! multi-jitter, orthogonal arrays) and Owen-scrambled base-2 nets, used as drawn.
+//!
+//! With `C` cells of volume `v = 1/|C|`, `Φ_c = ∫_c f`, `Ψ_c = ∫_c f²`, the cell mean
+//! `F_c = Φ_c / v` and the variance inside a cell `V_c = Ψ_c / v − F_c²`, and `Z_c` the number of
+//! points in cell `c`, the estimator `μ = (1/N) Σ_j f(x_j)` has, given the occupancy `Z`, the
+//! mean `M = (1/N) Σ_c Z_c F_c` and the variance `(1/N²) Σ_c Z_c V_c`. The intensity is uniform
+//! (`E Z_c = N v`, so `E M = I`), hence exactly
+//!
+//! `Var μ = (1/N²) Σ_c E[Z_c] V_c + E[(M − I)²]`.
+//!
+//! No Fourier series enters: a jump along the cube's faces (a pixel's edge) costs nothing more
+//! than any other, and nothing is truncated. The second term is zero for fixed strata (jitter:
+//! the per-stratum form `(1/N²) Σ_c V_c`), a sum over pairs of cells for Latin hypercube
+//! (computed exactly, by inclusion–exclusion over the axes the pair shares), and otherwise
+//! estimated from patterns, each contributing its exact conditional terms (a Rao–Blackwellized
+//! estimate: no noise from the points' positions inside their cells). `docs/theory.md`,
+//! "Strata in space", derives it and relates it to the aliased Fourier pairs.
+
+use super::{ErrorBudget, Form, FormChoice, Prediction, Route, SpectrumChoice, SpectrumOrigin};
+use crate::budget::{Budget, Needs, COEFFICIENT_SECONDS};
+use crate::error::{Error, Result};
+use crate::integrand::Integrand;
+use crate::progress::{stage, Progress};
+use crate::quadrature::CompensatedSum;
+use crate::randomization::Randomization;
+use crate::sampler::{CellRule, Sampler, SamplerKind};
+use rayon::prelude::*;
+use serde::Serialize;
+use std::fmt;
+
+/// The work of one cell's moments (a clip, a disk–rectangle area, four error functions): the
+/// integrands' coefficient cost, which bounds them.
+const CELL_SECONDS: f64 = COEFFICIENT_SECONDS;
+/// The most cells an exact sum over all cells visits (Latin hypercube's pairs): `2^24`.
+const EXACT_CELL_BUDGET: usize = 1 << 24;
+/// Patterns an estimated occupancy starts with.
+const INITIAL_PATTERNS: usize = 64;
+/// Patterns an estimated occupancy never exceeds.
+const MAX_PATTERNS: usize = 1 << 16;
+/// The most cells the estimate tabulates (8 bytes each): `2^24`.
+const TABLE_CELLS: usize = 1 << 24;
+/// Relative rounding of one cell's moments and of the terms built from them (a few operations
+/// of unit roundoff each, and the 3D ball's slices at 1e-14).
+const CELL_ROUNDING: f64 = 1e-13;
+
+/// How the occupancy of the cells is known.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Occupancy {
+    /// Fixed: the same number of points in every cell (jitter's strata, or one cell).
+    Fixed,
+    /// Independent uniform permutations of the rows of every axis (Latin hypercube): its pair
+    /// probabilities in closed form.
+    Permutations,
+    /// Estimated from `patterns` patterns of the sampler.
+    Estimated {
+        /// Patterns drawn.
+        patterns: usize,
+    },
+}
+
+/// The cells of a prediction in space.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct CellOrigin {
+    /// Cells on each axis (the first axis's count; [`CellRule`] grids are square except
+    /// jitter's rectangular strata, for which this is the larger).
+    pub cells_per_axis: usize,
+    /// Cells in all.
+    pub cells: usize,
+    /// How their occupancy is known.
+    pub occupancy: Occupancy,
+}
+
+impl fmt::Display for CellOrigin {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.occupancy {
+            Occupancy::Fixed => write!(f, "fixed occupancy of {} cells", self.cells),
+            Occupancy::Permutations => write!(
+                f,
+                "occupancy of N-rooks permutations in closed form ({} cells)",
+                self.cells
+            ),
+            Occupancy::Estimated { patterns } => write!(
+                f,
+                "occupancy estimated from {patterns} patterns ({} cells)",
+                self.cells
+            ),
+        }
+    }
+}
+
+/// A sum over cells, with a bound on its rounding.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CellSum {
+    /// The variance.
+    pub variance: f64,
+    /// A bound on its rounding error.
+    pub rounding: f64,
+}
+
+fn cell_box(index: usize, grid: &[usize], lo: &mut [f64], hi: &mut [f64]) {
+    let mut rest = index;
+    for (a, &m) in grid.iter().enumerate() {
+        let i = rest % m;
+        rest /= m;
+        lo[a] = i as f64 / m as f64;
+        hi[a] = (i + 1) as f64 / m as f64;
+    }
+}
+
+/// `(F_c, V_c)`: the mean of `f` over cell `index` of `grid` and its variance inside the cell.
+fn cell_mean_and_variance(f: &dyn Integrand, grid: &[usize], index: usize) -> (f64, f64) {
+    let d = grid.len();
+    let (mut lo, mut hi) = ([0.0; 3], [0.0; 3]);
+    cell_box(index, grid, &mut lo[..d], &mut hi[..d]);
+    let cells: f64 = grid.iter().map(|&m| m as f64).product();
+    let (mass, square) = f.box_moments(&lo[..d], &hi[..d]).unwrap_or((0.0, 0.0));
+    let mean = mass * cells;
+    (mean, (square * cells - mean * mean).max(0.0))
+}
+
+/// The index of the cell of `grid` holding `x`.
+fn cell_of(x: &[f64], grid: &[usize]) -> usize {
+    let mut index = 0;
+    for a in (0..grid.len()).rev() {
+        let m = grid[a];
+        index = index * m + ((x[a] * m as f64) as usize).min(m - 1);
+    }
+    index
+}
+
+/// Errors unless `f` has closed-form moments over boxes ([`Integrand::box_moments`]).
+pub(crate) fn check_box_moments(f: &dyn Integrand) -> Result<()> {
+    let d = f.dimension();
+    match f.box_moments(&vec![0.0; d], &vec![1.0; d]) {
+        Some(_) => Ok(()),
+        None => Err(Error::OutsideValidity {
+            route: "the cell form of the unshifted estimator".into(),
+            reason: format!(
+                "{} has no closed form for its integral over a box, which the unshifted \
+                 estimator's cells need; measure it with `specvar mc --randomization none`, or \
+                 tabulate it on a grid",
+                f.label()
+            ),
+        }),
+    }
+}
+
+fn check_cells(what: &str, cells: usize, budget: &Budget) -> Result<()> {
+    budget.check(
+        what,
+        Needs {
+            memory_bytes: 0.0,
+            work_seconds: cells as f64 * CELL_SECONDS,
+        },
+        "lower N",
+    )
+}
+
+/// The variance of the unshifted estimator with `n` points spread evenly over the cells of
+/// `grid`, independent and uniform inside them (jitter's strata with one point each; one cell
+/// for independent points): `(1/N²) Σ_c (N/|C|) V_c`, exactly.
+///
+/// # Errors
+/// An integrand without box moments, a grid whose cells do not divide `n`, or one beyond the
+/// budget.
+///
+/// # Examples
+/// ```
+/// use specvar::integrand::{Ball, Integrand};
+/// use specvar::predict::fixed_strata_variance;
+/// let disk = Ball::new(0.25, vec![0.5, 0.5], 1.0)?;
+/// // One cell: independent points, (∫f² − I²)/N.
+/// let white = fixed_strata_variance(&disk, &[1, 1], 16, &Default::default())?;
+/// let exact = (disk.integral_of_square() - disk.integral().powi(2)) / 16.0;
+/// assert!((white.variance - exact).abs() < 1e-15);
+/// // 16 × 16 strata: only the cells the circle crosses contribute.
+/// let jitter = fixed_strata_variance(&disk, &[16, 16], 256, &Default::default())?;
+/// assert!(jitter.variance < 0.1 * exact / 16.0);
+/// # Ok::<(), specvar::Error>(())
+/// ```
+pub fn fixed_strata_variance(
+    f: &dyn Integrand,
+    grid: &[usize],
+    n: usize,
+    budget: &Budget,
+) -> Result<CellSum> {
+    check_box_moments(f)?;
+    let cells: usize = grid.iter().product();
+    if grid.len() != f.dimension() || cells == 0 || !n.is_multiple_of(cells) {
+        return Err(crate::error::invalid(
+            "strata",
+            format!("{grid:?} for N = {n}"),
+            format!("{} axes whose cells divide N", f.dimension()),
+        ));
+    }
+    check_cells("the per-stratum sum", cells, budget)?;
+    let per_cell = (n / cells) as f64;
+    let (sum, scale) = chunked_sum(cells, |i| {
+        let (mean, var) = cell_mean_and_variance(f, grid, i);
+        (var, var + mean * mean)
+    });
+    let norm = per_cell / (n as f64 * n as f64);
+    Ok(CellSum {
+        variance: sum * norm,
+        rounding: CELL_ROUNDING * scale * norm,
+    })
+}
+
+/// `Σ_i term(i).0` over `0..count` and `Σ_i term(i).1`, in parallel chunks summed in a fixed
+/// order (the same bits on any number of threads).
+fn chunked_sum(count: usize, term: impl Fn(usize) -> (f64, f64) + Sync) -> (f64, f64) {
+    const CHUNK: usize = 4096;
+    let parts: Vec<(f64, f64)> = (0..count.div_ceil(CHUNK))
+        .into_par_iter()
+        .map(|c| {
+            let (mut a, mut b) = (CompensatedSum::default(), CompensatedSum::default());
+            for i in c * CHUNK..((c + 1) * CHUNK).min(count) {
+                let (x, y) = term(i);
+                a.add(x);
+                b.add(y);
+            }
+            (a.value(), b.value())
+        })
+        .collect();
+    let (mut a, mut b) = (CompensatedSum::default(), CompensatedSum::default());
+    for (x, y) in parts {
+        a.add(x);
+        b.add(y);
+    }
+    (a.value(), b.value())
+}
+
+/// The variance of the Latin hypercube estimator of `n` points in dimension `d`, unshifted,
+/// exactly: the cells are the `N^d` grid, a pair of points occupies two cells that differ on
+/// every axis with probability `N(N−1)/(N(N−1))^d` each, and the sum over such pairs is, by
+/// inclusion–exclusion over the axes they share, `Σ_A (−1)^{|A|} Σ (marginal of G over the
+/// axes outside A)²` with `G = F − I`.
+///
+/// # Errors
+/// An integrand without box moments, or `N^d` cells beyond the budget or above `2^24`.
+///
+/// # Examples
+/// ```
+/// use specvar::integrand::{Gaussian, Integrand};
+/// use specvar::predict::latin_hypercube_variance;
+/// // In 1D, Latin hypercube is jitter with N strata.
+/// let bump = Gaussian::new(0.1, vec![0.4], 1.0)?;
+/// let lhs = latin_hypercube_variance(&bump, 64, &Default::default())?;
+/// let jitter = specvar::predict::fixed_strata_variance(&bump, &[64], 64, &Default::default())?;
+/// assert!((lhs.variance - jitter.variance).abs() < 1e-12 * jitter.variance);
+/// # Ok::<(), specvar::Error>(())
+/// ```
+pub fn latin_hypercube_variance(f: &dyn Integrand, n: usize, budget: &Budget) -> Result<CellSum> {
+    check_box_moments(f)?;
+    let d = f.dimension();
+    let cells = n
+        .checked_pow(d as u32)
+        .filter(|&c| c <= EXACT_CELL_BUDGET)
+        .ok_or_else(|| Error::TooLarge {
+            what: format!("the Latin hypercube's pair sum over N^{d} cells at N = {n}"),
+            needed: format!("{n}^{d} cells"),
+            budget: format!("{EXACT_CELL_BUDGET} cells"),
+            advice: "lower N, or let the occupancy be estimated".into(),
+        })?;
+    check_cells("the Latin hypercube's pair sum", cells, budget)?;
+    let grid = vec![n; d];
+    let integral = f.integral();
+    let moments: Vec<(f64, f64)> = (0..cells)
+        .into_par_iter()
+        .map(|i| cell_mean_and_variance(f, &grid, i))
+        .collect();
+    let (nf, norm) = (n as f64, 1.0 / (n as f64 * n as f64));
+    let occupied = nf.powi(1 - d as i32);
+    let mut within = CompensatedSum::default();
+    let mut squares = CompensatedSum::default();
+    let mut scale = 0.0;
+    for &(mean, var) in &moments {
+        within.add(var);
+        squares.add((mean - integral).powi(2));
+        scale += var + mean * mean;
+    }
+    // S = Σ_A (−1)^{|A|} Σ_{c_A} (Σ_{c: c_A fixed} G_c)², A the axes a pair shares.
+    let mut pairs = CompensatedSum::default();
+    for shared in 0..(1usize << d) {
+        let marginal = marginal_sums(&moments, n, d, shared, integral);
+        let sum: f64 = marginal.iter().map(|m| m * m).sum();
+        let sign = if shared.count_ones() % 2 == 0 {
+            1.0
+        } else {
+            -1.0
+        };
+        pairs.add(sign * sum);
+    }
+    let pair_probability = nf * (nf - 1.0) * (nf * (nf - 1.0)).powi(-(d as i32));
+    let variance = norm
+        * (occupied * within.value()
+            + occupied * squares.value()
+            + if n > 1 {
+                pair_probability * pairs.value()
+            } else {
+                0.0
+            });
+    Ok(CellSum {
+        variance: variance.max(0.0),
+        rounding: CELL_ROUNDING * norm * scale * (1usize << d) as f64,
+    })
+}
+
+/// The sums of `G_c = F_c − I` over the cells that agree on the axes in `shared` (a bit set),
+/// one per value of those axes.
+fn marginal_sums(
+    moments: &[(f64, f64)],
+    n: usize,
+    d: usize,
+    shared: usize,
+    integral: f64,
+) -> Vec<f64> {
+    let kept: Vec<usize> = (0..d).filter(|a| shared >> a & 1 == 1).collect();
+    let mut out = vec![0.0; n.pow(kept.len() as u32)];
+    for (index, &(mean, _)) in moments.iter().enumerate() {
+        let mut key = 0;
+        for &a in kept.iter().rev() {
+            key = key * n + (index / n.pow(a as u32)) % n;
+        }
+        out[key] += mean - integral;
+    }
+    out
+}
+
+/// An estimate of the unshifted variance from the occupancy of patterns.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OccupancyEstimate {
+    /// The variance.
+    pub variance: f64,
+    /// Its standard error.
+    pub standard_error: f64,
+    /// Patterns drawn.
+    pub patterns: usize,
+}
+
+/// The cells' means, tabulated once when the patterns would visit more cells than the grid
+/// has: `F_c − I` per cell, and the within-cell term `(1/N²) Σ_c E[Z_c] V_c` exactly.
+struct CellTable {
+    deviation: Vec<f64>,
+    within: f64,
+}
+
+impl CellTable {
+    fn new(f: &dyn Integrand, grid: &[usize], n: usize) -> Self {
+        let cells: usize = grid.iter().product();
+        let integral = f.integral();
+        let moments: Vec<(f64, f64)> = (0..cells)
+            .into_par_iter()
+            .map(|i| cell_mean_and_variance(f, grid, i))
+            .collect();
+        let mut within = CompensatedSum::default();
+        moments.iter().for_each(|&(_, v)| within.add(v));
+        Self {
+            deviation: moments.iter().map(|&(m, _)| m - integral).collect(),
+            within: within.value() / (n as f64 * cells as f64),
+        }
+    }
+}
+
+/// What one pattern contributes, whose mean over patterns is the unshifted variance: with a
+/// table, `(M − I)²` (the within-cell term is added once, exactly); without, also the pattern's
+/// own within-cell term `(1/N²) Σ_j V_{c_j}`.
+fn pattern_term(
+    problem: (&dyn Integrand, &dyn Sampler),
+    grid: &[usize],
+    table: Option<&CellTable>,
+    (n, seed): (usize, u64),
+    index: usize,
+) -> Result<f64> {
+    let (f, sampler) = problem;
+    let pattern = sampler.sample(n, seed, index as u64)?;
+    let nf = n as f64;
+    let mut deviation = CompensatedSum::default();
+    let mut within = CompensatedSum::default();
+    match table {
+        Some(t) => pattern
+            .points()
+            .for_each(|x| deviation.add(t.deviation[cell_of(x, grid)])),
+        None => {
+            let integral = f.integral();
+            for x in pattern.points() {
+                let (m, v) = cell_mean_and_variance(f, grid, cell_of(x, grid));
+                deviation.add(m - integral);
+                within.add(v);
+            }
+        }
+    }
+    let m = deviation.value() / nf;
+    Ok(within.value() / (nf * nf) + m * m)
+}
+
+/// The unshifted variance of `sampler`'s estimator, estimated from the occupancy of its
+/// patterns on `grid` (cells in which its points are independent and uniform once their
+/// cells are known): the mean over patterns of `(1/N²) Σ_j V_{c_j} + (M − I)²`, unbiased, each
+/// term exact given the pattern's cells. Patterns `0, 1, …` of `seed`: `patterns.0` first, then
+/// as many as the first ones' spread says the relative standard error `target_noise` needs, up
+/// to `patterns.1`.
+///
+/// # Errors
+/// An integrand without box moments, a sampler error, or a grid of another dimension.
+///
+/// # Examples
+/// ```
+/// use specvar::integrand::Gaussian;
+/// use specvar::predict::{fixed_strata_variance, occupancy_variance};
+/// use specvar::progress::Silent;
+/// use specvar::sampler::Jitter;
+/// // Jitter's strata, its occupancy fixed: every pattern gives the exact value.
+/// let bump = Gaussian::new(0.15, vec![0.4, 0.6], 1.0)?;
+/// let e = occupancy_variance(&bump, &Jitter::new(2)?, &[8, 8], 64, 1, (4, 4), 0.01, &Silent)?;
+/// let exact = fixed_strata_variance(&bump, &[8, 8], 64, &Default::default())?;
+/// assert!((e.variance - exact.variance).abs() < 1e-9 * exact.variance);
+/// # Ok::<(), specvar::Error>(())
+/// ```
+#[allow(clippy::too_many_arguments)]
+pub fn occupancy_variance(
+    f: &dyn Integrand,
+    sampler: &dyn Sampler,
+    grid: &[usize],
+    n: usize,
+    seed: u64,
+    (initial, max_patterns): (usize, usize),
+    target_noise: f64,
+    progress: &dyn Progress,
+) -> Result<OccupancyEstimate> {
+    check_box_moments(f)?;
+    if grid.len() != f.dimension() || sampler.dimension() != f.dimension() {
+        return Err(Error::Mismatch(format!(
+            "cells of dimension {} for an integrand of dimension {}",
+            grid.len(),
+            f.dimension()
+        )));
+    }
+    let max_patterns = max_patterns.max(2);
+    let cells = grid.iter().try_fold(1usize, |a, &m| a.checked_mul(m));
+    let table = cells
+        .filter(|&c| c <= TABLE_CELLS && c <= max_patterns.saturating_mul(n))
+        .map(|_| stage(progress, "cell means", 0, || CellTable::new(f, grid, n)));
+    let mut terms: Vec<f64> = Vec::new();
+    let mut want = initial.clamp(2, max_patterns);
+    loop {
+        let start = terms.len();
+        let more = stage(
+            progress,
+            "occupancy of the cells",
+            (want - start) as u64,
+            || {
+                (start..want)
+                    .into_par_iter()
+                    .map(|i| {
+                        let t = pattern_term((f, sampler), grid, table.as_ref(), (n, seed), i);
+                        progress.advance(1);
+                        t
+                    })
+                    .collect::<Result<Vec<f64>>>()
+            },
+        )?;
+        terms.extend(more);
+        let mut estimate = summarize(&terms);
+        if let Some(t) = &table {
+            estimate.variance += t.within;
+        }
+        let relative = estimate.standard_error / estimate.variance;
+        if !(relative > target_noise) || terms.len() >= max_patterns {
+            return Ok(estimate);
+        }
+        // The standard error falls like 1/√R: ask for what the spread so far says is needed,
+        // a tenth more, at least half again as many.
+        let needed = terms.len() as f64 * (relative / target_noise).powi(2) * 1.1;
+        want = (needed.ceil() as usize)
+            .max(terms.len() + terms.len() / 2)
+            .min(max_patterns);
+    }
+}
+
+fn summarize(terms: &[f64]) -> OccupancyEstimate {
+    let r = terms.len() as f64;
+    let mut sum = CompensatedSum::default();
+    terms.iter().for_each(|&t| sum.add(t));
+    let mean = sum.value() / r;
+    let spread: f64 = terms.iter().map(|t| (t - mean).powi(2)).sum::<f64>() / (r - 1.0);
+    OccupancyEstimate {
+        variance: mean,
+        standard_error: (spread / r).sqrt(),
+        patterns: terms.len(),
+    }
+}
+
+/// The unshifted estimator's prediction for `sampler` (of `kind`, whose cells follow `rule`):
+/// exact for fixed strata and Latin hypercube (within the cell budget), estimated from the
+/// occupancy of patterns otherwise.
+pub(crate) fn predict_cells(
+    f: &dyn Integrand,
+    sampler: &dyn Sampler,
+    kind: SamplerKind,
+    n: usize,
+    params: &super::PredictParams,
+    progress: &dyn Progress,
+) -> Result<Prediction> {
+    let d = f.dimension();
+    let rule = kind.facts().cells;
+    let grid = rule.grid(n, d).ok_or_else(|| Error::OutsideValidity {
+        route: "the cell form of the unshifted estimator".into(),
+        reason: format!("{kind} has no grid of cells at N = {n} in {d}D"),
+    })?;
+    check_box_moments(f)?;
+    let cells: usize = grid.iter().product();
+    let origin = |occupancy| CellOrigin {
+        cells_per_axis: grid.iter().copied().max().unwrap_or(1),
+        cells,
+        occupancy,
+    };
+    let exact_latin = kind == SamplerKind::LatinHypercube
+        && n.checked_pow(d as u32)
+            .is_some_and(|c| c <= EXACT_CELL_BUDGET);
+    let estimated = params.spectrum == SpectrumChoice::Estimated;
+    let exact = !estimated && (rule.is_fixed() || exact_latin);
+    if params.form == FormChoice::Polar || (params.spectrum == SpectrumChoice::Closed && !exact) {
+        return Err(Error::OutsideValidity {
+            route: if params.form == FormChoice::Polar {
+                "the polar form".into()
+            } else {
+                "a closed form".into()
+            },
+            reason: format!(
+                "{kind} used as drawn (unshifted) is predicted by the cell form{}; the polar                  form and the closed spectra are for the shifted estimator (--randomization                  shift)",
+                if exact { ", exactly" } else { ", its occupancy estimated from patterns" }
+            ),
+        });
+    }
+    let (variance, budget, occupancy, evaluations, reason) =
+        if exact && rule.is_fixed() {
+            let s = fixed_strata_variance(f, &grid, n, &params.budget)?;
+            let why =
+                match rule {
+                    CellRule::Whole => {
+                        "independent uniform points: (∫f² − I²)/N, from the integrand's own \
+                                moments"
+                            .to_string()
+                    }
+                    _ => format!(
+                "one uniform point in each of the {} strata, unshifted: the per-stratum form \
+                 (1/N²) Σ_c Var_c f, exact (each stratum's moments in closed form, jumps at the \
+                 faces included)",
+                grid.iter().map(|m| m.to_string()).collect::<Vec<_>>().join(" × ")
+            ),
+                };
+            (
+                s.variance,
+                rounding(s.rounding),
+                Occupancy::Fixed,
+                cells,
+                why,
+            )
+        } else if exact {
+            let s = latin_hypercube_variance(f, n, &params.budget)?;
+            let why = format!(
+                "Latin hypercube, unshifted: the cell form over the {n}^{d} cells, its pairs of \
+             occupied cells in closed form (exact)"
+            );
+            (
+                s.variance,
+                rounding(s.rounding),
+                Occupancy::Permutations,
+                cells,
+                why,
+            )
+        } else {
+            let per_pattern = n as f64 * (kind.cost_per_point_ns() * 1e-9 + CELL_SECONDS);
+            let affordable = (params.work_budget_seconds / per_pattern) as usize;
+            let initial = params.realizations.unwrap_or(INITIAL_PATTERNS);
+            let max = params
+                .realizations
+                .unwrap_or_else(|| affordable.clamp(INITIAL_PATTERNS, MAX_PATTERNS));
+            params.budget.check(
+                "the occupancy estimate",
+                Needs {
+                    memory_bytes: 8.0 * (max + cells.min(TABLE_CELLS)) as f64 + 16.0 * n as f64,
+                    work_seconds: initial as f64 * per_pattern
+                        + cells.min(TABLE_CELLS) as f64 * CELL_SECONDS,
+                },
+                "lower N or the realizations",
+            )?;
+            let e = occupancy_variance(
+                f,
+                sampler,
+                &grid,
+                n,
+                params.seed,
+                (initial, max),
+                params.target_noise,
+                progress,
+            )?;
+            let why =
+                format!(
+            "{kind} unshifted: its points are independent and uniform in the cells of the {} \
+             grid once their cells are known, so the variance is the cells' inner variance plus \
+             the variance of the occupied cells' mean, estimated from {} patterns with each \
+             pattern's terms exact (no Fourier series: jumps at the faces cost nothing extra)",
+            grid.iter().map(|m| m.to_string()).collect::<Vec<_>>().join(" × "),
+            e.patterns
+        );
+            let budget = ErrorBudget {
+                spectrum_noise: e.standard_error,
+                ..Default::default()
+            };
+            (
+                e.variance,
+                budget,
+                Occupancy::Estimated {
+                    patterns: e.patterns,
+                },
+                e.patterns * n,
+                why,
+            )
+        };
+    Ok(Prediction {
+        variance,
+        randomization: Randomization::None,
+        route: Route {
+            form: Form::Cells,
+            spectrum: SpectrumOrigin::Cells(origin(occupancy)),
+        },
+        reason,
+        budget,
+        n,
+        dimension: d,
+        dc_term: 0.0,
+        evaluations: evaluations as u64,
+        alternatives: Vec::new(),
+    })
+}
+
+fn rounding(bound: f64) -> ErrorBudget {
+    ErrorBudget {
+        quadrature: bound,
+        ..Default::default()
+    }
+}
