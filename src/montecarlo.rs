@@ -68,7 +68,9 @@ pub struct McParams {
 impl McParams {
     /// `trials` estimator evaluations spent as the sampler's cost asks ([`SamplerKind::pool`]):
     /// one fresh pattern per trial for cheap samplers, a pool of patterns under many shifts for
-    /// costly ones; patterns used as drawn are one fresh pattern per trial.
+    /// costly ones; patterns used as drawn are one fresh pattern per trial, except for costly
+    /// laws invariant under translation (Poisson disk, CCVT, Gaussian blue noise), whose
+    /// estimator as drawn is the shifted one: they are measured under shifts (and say so).
     ///
     /// # Examples
     /// ```
@@ -86,6 +88,15 @@ impl McParams {
         seed: u64,
         randomization: Randomization,
     ) -> Self {
+        // A law invariant under translation has the same estimator as drawn and shifted: a
+        // costly one is measured under shifts, so that its patterns are reused.
+        let stationary = kind.facts().randomness.is_stationary();
+        let randomization = match randomization {
+            Randomization::None if stationary && kind.pool(trials).shifts > 1 => {
+                Randomization::Shift
+            }
+            r => r,
+        };
         let pool = if randomization.reuses_patterns() {
             kind.pool(trials)
         } else {

@@ -5,6 +5,7 @@ use num_complex::Complex64;
 use specvar::anisotropy::{variance_against_orientation, OrientationConfig};
 use specvar::integrand::{parse_integrand, Integrand, Polygon};
 use specvar::progress::Silent;
+use specvar::randomization::Randomization;
 use specvar::sampler::SamplerKind;
 use std::f64::consts::PI;
 
@@ -344,7 +345,9 @@ fn a_lobe_crossing_the_faces_is_predicted_on_the_lattice() {
     }
     let jitter = SamplerKind::Jitter.build(2).unwrap();
     let p = predict(
-        &Problem::new(jitter.as_ref(), &f, 256).unwrap(),
+        &Problem::new(jitter.as_ref(), &f, 256)
+            .unwrap()
+            .with_randomization(Randomization::Shift),
         &PredictParams::default(),
     )
     .unwrap();
@@ -379,7 +382,9 @@ fn anisotropic_gaussian_variance_is_predicted_at_any_orientation() {
         let f = specvar::integrand::AnisotropicGaussian::new(0.06, 0.008, angle, [0.5, 0.5], 1.0)
             .unwrap();
         let p = predict(
-            &Problem::new(jitter.as_ref(), &f, 256).unwrap(),
+            &Problem::new(jitter.as_ref(), &f, 256)
+                .unwrap()
+                .with_randomization(Randomization::Shift),
             &PredictParams::default(),
         )
         .unwrap();
@@ -406,7 +411,9 @@ fn anisotropic_gaussian_variance_is_predicted_at_any_orientation() {
         let f = specvar::integrand::AnisotropicGaussian::new(0.06, 0.008, angle, [0.5, 0.5], 1.0)
             .unwrap();
         predict(
-            &Problem::new(lhs.as_ref(), &f, 256).unwrap(),
+            &Problem::new(lhs.as_ref(), &f, 256)
+                .unwrap()
+                .with_randomization(Randomization::Shift),
             &PredictParams::default(),
         )
         .unwrap()

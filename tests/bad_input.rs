@@ -270,13 +270,33 @@ fn every_size_goes_through_the_budget_with_its_reason() {
         );
         refuses_with(
             &[
-                "predict", "-s", sampler, "-f", "disk", "-n", "64", "--kmax", "10000000",
+                "predict",
+                "-s",
+                sampler,
+                "-f",
+                "disk",
+                "-n",
+                "64",
+                "--kmax",
+                "10000000",
+                "--randomization",
+                "shift",
             ],
             budget,
         );
         refuses_with(
             &[
-                "predict", "-s", sampler, "-f", "disk", "-n", "64", "--kmax", "100000",
+                "predict",
+                "-s",
+                sampler,
+                "-f",
+                "disk",
+                "-n",
+                "64",
+                "--kmax",
+                "100000",
+                "--randomization",
+                "shift",
             ],
             "the integrand's power on |k_i| ≤ 100000 in 2D would need 298.0 GiB",
         );
@@ -343,6 +363,8 @@ fn a_closed_form_answers_at_any_n() {
     for args in [
         vec![
             "predict",
+            "--randomization",
+            "shift",
             "-s",
             "jitter",
             "-n",
@@ -353,6 +375,8 @@ fn a_closed_form_answers_at_any_n() {
         ],
         vec![
             "predict",
+            "--randomization",
+            "shift",
             "-s",
             "jitter",
             "-n",
@@ -365,6 +389,8 @@ fn a_closed_form_answers_at_any_n() {
             "--budget-seconds",
             "1",
             "predict",
+            "--randomization",
+            "shift",
             "-s",
             "jitter",
             "-n",
@@ -376,6 +402,8 @@ fn a_closed_form_answers_at_any_n() {
             "--budget-seconds",
             "0.1",
             "predict",
+            "--randomization",
+            "shift",
             "-s",
             "jitter",
             "-n",
@@ -384,6 +412,8 @@ fn a_closed_form_answers_at_any_n() {
         ],
         vec![
             "predict",
+            "--randomization",
+            "shift",
             "-s",
             "jitter",
             "-d",

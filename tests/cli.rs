@@ -293,14 +293,33 @@ fn predict_and_mc_accept_point_sets_written_elsewhere() {
     let path = std::env::temp_dir().join("specvar_cli_r2_sets.txt");
     std::fs::write(&path, &text).unwrap();
     let file = path.to_str().unwrap();
-    let (code, out, err) = specvar(&["predict", "--input", file, "-f", "gaussian", "--json"]);
+    // The shifted estimator of the given sets, predicted and measured.
+    let (code, out, err) = specvar(&[
+        "predict",
+        "--input",
+        file,
+        "-f",
+        "gaussian",
+        "--randomization",
+        "shift",
+        "--json",
+    ]);
     assert_eq!(code, 0, "{err}");
     let p = json(&out);
     assert_eq!(p["n"].as_u64(), Some(128));
     let variance = p["variance"].as_f64().unwrap();
     let truncation = p["budget"]["truncation"].as_f64().unwrap();
     let (code, out, err) = specvar(&[
-        "mc", "--input", file, "-f", "gaussian", "--trials", "96000", "--json",
+        "mc",
+        "--input",
+        file,
+        "-f",
+        "gaussian",
+        "--trials",
+        "96000",
+        "--randomization",
+        "shift",
+        "--json",
     ]);
     assert_eq!(code, 0, "{err}");
     let m = json(&out);

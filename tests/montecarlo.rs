@@ -215,9 +215,14 @@ fn intervals_cover_at_their_nominal_rate_or_are_refused() {
     let random = Random::new(2).unwrap();
     let jitter = Jitter::new(2).unwrap();
     let exact = |s: &dyn Sampler, f: &dyn Integrand| {
-        specvar::predict::predict(&Problem::new(s, f, 16).unwrap(), &PredictParams::default())
-            .unwrap()
-            .variance
+        specvar::predict::predict(
+            &Problem::new(s, f, 16)
+                .unwrap()
+                .with_randomization(Randomization::Shift),
+            &PredictParams::default(),
+        )
+        .unwrap()
+        .variance
     };
     let run = |s: &dyn Sampler, f: &dyn Integrand, trials: usize| {
         let truth = exact(s, f);

@@ -4,6 +4,7 @@
 
 use specvar::integrand::{Ball, Gaussian, Integrand};
 use specvar::predict::{pair_correlation_variance, predict, PredictParams, Problem};
+use specvar::randomization::Randomization;
 use specvar::sampler::SamplerKind;
 
 /// Three samplers × two integrands at N = 256. Each route has its own noise (the PCF's from
@@ -28,7 +29,9 @@ fn pair_correlation_and_spectral_routes_agree() {
             .collect();
         for f in [&disk as &dyn Integrand, &gaussian] {
             let pcf = pair_correlation_variance(f, &sets, 3.0).unwrap();
-            let problem = Problem::new(sampler.as_ref(), f, n).unwrap();
+            let problem = Problem::new(sampler.as_ref(), f, n)
+                .unwrap()
+                .with_randomization(Randomization::Shift);
             let spectral = predict(&problem, &PredictParams::default()).unwrap();
             let noise = pcf
                 .budget

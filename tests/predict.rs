@@ -2,6 +2,7 @@
 
 use specvar::integrand::*;
 use specvar::predict::*;
+use specvar::randomization::Randomization;
 use specvar::sampler::*;
 use specvar::spectrum::*;
 
@@ -360,8 +361,12 @@ fn integrands_predicted_together_get_what_each_gets_alone() {
         ..PredictParams::default()
     };
     let problems = [
-        Problem::new(&poisson, &d, 64).unwrap(),
-        Problem::new(&poisson, &wide, 64).unwrap(),
+        Problem::new(&poisson, &d, 64)
+            .unwrap()
+            .with_randomization(Randomization::Shift),
+        Problem::new(&poisson, &wide, 64)
+            .unwrap()
+            .with_randomization(Randomization::Shift),
     ];
     let together = predict_many(&problems, &params, &specvar::progress::Silent).unwrap();
     for (p, alone) in problems.iter().zip(&together) {
@@ -372,8 +377,12 @@ fn integrands_predicted_together_get_what_each_gets_alone() {
     // Closed forms go their own way, one by one.
     let jitter = Jitter::new(2).unwrap();
     let closed = [
-        Problem::new(&jitter, &d, 64).unwrap(),
-        Problem::new(&jitter, &wide, 64).unwrap(),
+        Problem::new(&jitter, &d, 64)
+            .unwrap()
+            .with_randomization(Randomization::Shift),
+        Problem::new(&jitter, &wide, 64)
+            .unwrap()
+            .with_randomization(Randomization::Shift),
     ];
     let both = predict_many(
         &closed,
@@ -393,8 +402,12 @@ fn integrands_predicted_together_must_share_their_patterns() {
     let (a, b) = (PoissonDisk::new(2).unwrap(), PoissonDisk::new(2).unwrap());
     let d = disk();
     let mixed = [
-        Problem::new(&a, &d, 64).unwrap(),
-        Problem::new(&b, &d, 64).unwrap(),
+        Problem::new(&a, &d, 64)
+            .unwrap()
+            .with_randomization(Randomization::Shift),
+        Problem::new(&b, &d, 64)
+            .unwrap()
+            .with_randomization(Randomization::Shift),
     ];
     assert!(predict_many(
         &mixed,
@@ -403,8 +416,12 @@ fn integrands_predicted_together_must_share_their_patterns() {
     )
     .is_err());
     let sizes = [
-        Problem::new(&a, &d, 64).unwrap(),
-        Problem::new(&a, &d, 256).unwrap(),
+        Problem::new(&a, &d, 64)
+            .unwrap()
+            .with_randomization(Randomization::Shift),
+        Problem::new(&a, &d, 256)
+            .unwrap()
+            .with_randomization(Randomization::Shift),
     ];
     assert!(predict_many(
         &sizes,
@@ -467,7 +484,9 @@ fn jitter_at_a_trillion_points_continues_its_rate() {
     let jitter = Jitter::new(2).unwrap();
     let at = |n: usize| {
         predict(
-            &Problem::new(&jitter, &disk, n).unwrap(),
+            &Problem::new(&jitter, &disk, n)
+                .unwrap()
+                .with_randomization(Randomization::Shift),
             &PredictParams::default(),
         )
         .unwrap()
@@ -493,7 +512,9 @@ fn jitter_on_an_interval_is_one_third_over_n_squared_at_any_n() {
     let jitter = Jitter::new(1).unwrap();
     for n in [64usize, 4096, 1 << 20, 1 << 32, 1_000_000_000_000] {
         let p = predict(
-            &Problem::new(&jitter, &interval, n).unwrap(),
+            &Problem::new(&jitter, &interval, n)
+                .unwrap()
+                .with_randomization(Randomization::Shift),
             &PredictParams::default(),
         )
         .unwrap();

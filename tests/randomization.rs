@@ -73,7 +73,8 @@ fn independent_points_under_a_digital_shift_are_white_noise() {
 #[test]
 fn an_estimator_the_routes_do_not_predict_is_refused_and_measured() {
     let f = Ball::new(0.25, vec![0.5, 0.5], 1.0).unwrap();
-    let jitter = Jitter::new(2).unwrap();
+    // Jitter as drawn has the cell form; Gaussian jitter's offsets are not uniform in cells.
+    let jitter = specvar::sampler::GaussianJitter::new(2).unwrap();
     for r in [Randomization::None, Randomization::DigitalShift] {
         let problem = Problem::new(&jitter, &f, 64).unwrap().with_randomization(r);
         let e = predict(&problem, &PredictParams::default()).unwrap_err();

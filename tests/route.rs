@@ -13,7 +13,9 @@ mod common;
 
 fn predict_default(sampler: &dyn Sampler, f: &dyn Integrand, n: usize) -> Prediction {
     predict(
-        &Problem::new(sampler, f, n).unwrap(),
+        &Problem::new(sampler, f, n)
+            .unwrap()
+            .with_randomization(Randomization::Shift),
         &PredictParams::default(),
     )
     .unwrap()
@@ -140,7 +142,12 @@ fn wide_disk_with_jitter_matches_the_geometric_variance_and_refuses_the_polar_fo
         form: FormChoice::Polar,
         ..Default::default()
     };
-    let refused = predict(&Problem::new(&jitter, &f, 16).unwrap(), &polar);
+    let refused = predict(
+        &Problem::new(&jitter, &f, 16)
+            .unwrap()
+            .with_randomization(Randomization::Shift),
+        &polar,
+    );
     assert!(
         matches!(refused, Err(specvar::Error::OutsideValidity { .. })),
         "{refused:?}"
@@ -196,7 +203,9 @@ fn estimated_rows_agree_with_monte_carlo() {
 fn estimated_budget_covers_the_exact_value_at_its_nominal_rate() {
     let f = Gaussian::new(0.1, vec![0.5, 0.5], 1.0).unwrap();
     let jitter = Jitter::new(2).unwrap();
-    let problem = Problem::new(&jitter, &f, 64).unwrap();
+    let problem = Problem::new(&jitter, &f, 64)
+        .unwrap()
+        .with_randomization(Randomization::Shift);
     let exact = predict(&problem, &PredictParams::default())
         .unwrap()
         .variance;
@@ -233,7 +242,12 @@ fn large_n_takes_the_closed_form_and_refuses_to_extrapolate() {
         reference_n: Some(4096),
         ..Default::default()
     };
-    let refused = predict(&Problem::new(&poisson, &f, 16384).unwrap(), &rescaled);
+    let refused = predict(
+        &Problem::new(&poisson, &f, 16384)
+            .unwrap()
+            .with_randomization(Randomization::Shift),
+        &rescaled,
+    );
     assert!(
         matches!(refused, Err(specvar::Error::OutsideValidity { .. })),
         "{refused:?}"

@@ -188,6 +188,15 @@ impl Integrand for AnisotropicGaussian {
     fn dimension(&self) -> usize {
         2
     }
+    fn box_moments(&self, lo: &[f64], hi: &[f64]) -> Option<(f64, f64)> {
+        let lobe = TruncatedLobe {
+            cov: self.cov,
+            centre: self.centre,
+            height: self.height,
+        };
+        let (lo, hi) = ([lo[0], lo[1]], [hi[0], hi[1]]);
+        Some((lobe.box_mass(lo, hi), lobe.squared().box_mass(lo, hi)))
+    }
     fn eval(&self, x: &[f64]) -> f64 {
         let r = [x[0] - self.centre[0], x[1] - self.centre[1]];
         self.height * (-0.5 * self.inverse_quadratic(r)).exp()

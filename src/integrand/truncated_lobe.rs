@@ -184,6 +184,30 @@ impl TruncatedLobe {
             .sum()
     }
 
+    /// `∫` of the lobe over the box `[lo, hi]`: at each node in `y` the integral over
+    /// `[lo_x, hi_x]` of the conditional 1D Gaussian in closed form (error functions), on
+    /// panels no wider than the envelope's and the conditional mean's scales.
+    pub fn box_mass(&self, lo: [f64; 2], hi: [f64; 2]) -> f64 {
+        let (reach_lo, reach_hi) = self.reach();
+        let (a, b) = (lo[1].max(reach_lo), hi[1].min(reach_hi));
+        if b <= a {
+            return 0.0;
+        }
+        let (slope, s) = self.conditional();
+        let panels = ((b - a) / self.panel_width(0.0)).ceil().clamp(1.0, 1e6) as usize;
+        let h = (b - a) / panels as f64;
+        (0..panels)
+            .map(|p| {
+                rule().integrate(a + p as f64 * h, a + (p + 1) as f64 * h, |y| {
+                    let dy = y - self.centre[1];
+                    let marginal = self.height * (-dy * dy / (2.0 * self.cov[2])).exp();
+                    let mean = self.centre[0] + slope * dy;
+                    marginal * super::gaussian::axis_mass(lo[0], hi[0], mean, s)
+                })
+            })
+            .sum()
+    }
+
     /// `∫_0^1 F_a(x)² dx` for the projection `F_a = ∫ f dx_other` onto axis `a`.
     pub fn projection_energy(&self, axis: usize) -> f64 {
         // Projecting onto x integrates y out: with the axes exchanged, y is integrated in

@@ -1,0 +1,402 @@
+//! The unshifted estimator of stratified samplers and scrambled nets (the cell form), each
+//! check against an independent route: the integrands' box moments against their own integrals
+//! and against quadrature that does not use them; jitter's per-stratum form against its aliased
+//! Fourier pairs; the exact forms against the estimated occupancy; every prediction against
+//! Monte Carlo of the same estimator.
+
+mod common;
+
+use common::{assert_thread_count_invariant, ROUNDING, Z_STRICT};
+use specvar::integrand::{Ball, Gaussian, GridIntegrand, Integrand, Polygon};
+use specvar::montecarlo::{empirical_variance, McParams, Z_99};
+use specvar::predict::{
+    fixed_strata_variance, latin_hypercube_variance, predict, Form, PredictParams, Problem,
+    SpectrumChoice,
+};
+use specvar::quadrature::GaussLegendre;
+use specvar::randomization::Randomization;
+use specvar::sampler::SamplerKind;
+use std::f64::consts::PI;
+
+/// The test integrands: a centred disk, a disk wrapped across two faces, a Gaussian cut by the
+/// faces (a seam), an edge, a triangle, and a tabulated pixel whose values jump at the faces.
+fn integrands_2d() -> Vec<Box<dyn Integrand>> {
+    let pixel: Vec<f64> = (0..12 * 12)
+        .map(|i| {
+            let (x, y) = ((i % 12) as f64, (i / 12) as f64);
+            if x + 0.5 * y < 9.0 {
+                1.0 + 0.05 * x
+            } else {
+                0.2
+            }
+        })
+        .collect();
+    vec![
+        Box::new(Ball::new(0.25, vec![0.5, 0.5], 1.0).unwrap()),
+        Box::new(Ball::new(0.45, vec![0.9, 0.1], 1.0).unwrap()),
+        Box::new(Gaussian::new(0.3, vec![0.7, 0.2], 1.0).unwrap()),
+        Box::new(Polygon::edge(30.0, 0.4, 1.0).unwrap()),
+        Box::new(Polygon::new(vec![[0.1, 0.2], [0.8, 0.1], [0.4, 0.9]], 2.0).unwrap()),
+        Box::new(GridIntegrand::new(12, 12, pixel).unwrap()),
+    ]
+}
+
+/// `(Σ_c Φ_c, Σ_c Ψ_c)` over an `m^d` grid of boxes.
+fn tiled(f: &dyn Integrand, m: usize) -> (f64, f64) {
+    let d = f.dimension();
+    let (mut a, mut b) = (0.0, 0.0);
+    for index in 0..m.pow(d as u32) {
+        let (mut lo, mut hi) = (vec![0.0; d], vec![0.0; d]);
+        let mut rest = index;
+        for axis in 0..d {
+            let i = rest % m;
+            rest /= m;
+            lo[axis] = i as f64 / m as f64;
+            hi[axis] = (i + 1) as f64 / m as f64;
+        }
+        let (x, y) = f.box_moments(&lo, &hi).expect("box moments");
+        a += x;
+        b += y;
+    }
+    (a, b)
+}
+
+#[test]
+fn box_moments_tile_the_integrals() {
+    let mut all = integrands_2d();
+    all.push(Box::new(
+        Ball::new(0.3, vec![0.45, 0.55, 0.9], 1.5).unwrap(),
+    ));
+    all.push(Box::new(Ball::new(0.2, vec![0.1], 1.0).unwrap()));
+    all.push(Box::new(
+        Gaussian::new(0.2, vec![0.3, 0.6, 0.5], 1.0).unwrap(),
+    ));
+    for (s1, s2, angle, c) in [
+        (0.1, 0.03, 30.0, [0.5, 0.5]),
+        (0.2, 0.05, -50.0, [0.9, 0.2]),
+    ] {
+        all.push(Box::new(
+            specvar::integrand::AnisotropicGaussian::new(s1, s2, angle, c, 1.0).unwrap(),
+        ));
+    }
+    for f in &all {
+        // 7 does not divide the grid's 12 cells, nor meet the disks' edges evenly.
+        let m = if f.dimension() == 3 { 5 } else { 7 };
+        let (mass, square) = tiled(f.as_ref(), m);
+        // The 3D ball's slices are integrated to 1e-14 of a slice's disk each.
+        let tol = if f.dimension() == 3 { 1e-11 } else { ROUNDING };
+        let (i, e) = (f.integral(), f.integral_of_square());
+        assert!(
+            (mass - i).abs() <= tol * i.abs().max(e),
+            "{}: {mass} vs {i}",
+            f.label()
+        );
+        assert!(
+            (square - e).abs() <= tol * e,
+            "{}: {square} vs {e}",
+            f.label()
+        );
+    }
+}
+
+/// The area of a disk inside a rectangle by integrating the chord's clipped length over `x`
+/// (Gauss–Legendre on panels cut where the chord's ends cross the rectangle's sides): a route
+/// that shares nothing with the library's corner formula.
+fn disk_area_by_chords(c: [f64; 2], r: f64, lo: [f64; 2], hi: [f64; 2]) -> f64 {
+    let (a, b) = (lo[0].max(c[0] - r), hi[0].min(c[0] + r));
+    if b <= a {
+        return 0.0;
+    }
+    let mut cuts = vec![a, b];
+    for y in [lo[1], hi[1]] {
+        let dy = y - c[1];
+        if dy.abs() < r {
+            let w = (r * r - dy * dy).sqrt();
+            cuts.extend(
+                [c[0] - w, c[0] + w]
+                    .into_iter()
+                    .filter(|x| *x > a && *x < b),
+            );
+        }
+    }
+    cuts.sort_by(f64::total_cmp);
+    let rule = GaussLegendre::new(20);
+    let chord = |x: f64| {
+        let h = (r * r - (x - c[0]).powi(2)).max(0.0).sqrt();
+        ((c[1] + h).min(hi[1]) - (c[1] - h).max(lo[1])).max(0.0)
+    };
+    // The chord's square-root ends: 400 sub-panels each make the rule's error about 1e-10.
+    cuts.windows(2)
+        .map(|w| {
+            (0..400)
+                .map(|j| {
+                    let s = w[0] + (w[1] - w[0]) * j as f64 / 400.0;
+                    let t = w[0] + (w[1] - w[0]) * (j + 1) as f64 / 400.0;
+                    rule.integrate(s, t, chord)
+                })
+                .sum::<f64>()
+        })
+        .sum()
+}
+
+#[test]
+fn jitter_unshifted_on_the_centred_disk_is_the_per_stratum_quadrature() {
+    // The truth: (1/N²) Σ_cells Var_cell f, each cell's area by chords; the disk r = 1/4 at the
+    // centre, N = 256 = 16 × 16.
+    let (m, n, r) = (16usize, 256usize, 0.25);
+    let disk = Ball::new(r, vec![0.5, 0.5], 1.0).unwrap();
+    let mut truth = 0.0;
+    for i in 0..m {
+        for j in 0..m {
+            let lo = [i as f64 / m as f64, j as f64 / m as f64];
+            let hi = [(i + 1) as f64 / m as f64, (j + 1) as f64 / m as f64];
+            let p = disk_area_by_chords([0.5, 0.5], r, lo, hi) * n as f64;
+            truth += p * (1.0 - p);
+        }
+    }
+    truth /= (n * n) as f64;
+    let exact = fixed_strata_variance(&disk, &[m, m], n, &Default::default()).unwrap();
+    assert!(
+        (exact.variance - truth).abs() < 1e-8 * truth,
+        "{} vs {truth}",
+        exact.variance
+    );
+    // The default prediction is this estimator's, and the shifted one differs: the centred
+    // disk meets the strata symmetrically, which a shift undoes.
+    let jitter = SamplerKind::Jitter.build(2).unwrap();
+    let p = predict(
+        &Problem::new(jitter.as_ref(), &disk, n).unwrap(),
+        &Default::default(),
+    )
+    .unwrap();
+    assert_eq!(
+        (p.randomization, p.route.form),
+        (Randomization::None, Form::Cells)
+    );
+    assert_eq!(p.variance, exact.variance);
+    let shifted = Problem::new(jitter.as_ref(), &disk, n)
+        .unwrap()
+        .with_randomization(Randomization::Shift);
+    let s = predict(&shifted, &Default::default()).unwrap();
+    assert!(
+        (s.variance - 6.357e-5).abs() < 1e-3 * s.variance,
+        "{}",
+        s.variance
+    );
+    assert!(
+        p.variance < 0.85 * s.variance,
+        "{} {}",
+        p.variance,
+        s.variance
+    );
+}
+
+#[test]
+fn jitter_per_stratum_form_is_its_aliased_fourier_pairs() {
+    // Σ_c Φ_c² = (1/N) Σ_{r mod m} |Σ_{k ≡ r} f̂(k) ψ(k)|², ψ(k) = Π e^{πik/m} sinc(πk/m): the
+    // strata's alias classes. A Gaussian well inside the square has torus coefficients that
+    // vanish (below 1e-30) beyond |k_i| = 48.
+    let f = Gaussian::new(0.05, vec![0.46, 0.53], 1.0).unwrap();
+    let (m, n, kmax) = (8i64, 64usize, 48i64);
+    let mut classes = vec![num_complex::Complex64::new(0.0, 0.0); (m * m) as usize];
+    for kx in -kmax..=kmax {
+        for ky in -kmax..=kmax {
+            let psi = |k: i64| {
+                let t = PI * k as f64 / m as f64;
+                let s = if k == 0 { 1.0 } else { t.sin() / t };
+                num_complex::Complex64::from_polar(s, t)
+            };
+            let term = f.coefficient(&[kx, ky]) * psi(kx) * psi(ky);
+            classes[(kx.rem_euclid(m) * m + ky.rem_euclid(m)) as usize] += term;
+        }
+    }
+    let aliased: f64 = classes.iter().map(|c| c.norm_sqr()).sum();
+    let fourier = (f.integral_of_square() - aliased) / n as f64;
+    let space = fixed_strata_variance(&f, &[8, 8], n, &Default::default()).unwrap();
+    assert!(
+        (fourier - space.variance).abs() < 1e-9 * space.variance,
+        "{fourier} vs {}",
+        space.variance
+    );
+}
+
+#[test]
+fn latin_hypercube_pairs_are_its_estimated_occupancy() {
+    // The closed-form pair sum against the occupancy of patterns, which knows nothing of it.
+    let lhs = SamplerKind::LatinHypercube.build(2).unwrap();
+    for f in integrands_2d().iter().take(3) {
+        let exact = latin_hypercube_variance(f.as_ref(), 64, &Default::default()).unwrap();
+        let params = PredictParams {
+            spectrum: SpectrumChoice::Estimated,
+            target_noise: 0.01,
+            ..Default::default()
+        };
+        let e = predict(
+            &Problem::new(lhs.as_ref(), f.as_ref(), 64).unwrap(),
+            &params,
+        )
+        .unwrap();
+        let z = (e.variance - exact.variance) / e.budget.spectrum_noise;
+        assert!(z.abs() < Z_STRICT, "{}: z = {z}", f.label());
+    }
+    // In 1D Latin hypercube is jitter with N strata, and in 3D its sum runs over 2³ subsets.
+    let f1 = Gaussian::new(0.1, vec![0.3], 1.0).unwrap();
+    let a = latin_hypercube_variance(&f1, 50, &Default::default()).unwrap();
+    let b = fixed_strata_variance(&f1, &[50], 50, &Default::default()).unwrap();
+    assert!((a.variance - b.variance).abs() < 1e-10 * b.variance);
+    let lhs3 = SamplerKind::LatinHypercube.build(3).unwrap();
+    let f3 = Ball::new(0.3, vec![0.5, 0.4, 0.6], 1.0).unwrap();
+    let exact3 = latin_hypercube_variance(&f3, 27, &Default::default()).unwrap();
+    let mc = empirical_variance(
+        lhs3.as_ref(),
+        &f3,
+        27,
+        &McParams {
+            patterns: 20_000,
+            randomization: Randomization::None,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert!(
+        exact3.variance > mc.ci_low && exact3.variance < mc.ci_high,
+        "{} vs {mc:?}",
+        exact3.variance
+    );
+}
+
+/// Every stratified sampler and scrambled net, unshifted, on every test integrand at two N:
+/// the default prediction against Monte Carlo of the same estimator. Each of the `cases`
+/// comparisons fails a correct implementation with probability 1% / cases (Bonferroni), so the
+/// matrix as a whole with 1%.
+#[test]
+fn predictions_agree_with_monte_carlo_of_the_same_estimator() {
+    let samplers = [
+        (SamplerKind::Jitter, [16, 256]),
+        (SamplerKind::LatinHypercube, [16, 256]),
+        (SamplerKind::MultiJitter, [16, 256]),
+        (SamplerKind::Cmj, [16, 256]),
+        (SamplerKind::OrthogonalArray, [25, 289]),
+        (SamplerKind::Sobol, [16, 256]),
+        (SamplerKind::Pmj02, [16, 256]),
+    ];
+    let integrands = integrands_2d();
+    let cases = (samplers.len() * 2 * integrands.len()) as f64;
+    let z_family = inverse_normal_tail(0.01 / cases / 2.0);
+    let params = PredictParams {
+        target_noise: 0.03,
+        ..Default::default()
+    };
+    let mut worst: f64 = 0.0;
+    for (kind, ns) in samplers {
+        let sampler = kind.build(2).unwrap();
+        for n in ns {
+            for f in &integrands {
+                let problem = Problem::new(sampler.as_ref(), f.as_ref(), n).unwrap();
+                assert_eq!(problem.randomization, Randomization::None);
+                let p = predict(&problem, &params).unwrap();
+                // The budget informs: its 99% half-width is under a fifth of the value.
+                assert!(
+                    p.budget.half_width(Z_99) < 0.2 * p.variance,
+                    "{kind} {n} {}: {:?}",
+                    f.label(),
+                    p.budget
+                );
+                let mc = empirical_variance(
+                    sampler.as_ref(),
+                    f.as_ref(),
+                    n,
+                    &McParams::for_sampler(kind, 6000, None, 11, Randomization::None),
+                )
+                .unwrap();
+                let z = p.z_beyond_bounds(&mc);
+                worst = worst.max(z.abs());
+                assert!(
+                    z.abs() < z_family,
+                    "{kind} N = {n} {}: predicted {:.4e}, measured {:.4e} [{:.4e}, {:.4e}], z = {z:.2}",
+                    f.label(),
+                    p.variance,
+                    mc.variance,
+                    mc.ci_low,
+                    mc.ci_high
+                );
+            }
+        }
+    }
+    eprintln!("worst |z| {worst:.2} of {cases} cases (limit {z_family:.2})");
+}
+
+/// `z` with `P(Z > z) = p`, by bisection on the complementary error function.
+fn inverse_normal_tail(p: f64) -> f64 {
+    let (mut lo, mut hi) = (0.0, 10.0);
+    for _ in 0..100 {
+        let mid = 0.5 * (lo + hi);
+        if 0.5 * libm::erfc(mid / std::f64::consts::SQRT_2) > p {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+#[test]
+fn the_occupancy_estimate_is_the_same_bits_on_any_thread_count() {
+    let f = Polygon::edge(20.0, 0.5, 1.0).unwrap();
+    let mj = SamplerKind::MultiJitter.build(2).unwrap();
+    let params = PredictParams {
+        realizations: Some(40),
+        ..Default::default()
+    };
+    assert_thread_count_invariant(|| {
+        let p = predict(&Problem::new(mj.as_ref(), &f, 64).unwrap(), &params).unwrap();
+        (p.variance.to_bits(), p.budget.spectrum_noise.to_bits())
+    });
+}
+
+#[test]
+fn routes_of_the_shifted_estimator_are_refused_for_the_unshifted_one() {
+    let f = Ball::new(0.25, vec![0.5, 0.5], 1.0).unwrap();
+    let mj = SamplerKind::MultiJitter.build(2).unwrap();
+    let polar = PredictParams {
+        form: specvar::predict::FormChoice::Polar,
+        ..Default::default()
+    };
+    let problem = Problem::new(mj.as_ref(), &f, 64).unwrap();
+    assert!(predict(&problem, &polar).is_err());
+    let closed = PredictParams {
+        spectrum: SpectrumChoice::Closed,
+        ..Default::default()
+    };
+    assert!(predict(&problem, &closed).is_err());
+}
+
+/// Jitter's law is invariant under translations by whole strata, so the shifted estimator's
+/// variance is the mean, over the offsets `u` of one stratum, of the unshifted variance of the
+/// translated integrand: the closed-form lattice sum against the per-stratum form averaged over
+/// offsets (a product Gauss–Legendre rule on the stratum; `V(u)` is continuous and piecewise
+/// smooth in `u`, so the rule's error is set by its kinks, measured below 0.3% at 24² nodes).
+#[test]
+fn the_shifted_variance_is_the_unshifted_one_averaged_over_offsets() {
+    let (m, n, r) = (8usize, 64usize, 0.25);
+    let rule = GaussLegendre::new(24);
+    let mut mean = 0.0;
+    for (ux, wx) in rule.on(0.0, 1.0 / m as f64) {
+        for (uy, wy) in rule.on(0.0, 1.0 / m as f64) {
+            let disk = Ball::new(r, vec![0.5 + ux, 0.5 + uy], 1.0).unwrap();
+            let v = fixed_strata_variance(&disk, &[m, m], n, &Default::default()).unwrap();
+            mean += wx * wy * v.variance * (m * m) as f64;
+        }
+    }
+    let disk = Ball::new(r, vec![0.5, 0.5], 1.0).unwrap();
+    let jitter = SamplerKind::Jitter.build(2).unwrap();
+    let shifted = Problem::new(jitter.as_ref(), &disk, n)
+        .unwrap()
+        .with_randomization(Randomization::Shift);
+    let s = predict(&shifted, &Default::default()).unwrap();
+    assert!(
+        (mean - s.variance).abs() < 3e-3 * s.variance,
+        "{mean} vs {}",
+        s.variance
+    );
+}
