@@ -268,8 +268,9 @@ class ErrorBudget:
 
 @dataclass(frozen=True)
 class Route:
-    """A form (``lattice`` or ``polar``) and the spectrum it read (a closed form, or an
-    estimate with its N, realizations and lattice extent)."""
+    """A form (``lattice``, ``polar``, or ``cells`` for the unshifted estimator of strata and
+    nets, summed over cells in space) and what it read: a closed-form spectrum, an estimate with
+    its N, realizations and lattice extent, or the cells and how their occupancy is known."""
 
     form: str
     spectrum: Any
@@ -341,7 +342,7 @@ def predict(
     reference_n: Optional[int] = None,
     kmax: Optional[int] = None,
     seed: int = 0,
-    randomization: RandomizationName = "shift",
+    randomization: RandomizationName = "native",
     cache: bool = True,
 ) -> Prediction:
     """Predict the variance of integrating ``integrand`` (``disk``, ``gaussian:sigma=0.1``,
@@ -349,10 +350,12 @@ def predict(
     square such as :func:`tabulate` gives) with ``n`` points of ``sampler``, or with the
     patterns ``points`` of your own. The library chooses a valid route unless ``spectrum``
     (``auto``, ``closed``, ``estimated``) or ``form`` (``auto``, ``lattice``, ``polar``) say
-    otherwise. ``randomization`` names the estimator: ``shift`` (the randomly shifted,
-    homogenized one, which every route predicts), or ``none`` / ``digital-shift`` where the
-    sampler's patterns integrate with the same variance (white noise, Poisson disk, CCVT);
-    other pairs raise ``ValueError`` saying how to measure them with :func:`monte_carlo`."""
+    otherwise. ``randomization`` names the estimator: ``native`` (the default: the sampler's
+    own use, so strata, N-rooks samplers and scrambled nets as drawn, predicted by the cell
+    form in space; fixed rules under a shift; given ``points`` as given, which no route
+    predicts), ``shift`` (the randomly shifted, homogenized one of the spectral routes),
+    ``none`` (as drawn) or ``digital-shift`` (for independent points); other pairs raise
+    ``ValueError`` saying how to measure them with :func:`monte_carlo`."""
     raw = _specvar.predict(
         _integrand(integrand),
         sampler,
@@ -400,7 +403,7 @@ def monte_carlo(
     trials: int = 10000,
     shifts: Optional[int] = None,
     seed: int = 0,
-    randomization: RandomizationName = "shift",
+    randomization: RandomizationName = "native",
     integral: Optional[float] = None,
     cache: bool = True,
 ) -> McResult:
@@ -411,8 +414,9 @@ def monte_carlo(
     the built-in integrands see, one shift per pattern; give its exact ``integral`` if you know
     it (the errors are then ``μ_N − integral``), else the variance is the sample variance.
     With ``points=`` every set of your own is one pattern. ``randomization`` names the
-    estimator: ``shift`` (a random toroidal shift of each pattern), ``digital-shift`` (a random
-    XOR of its binary digits), ``none`` (the patterns as drawn, or as given), or ``native``.
+    estimator: ``native`` (the default, as for :func:`predict`, so that the two compare the
+    same estimator), ``shift`` (a random toroidal shift of each pattern), ``digital-shift`` (a
+    random XOR of its binary digits), or ``none`` (the patterns as drawn, or as given).
     """
     call = _integrand(integrand)
     if callable(integrand):

@@ -310,7 +310,7 @@ fn spectrum<'py>(
 /// integrand (a specification string or a 2D array of cell values): the library's route, its
 /// reason and its error budget.
 #[pyfunction]
-#[pyo3(signature = (integrand, sampler=None, points=None, n=None, dimension=2, spectrum="auto", form="auto", realizations=None, reference_n=None, kmax=None, seed=0, randomization="shift", cache=true))]
+#[pyo3(signature = (integrand, sampler=None, points=None, n=None, dimension=2, spectrum="auto", form="auto", realizations=None, reference_n=None, kmax=None, seed=0, randomization="native", cache=true))]
 #[allow(clippy::too_many_arguments)]
 fn predict<'py>(
     py: Python<'py>,
@@ -356,7 +356,7 @@ fn predict<'py>(
 /// Monte Carlo of the estimator with a 99% interval, on a built-in integrand (a specification
 /// string or a 2D array of cell values) or a Python function `f(points (N, d)) -> values (N,)`.
 #[pyfunction]
-#[pyo3(signature = (integrand, sampler=None, points=None, n=None, dimension=2, trials=10000, shifts=None, seed=0, randomization="shift", integral=None, cache=true))]
+#[pyo3(signature = (integrand, sampler=None, points=None, n=None, dimension=2, trials=10000, shifts=None, seed=0, randomization="native", integral=None, cache=true))]
 #[allow(clippy::too_many_arguments)]
 fn monte_carlo<'py>(
     py: Python<'py>,

@@ -12,7 +12,7 @@ def disk_indicator(points):
 
 
 def test_prediction_carries_its_route_and_budget():
-    p = specvar.predict("disk", sampler="jitter", n=256)
+    p = specvar.predict("disk", sampler="jitter", n=256, randomization="shift")
     assert p.route.form == "lattice" and "closed" in str(p.route)
     assert p.budget.spectrum_noise == 0.0 and p.budget.truncation < 1e-3 * p.variance
     assert p.reason and p.n == 256 and p.dimension == 2
@@ -73,9 +73,9 @@ def test_python_integrand_errors_reach_the_caller():
 def test_external_point_sets_are_analysed_and_predicted():
     qmc = pytest.importorskip("scipy.stats.qmc")
     sets = np.array([qmc.Sobol(d=2, scramble=True, seed=s).random(256) for s in range(64)])
-    p = specvar.predict("gaussian", points=sets)
+    p = specvar.predict("gaussian", points=sets, randomization="shift")
     assert p.route.spectrum["estimated"]["realizations"] == 64
-    m = specvar.monte_carlo("gaussian", points=sets, trials=64 * 50, seed=2)
+    m = specvar.monte_carlo("gaussian", points=sets, trials=64 * 50, seed=2, randomization="shift")
     assert m.patterns == 64 and m.shifts == 50
     assert p.interval(3.0)[0] <= m.ci_high and m.ci_low <= p.interval(3.0)[1], (p, m)
 
@@ -112,7 +112,8 @@ def test_a_tabulated_function_of_ones_own_is_predicted_and_checked():
     for sampler in ("jitter", "sobol"):
         p = specvar.predict(values, sampler=sampler, n=64)
         m = specvar.monte_carlo(values, sampler=sampler, n=64, trials=6000, seed=8)
-        assert p.route.form == "lattice"
+        # Both are used as drawn: the grid's cells enter the cell form exactly.
+        assert p.route.form == "cells" and p.randomization == m.randomization == "none"
         assert p.interval(3.0)[0] <= m.ci_high and m.ci_low <= p.interval(3.0)[1], (sampler, p, m)
 
 
@@ -143,8 +144,8 @@ def test_tabulation_sizes_are_checked_before_any_evaluation():
 
 
 def test_a_huge_n_is_answered_or_refused_naming_set_budget():
-    # Jitter at N = 10^12 on the disk has a closed form: the polar form answers it.
-    p = specvar.predict("disk", sampler="jitter", n=10**12)
+    # Shifted jitter at N = 10^12 on the disk has a closed form: the polar form answers it.
+    p = specvar.predict("disk", sampler="jitter", n=10**12, randomization="shift")
     assert p.route.form == "polar" and 0 < p.variance < 1e-18
     with pytest.raises(ValueError, match="set_budget"):
         specvar.predict("disk", sampler="regular", n=10**12)

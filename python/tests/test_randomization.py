@@ -28,9 +28,15 @@ def test_predictions_are_for_the_estimator_asked_or_refused():
     # Toroidal dart throwing treats every position alike: unshifted is shifted.
     p = specvar.predict("disk", sampler="poisson", n=64, randomization="none", realizations=8)
     assert p.randomization == "none"
-    # Jitter's strata are not: the routes refuse, naming the Monte Carlo that measures it.
+    # Jitter's strata are not: the cell form predicts them as drawn, the default.
+    p = specvar.predict("disk", sampler="jitter", n=64)
+    assert (p.randomization, p.route.form) == ("none", "cells")
+    m = specvar.monte_carlo("disk", sampler="jitter", n=64, trials=8000, seed=4)
+    assert m.randomization == "none"
+    assert m.ci_low <= p.variance <= m.ci_high, (p, m)
+    # Gaussian jitter's offsets are not uniform in cells: refused, naming the Monte Carlo.
     with pytest.raises(ValueError, match="mc --randomization none"):
-        specvar.predict("disk", sampler="jitter", n=64, randomization="none")
+        specvar.predict("disk", sampler="gjitter", n=64, randomization="none")
     # A fixed rule used as drawn has a bias, not a variance.
     with pytest.raises(ValueError, match="bias"):
         specvar.predict("disk", sampler="korobov", n=89, randomization="none")

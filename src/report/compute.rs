@@ -54,14 +54,22 @@ pub fn compute(config: &ReportConfig, progress: &dyn Progress) -> Result<Report>
             let study_seconds = start.elapsed().as_secs_f64();
             let edges = edges(&config.edges, config.seed, &Silent)?;
             let edges_seconds = start.elapsed().as_secs_f64();
+            let estimators = super::estimators::compute(&config.estimators, config.seed)?;
+            let estimators_seconds = start.elapsed().as_secs_f64();
             let run = run_comparison(&config.ambient, &Silent)?;
-            let seconds = [study_seconds, edges_seconds, start.elapsed().as_secs_f64()];
-            Ok((study, edges, run, seconds))
+            let seconds = [
+                study_seconds,
+                edges_seconds,
+                estimators_seconds,
+                start.elapsed().as_secs_f64(),
+            ];
+            Ok((study, edges, estimators, run, seconds))
         },
     );
     let (closure, closure_seconds) = closure;
     let closure = closure?;
-    let (study, edges, run, [study_seconds, edges_seconds, ambient_seconds]) = others?;
+    let (study, edges, estimators, run, seconds) = others?;
+    let [study_seconds, edges_seconds, estimators_seconds, ambient_seconds] = seconds;
     let extras = extras(&study)?;
     let timings = vec![
         Timing {
@@ -80,9 +88,15 @@ pub fn compute(config: &ReportConfig, progress: &dyn Progress) -> Result<Report>
             seconds: edges_seconds - study_seconds,
         },
         Timing {
-            stage: "ambient-occlusion renders (after the edges, alongside the closure table)"
+            stage: "the estimator as used: shifted and unshifted strata and nets (after the \
+                    edges, alongside the closure table)"
                 .into(),
-            seconds: ambient_seconds - edges_seconds,
+            seconds: estimators_seconds - edges_seconds,
+        },
+        Timing {
+            stage: "ambient-occlusion renders (after the estimators, alongside the closure table)"
+                .into(),
+            seconds: ambient_seconds - estimators_seconds,
         },
     ];
     let crossovers = crossovers(&study);
@@ -112,6 +126,7 @@ pub fn compute(config: &ReportConfig, progress: &dyn Progress) -> Result<Report>
     let mut checks = study_checks(&study);
     checks.extend(closure_checks(&closure));
     checks.extend(edge_checks(&edges));
+    checks.extend(estimator_checks(&estimators));
     checks.extend(ambient_checks(&ambient));
     Ok(Report {
         config: config.clone(),
@@ -122,6 +137,7 @@ pub fn compute(config: &ReportConfig, progress: &dyn Progress) -> Result<Report>
         ccvt_low_band,
         illustration,
         edges,
+        estimators,
         ambient,
         checks,
         timings,
@@ -459,6 +475,25 @@ fn closure_checks(table: &ClosureTable) -> Vec<Check> {
             detail: format!("largest |z| = {:.2}", table.max_abs_z),
         },
     ]
+}
+
+/// The section's checks: its predictions agree with their Monte Carlo at 99%, as many as the
+/// nominal rate allows.
+fn estimator_checks(section: &super::EstimatorsSection) -> Vec<Check> {
+    let rows = section.rows.len();
+    let misses = section.rows.iter().filter(|r| r.z.abs() > Z_99).count();
+    let p = binomial_tail(rows, misses, 0.01);
+    let worst = section.rows.iter().map(|r| r.z.abs()).fold(0.0, f64::max);
+    vec![Check {
+        what: "the estimator as used: shifted and unshifted predictions against Monte Carlo of \
+               the same estimator"
+            .into(),
+        pass: p >= 0.01 && worst <= 4.0,
+        detail: format!(
+            "{misses} misses of {rows} at 99% (P(this many or more) = {p:.3}); largest |z| = \
+             {worst:.2}"
+        ),
+    }]
 }
 
 /// A prediction against its Monte Carlo run: they agree when their difference is within the

@@ -9,11 +9,13 @@
 //! prediction against its measurement.
 
 pub mod compute;
+pub mod estimators;
 pub mod model;
 #[cfg(feature = "plot")]
 mod write;
 
 pub use compute::compute;
+pub use estimators::{EstimatorRow, EstimatorsConfig, EstimatorsSection};
 pub use model::{
     AmbientSection, Check, ClosureConfig, ClosureRow, ClosureTable, Crossover, EdgesConfig,
     EdgesSection, Illustration, PolarComparison, Report, ReportConfig, SeriesExtras, Timing,

@@ -127,6 +127,8 @@ pub struct ReportConfig {
     pub closure: ClosureConfig,
     /// Edges at any angle.
     pub edges: EdgesConfig,
+    /// The estimator as used: shifted and unshifted strata and nets on a seam.
+    pub estimators: super::EstimatorsConfig,
     /// The ambient-occlusion renders.
     #[serde(skip)]
     pub ambient: ComparisonConfig,
@@ -166,6 +168,7 @@ impl ReportConfig {
         self.study.predict.budget = budget;
         self.closure.predict.budget = budget;
         self.edges.predict.budget = budget;
+        self.estimators.predict.budget = budget;
     }
 
     /// The full run with `seed`: N = 16 … 4096, spectra at 4096.
@@ -192,6 +195,7 @@ impl ReportConfig {
             },
             closure: ClosureConfig::full(),
             edges: EdgesConfig::standard(),
+            estimators: super::EstimatorsConfig::standard(),
             ambient: ComparisonConfig {
                 render: RenderParams {
                     seed,
@@ -231,6 +235,12 @@ impl ReportConfig {
                 trials: 4000,
                 predict: quick_predictions,
                 ..ClosureConfig::full()
+            },
+            estimators: super::EstimatorsConfig {
+                ns: vec![64, 256],
+                trials: 2000,
+                predict: quick_predictions,
+                ..super::EstimatorsConfig::standard()
             },
             edges: EdgesConfig {
                 samplers: vec![SamplerKind::Jitter, SamplerKind::LatinHypercube],
@@ -403,6 +413,8 @@ pub struct Report {
     pub illustration: Illustration,
     /// Edges at any angle.
     pub edges: EdgesSection,
+    /// The estimator as used: shifted and unshifted strata and nets on a seam.
+    pub estimators: super::EstimatorsSection,
     /// The rendering experiment.
     pub ambient: AmbientSection,
     /// Every cross-check.
