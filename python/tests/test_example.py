@@ -12,4 +12,4 @@ def test_the_example_writes_its_plot(tmp_path):
     assert done.returncode == 0, done.stderr
     png = tmp_path / "compare_samplers.png"
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 20_000
-    assert "scipy Sobol' N=256: predicted" in done.stdout
+    assert "scipy Sobol' N=256, shifted: predicted" in done.stdout
