@@ -39,6 +39,9 @@ const EXACT_CELL_BUDGET: usize = 1 << 24;
 const INITIAL_PATTERNS: usize = 64;
 /// Patterns an estimated occupancy never exceeds.
 const MAX_PATTERNS: usize = 1 << 16;
+/// Cells per parallel task of a table: sums over chunks in a fixed order give the same bits
+/// on any number of threads.
+const TABLE_CHUNK: usize = 4096;
 /// The most cells the estimate tabulates (8 bytes each): `2^24`.
 const TABLE_CELLS: usize = 1 << 24;
 /// Relative rounding of one cell's moments and of the terms built from them (a few operations
@@ -268,25 +271,30 @@ pub fn latin_hypercube_variance(f: &dyn Integrand, n: usize, budget: &Budget) ->
     check_cells("the Latin hypercube's pair sum", cells, budget)?;
     let grid = vec![n; d];
     let integral = f.integral();
-    let moments: Vec<(f64, f64)> = (0..cells)
-        .into_par_iter()
-        .map(|i| cell_mean_and_variance(f, &grid, i))
-        .collect();
+    let table = CellTable::new(f, &grid, n);
     let (nf, norm) = (n as f64, 1.0 / (n as f64 * n as f64));
     let occupied = nf.powi(1 - d as i32);
-    let mut within = CompensatedSum::default();
     let mut squares = CompensatedSum::default();
     let mut scale = 0.0;
-    for &(mean, var) in &moments {
-        within.add(var);
-        squares.add((mean - integral).powi(2));
-        scale += var + mean * mean;
+    for &g in &table.deviation {
+        squares.add(g * g);
+        scale += (g + integral).powi(2);
     }
+    // The within-cell sum, Σ_c V_c, from the table's (1/(N |C|)) Σ_c V_c.
+    let within = table.within * nf * cells as f64;
+    scale += within;
     // S = Σ_A (−1)^{|A|} Σ_{c_A} (Σ_{c: c_A fixed} G_c)², A the axes a pair shares.
     let mut pairs = CompensatedSum::default();
     for shared in 0..(1usize << d) {
-        let marginal = marginal_sums(&moments, n, d, shared, integral);
-        let sum: f64 = marginal.iter().map(|m| m * m).sum();
+        // Sharing every axis is the same cell: Σ G², without a copy of the grid.
+        let sum: f64 = if shared == (1 << d) - 1 {
+            squares.value()
+        } else {
+            marginal_sums(&table.deviation, n, d, shared)
+                .iter()
+                .map(|m| m * m)
+                .sum()
+        };
         let sign = if shared.count_ones() % 2 == 0 {
             1.0
         } else {
@@ -296,7 +304,7 @@ pub fn latin_hypercube_variance(f: &dyn Integrand, n: usize, budget: &Budget) ->
     }
     let pair_probability = nf * (nf - 1.0) * (nf * (nf - 1.0)).powi(-(d as i32));
     let variance = norm
-        * (occupied * within.value()
+        * (occupied * within
             + occupied * squares.value()
             + if n > 1 {
                 pair_probability * pairs.value()
@@ -309,23 +317,17 @@ pub fn latin_hypercube_variance(f: &dyn Integrand, n: usize, budget: &Budget) ->
     })
 }
 
-/// The sums of `G_c = F_c − I` over the cells that agree on the axes in `shared` (a bit set),
-/// one per value of those axes.
-fn marginal_sums(
-    moments: &[(f64, f64)],
-    n: usize,
-    d: usize,
-    shared: usize,
-    integral: f64,
-) -> Vec<f64> {
+/// The sums of `G_c = F_c − I` (`deviation`) over the cells that agree on the axes in
+/// `shared` (a bit set), one per value of those axes.
+fn marginal_sums(deviation: &[f64], n: usize, d: usize, shared: usize) -> Vec<f64> {
     let kept: Vec<usize> = (0..d).filter(|a| shared >> a & 1 == 1).collect();
     let mut out = vec![0.0; n.pow(kept.len() as u32)];
-    for (index, &(mean, _)) in moments.iter().enumerate() {
+    for (index, &g) in deviation.iter().enumerate() {
         let mut key = 0;
         for &a in kept.iter().rev() {
             key = key * n + (index / n.pow(a as u32)) % n;
         }
-        out[key] += mean - integral;
+        out[key] += g;
     }
     out
 }
@@ -352,15 +354,25 @@ impl CellTable {
     fn new(f: &dyn Integrand, grid: &[usize], n: usize) -> Self {
         let cells: usize = grid.iter().product();
         let integral = f.integral();
-        let moments: Vec<(f64, f64)> = (0..cells)
-            .into_par_iter()
-            .map(|i| cell_mean_and_variance(f, grid, i))
+        let mut deviation = vec![0.0; cells];
+        let within: Vec<f64> = deviation
+            .par_chunks_mut(TABLE_CHUNK)
+            .enumerate()
+            .map(|(c, chunk)| {
+                let mut within = CompensatedSum::default();
+                for (i, slot) in chunk.iter_mut().enumerate() {
+                    let (mean, var) = cell_mean_and_variance(f, grid, c * TABLE_CHUNK + i);
+                    *slot = mean - integral;
+                    within.add(var);
+                }
+                within.value()
+            })
             .collect();
-        let mut within = CompensatedSum::default();
-        moments.iter().for_each(|&(_, v)| within.add(v));
+        let mut total = CompensatedSum::default();
+        within.iter().for_each(|&w| total.add(w));
         Self {
-            deviation: moments.iter().map(|&(m, _)| m - integral).collect(),
-            within: within.value() / (n as f64 * cells as f64),
+            deviation,
+            within: total.value() / (n as f64 * cells as f64),
         }
     }
 }
