@@ -15,7 +15,11 @@ fn estimators(c: &mut Criterion) {
     let params = PredictParams::default();
     let mut g = c.benchmark_group("estimators");
     g.sample_size(10);
-    for kind in [SamplerKind::Jitter, SamplerKind::MultiJitter, SamplerKind::Sobol] {
+    for kind in [
+        SamplerKind::Jitter,
+        SamplerKind::MultiJitter,
+        SamplerKind::Sobol,
+    ] {
         let sampler = kind.build(2).unwrap();
         for n in [256, 1024] {
             for r in [Randomization::Shift, Randomization::None] {

@@ -63,6 +63,7 @@ PythonIntegrand = Callable[[np.ndarray], Any]
 # How each pattern is randomized before it integrates: the estimator. ``native`` is the
 # sampler's own (none for random samplers and your own points, shift for fixed rules).
 RandomizationName = Literal["native", "shift", "digital-shift", "none"]
+CellsName = Literal["strata", "rows", "dyadic", "whole"]
 SpectrumName = Literal["auto", "closed", "estimated"]
 FormName = Literal["auto", "lattice", "polar"]
 EngineName = Literal["auto", "direct", "fast"]
@@ -343,6 +344,7 @@ def predict(
     kmax: Optional[int] = None,
     seed: int = 0,
     randomization: RandomizationName = "native",
+    cells: Optional[CellsName] = None,
     cache: bool = True,
 ) -> Prediction:
     """Predict the variance of integrating ``integrand`` (``disk``, ``gaussian:sigma=0.1``,
@@ -355,7 +357,11 @@ def predict(
     form in space; fixed rules under a shift; given ``points`` as given, which no route
     predicts), ``shift`` (the randomly shifted, homogenized one of the spectral routes),
     ``none`` (as drawn) or ``digital-shift`` (for independent points); other pairs raise
-    ``ValueError`` saying how to measure them with :func:`monte_carlo`."""
+    ``ValueError`` saying how to measure them with :func:`monte_carlo`. With ``points``,
+    ``cells`` (``strata``, ``rows``, ``dyadic``, ``whole``) declares the cells in which their
+    sampler guarantees the points are uniform (a renderer's jittered strata, its multi-jittered
+    or orthogonal-array points, an Owen-scrambled base-2 net): the sets are then predicted as
+    given, by the cell form."""
     raw = _specvar.predict(
         _integrand(integrand),
         sampler,
@@ -369,6 +375,7 @@ def predict(
         kmax,
         seed,
         randomization,
+        cells,
         cache,
     )
     return Prediction._from(raw)

@@ -46,6 +46,8 @@ def predict(
     reference_n: Optional[int] = None,
     kmax: Optional[int] = None,
     seed: int = 0,
+    randomization: str = "native",
+    cells: Optional[str] = None,
     cache: bool = True,
 ) -> dict[str, Any]: ...
 def monte_carlo(
@@ -57,7 +59,7 @@ def monte_carlo(
     trials: int = 10000,
     shifts: Optional[int] = None,
     seed: int = 0,
-    homogenized: bool = True,
+    randomization: str = "native",
     integral: Optional[float] = None,
     cache: bool = True,
 ) -> dict[str, Any]: ...

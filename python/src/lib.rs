@@ -21,7 +21,7 @@ use specvar::montecarlo::{
 use specvar::pointset::PointSet;
 use specvar::predict::{predict as predict_variance, PredictParams, Problem};
 use specvar::randomization::{Randomization, RandomizationChoice};
-use specvar::sampler::{draw_realizations, native_randomization, Sampler, SamplerKind};
+use specvar::sampler::{draw_realizations, native_randomization, CellRule, Sampler, SamplerKind};
 use specvar::spectrum::{
     estimate_with_progress, Engine, EngineChoice, PatternSource, SpectrumParams,
 };
@@ -310,7 +310,7 @@ fn spectrum<'py>(
 /// integrand (a specification string or a 2D array of cell values): the library's route, its
 /// reason and its error budget.
 #[pyfunction]
-#[pyo3(signature = (integrand, sampler=None, points=None, n=None, dimension=2, spectrum="auto", form="auto", realizations=None, reference_n=None, kmax=None, seed=0, randomization="native", cache=true))]
+#[pyo3(signature = (integrand, sampler=None, points=None, n=None, dimension=2, spectrum="auto", form="auto", realizations=None, reference_n=None, kmax=None, seed=0, randomization="native", cells=None, cache=true))]
 #[allow(clippy::too_many_arguments)]
 fn predict<'py>(
     py: Python<'py>,
@@ -326,10 +326,12 @@ fn predict<'py>(
     kmax: Option<usize>,
     seed: u64,
     randomization: &str,
+    cells: Option<&str>,
     cache: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     let source = Source::from_args(sampler, points, n, dimension, cache)?;
     let randomization = source.randomization(randomization)?;
+    let cells: Option<CellRule> = cells.map(str::parse).transpose().or_value_error()?;
     let f = required_integrand(&integrand, source.dimension())?;
     let params = PredictParams {
         spectrum: spectrum.parse().or_value_error()?,
@@ -346,6 +348,11 @@ fn predict<'py>(
             let problem = match &source {
                 Source::Sampler(_, s, n) => Problem::new(s.as_ref(), f.as_ref(), *n)?,
                 Source::Sets(sets) => Problem::from_point_sets(sets, f.as_ref())?,
+            };
+            // A sampler's problem refuses declared cells: its own come from its facts.
+            let problem = match cells {
+                Some(rule) => problem.with_cells(rule)?,
+                None => problem,
             };
             predict_variance(&problem.with_randomization(randomization), &params)
         })

@@ -55,3 +55,19 @@ def test_results_ignore_fields_they_do_not_know():
     fit = specvar._build(specvar.SlopeFit, raw)
     assert fit.slope == 1.0 and not hasattr(fit, "new")
     assert np.isfinite(fit.stderr)
+
+
+def test_given_sets_with_declared_cells_are_predicted_as_given():
+    # A renderer's jittered strata, read as point sets: as given, with the strata declared,
+    # they are jitter's unshifted estimator exactly.
+    sets = specvar.sample("jitter", 64, realizations=50, seed=3)
+    p = specvar.predict("edge:theta=30,offset=0.4", points=sets, cells="strata")
+    q = specvar.predict("edge:theta=30,offset=0.4", sampler="jitter", n=64)
+    assert (p.randomization, p.route.form) == ("none", "cells")
+    assert p.variance == q.variance
+    # Without cells the sets have no route as given; a wrong declaration is refused.
+    with pytest.raises(ValueError, match="--cells"):
+        specvar.predict("disk", points=sets)
+    random_sets = specvar.sample("random", 64, realizations=4, seed=3)
+    with pytest.raises(ValueError, match="stratum"):
+        specvar.predict("disk", points=random_sets, cells="strata")

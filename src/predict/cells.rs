@@ -22,6 +22,7 @@ use super::{ErrorBudget, Form, FormChoice, Prediction, Route, SpectrumChoice, Sp
 use crate::budget::{Budget, Needs, COEFFICIENT_SECONDS};
 use crate::error::{Error, Result};
 use crate::integrand::Integrand;
+use crate::pointset::PointSet;
 use crate::progress::{stage, Progress};
 use crate::quadrature::CompensatedSum;
 use crate::randomization::Randomization;
@@ -381,14 +382,12 @@ impl CellTable {
 /// table, `(M − I)²` (the within-cell term is added once, exactly); without, also the pattern's
 /// own within-cell term `(1/N²) Σ_j V_{c_j}`.
 fn pattern_term(
-    problem: (&dyn Integrand, &dyn Sampler),
+    f: &dyn Integrand,
+    pattern: &PointSet,
     grid: &[usize],
     table: Option<&CellTable>,
-    (n, seed): (usize, u64),
-    index: usize,
-) -> Result<f64> {
-    let (f, sampler) = problem;
-    let pattern = sampler.sample(n, seed, index as u64)?;
+) -> f64 {
+    let n = pattern.len();
     let nf = n as f64;
     let mut deviation = CompensatedSum::default();
     let mut within = CompensatedSum::default();
@@ -406,15 +405,62 @@ fn pattern_term(
         }
     }
     let m = deviation.value() / nf;
-    Ok(within.value() / (nf * nf) + m * m)
+    within.value() / (nf * nf) + m * m
 }
 
-/// The unshifted variance of `sampler`'s estimator, estimated from the occupancy of its
-/// patterns on `grid` (cells in which its points are independent and uniform once their
-/// cells are known): the mean over patterns of `(1/N²) Σ_j V_{c_j} + (M − I)²`, unbiased, each
-/// term exact given the pattern's cells. Patterns `0, 1, …` of `seed`: `patterns.0` first, then
-/// as many as the first ones' spread says the relative standard error `target_noise` needs, up
-/// to `patterns.1`.
+/// Where the patterns of an occupancy estimate come from.
+#[derive(Clone, Copy)]
+pub enum CellPatterns<'a> {
+    /// Realizations `0, 1, …` of `seed`, as drawn.
+    Sampler {
+        /// The sampler.
+        sampler: &'a dyn Sampler,
+        /// The seed.
+        seed: u64,
+    },
+    /// Given point sets, each one pattern, as given.
+    Sets(&'a [PointSet]),
+}
+
+impl CellPatterns<'_> {
+    fn dimension(&self) -> usize {
+        match self {
+            CellPatterns::Sampler { sampler, .. } => sampler.dimension(),
+            CellPatterns::Sets(sets) => sets.first().map_or(0, |s| s.dimension()),
+        }
+    }
+
+    /// The contribution of pattern `index`.
+    fn term(
+        &self,
+        f: &dyn Integrand,
+        (n, index): (usize, usize),
+        grid: &[usize],
+        table: Option<&CellTable>,
+    ) -> Result<f64> {
+        Ok(match self {
+            CellPatterns::Sampler { sampler, seed } => {
+                pattern_term(f, &sampler.sample(n, *seed, index as u64)?, grid, table)
+            }
+            CellPatterns::Sets(sets) => pattern_term(f, &sets[index], grid, table),
+        })
+    }
+
+    /// How many patterns there are at most (`None`: as many as asked).
+    fn available(&self) -> Option<usize> {
+        match self {
+            CellPatterns::Sampler { .. } => None,
+            CellPatterns::Sets(sets) => Some(sets.len()),
+        }
+    }
+}
+
+/// The unshifted variance of the estimator of `patterns`, estimated from their occupancy of
+/// `grid` (cells in which their points are independent and uniform once their cells are
+/// known): the mean over patterns of `(1/N²) Σ_j V_{c_j} + (M − I)²`, unbiased, each term exact
+/// given the pattern's cells. A sampler's realizations `0, 1, …`: `counts.0` first, then as
+/// many as the first ones' spread says the relative standard error `target_noise` needs, up to
+/// `counts.1`; given sets: all of them.
 ///
 /// # Errors
 /// An integrand without box moments, a sampler error, or a grid of another dimension.
@@ -422,29 +468,33 @@ fn pattern_term(
 /// # Examples
 /// ```
 /// use specvar::integrand::Gaussian;
-/// use specvar::predict::{fixed_strata_variance, occupancy_variance};
+/// use specvar::predict::{fixed_strata_variance, occupancy_variance, CellPatterns};
 /// use specvar::progress::Silent;
 /// use specvar::sampler::Jitter;
 /// // Jitter's strata, its occupancy fixed: every pattern gives the exact value.
 /// let bump = Gaussian::new(0.15, vec![0.4, 0.6], 1.0)?;
-/// let e = occupancy_variance(&bump, &Jitter::new(2)?, &[8, 8], 64, 1, (4, 4), 0.01, &Silent)?;
+/// let jitter = Jitter::new(2)?;
+/// let patterns = CellPatterns::Sampler { sampler: &jitter, seed: 1 };
+/// let e = occupancy_variance(&bump, patterns, &[8, 8], 64, (4, 4), 0.01, &Silent)?;
 /// let exact = fixed_strata_variance(&bump, &[8, 8], 64, &Default::default())?;
 /// assert!((e.variance - exact.variance).abs() < 1e-9 * exact.variance);
 /// # Ok::<(), specvar::Error>(())
 /// ```
-#[allow(clippy::too_many_arguments)]
 pub fn occupancy_variance(
     f: &dyn Integrand,
-    sampler: &dyn Sampler,
+    patterns: CellPatterns<'_>,
     grid: &[usize],
     n: usize,
-    seed: u64,
-    (initial, max_patterns): (usize, usize),
+    counts: (usize, usize),
     target_noise: f64,
     progress: &dyn Progress,
 ) -> Result<OccupancyEstimate> {
     check_box_moments(f)?;
-    if grid.len() != f.dimension() || sampler.dimension() != f.dimension() {
+    let (initial, max_patterns) = match patterns.available() {
+        Some(sets) => (sets, sets),
+        None => counts,
+    };
+    if grid.len() != f.dimension() || patterns.dimension() != f.dimension() {
         return Err(Error::Mismatch(format!(
             "cells of dimension {} for an integrand of dimension {}",
             grid.len(),
@@ -468,7 +518,7 @@ pub fn occupancy_variance(
                 (start..want)
                     .into_par_iter()
                     .map(|i| {
-                        let t = pattern_term((f, sampler), grid, table.as_ref(), (n, seed), i);
+                        let t = patterns.term(f, (n, i), grid, table.as_ref());
                         progress.advance(1);
                         t
                     })
@@ -481,7 +531,9 @@ pub fn occupancy_variance(
             estimate.variance += t.within;
         }
         let relative = estimate.standard_error / estimate.variance;
-        if !(relative > target_noise) || terms.len() >= max_patterns {
+        // A zero variance (relative NaN) needs no more patterns.
+        let quiet = relative.is_nan() || relative <= target_noise;
+        if quiet || terms.len() >= max_patterns {
             return Ok(estimate);
         }
         // The standard error falls like 1/√R: ask for what the spread so far says is needed,
@@ -506,140 +558,165 @@ fn summarize(terms: &[f64]) -> OccupancyEstimate {
     }
 }
 
-/// The unshifted estimator's prediction for `sampler` (of `kind`, whose cells follow `rule`):
-/// exact for fixed strata and Latin hypercube (within the cell budget), estimated from the
-/// occupancy of patterns otherwise.
+/// Whose patterns a cell-form prediction is for: a sampler of this crate (its cells from its
+/// facts) or given point sets with the cells their producer declares.
+#[derive(Clone, Copy)]
+pub(crate) enum CellSource<'a> {
+    /// A sampler of this crate.
+    Sampler(&'a dyn Sampler, SamplerKind),
+    /// Given point sets whose points are, by declaration, uniform in the cells of `rule`.
+    Sets(&'a [PointSet], CellRule),
+}
+
+impl CellSource<'_> {
+    fn rule(&self) -> CellRule {
+        match self {
+            CellSource::Sampler(_, kind) => kind.facts().cells,
+            CellSource::Sets(_, rule) => *rule,
+        }
+    }
+
+    fn name(&self) -> String {
+        match self {
+            CellSource::Sampler(_, kind) => kind.to_string(),
+            CellSource::Sets(sets, rule) => {
+                format!("{} given point sets (declared cells: {rule})", sets.len())
+            }
+        }
+    }
+}
+
+/// Errors unless every set has the occupancy `rule` implies on `grid`: one point per stratum
+/// (strata), one per row of every axis (rows), at most one per row of every axis (dyadic).
+pub(crate) fn check_sets_occupy(sets: &[PointSet], rule: CellRule, grid: &[usize]) -> Result<()> {
+    for (i, set) in sets.iter().enumerate() {
+        let bad = |what: String| {
+            Err(crate::error::invalid(
+                "cells",
+                rule,
+                format!("point sets whose points occupy the cells as declared; set {i} has {what}"),
+            ))
+        };
+        match rule {
+            CellRule::None | CellRule::Whole => {}
+            CellRule::Strata => {
+                let mut count = vec![0usize; grid.iter().product()];
+                for x in set.points() {
+                    count[cell_of(x, grid)] += 1;
+                }
+                if let Some(c) = count.iter().position(|&k| k != 1) {
+                    return bad(format!("{} points in stratum {c}", count[c]));
+                }
+            }
+            CellRule::Rows | CellRule::Dyadic => {
+                for (axis, &m) in grid.iter().enumerate() {
+                    let mut count = vec![0usize; m];
+                    for x in set.points() {
+                        count[((x[axis] * m as f64) as usize).min(m - 1)] += 1;
+                    }
+                    let limit_exact = rule == CellRule::Rows;
+                    if let Some(r) = count.iter().position(|&k| k > 1 || (limit_exact && k == 0)) {
+                        return bad(format!("{} points in row {r} of axis {axis}", count[r]));
+                    }
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The unshifted estimator's prediction for `source`: exact for fixed strata and a sampler's
+/// Latin hypercube (within the cell budget), estimated from the occupancy of patterns
+/// otherwise (a sampler's realizations, or every given set).
 pub(crate) fn predict_cells(
     f: &dyn Integrand,
-    sampler: &dyn Sampler,
-    kind: SamplerKind,
+    source: CellSource<'_>,
     n: usize,
     params: &super::PredictParams,
     progress: &dyn Progress,
 ) -> Result<Prediction> {
     let d = f.dimension();
-    let rule = kind.facts().cells;
+    let (rule, name) = (source.rule(), source.name());
     let grid = rule.grid(n, d).ok_or_else(|| Error::OutsideValidity {
         route: "the cell form of the unshifted estimator".into(),
-        reason: format!("{kind} has no grid of cells at N = {n} in {d}D"),
+        reason: format!("{name} has no grid of cells at N = {n} in {d}D"),
     })?;
     check_box_moments(f)?;
-    let cells: usize = grid.iter().product();
-    let origin = |occupancy| CellOrigin {
-        cells_per_axis: grid.iter().copied().max().unwrap_or(1),
-        cells,
-        occupancy,
-    };
-    let exact_latin = kind == SamplerKind::LatinHypercube
+    if let CellSource::Sets(sets, _) = source {
+        check_sets_occupy(sets, rule, &grid)?;
+    }
+    let latin = matches!(source, CellSource::Sampler(_, SamplerKind::LatinHypercube))
         && n.checked_pow(d as u32)
             .is_some_and(|c| c <= EXACT_CELL_BUDGET);
-    let estimated = params.spectrum == SpectrumChoice::Estimated;
-    let exact = !estimated && (rule.is_fixed() || exact_latin);
-    if params.form == FormChoice::Polar || (params.spectrum == SpectrumChoice::Closed && !exact) {
-        return Err(Error::OutsideValidity {
-            route: if params.form == FormChoice::Polar {
-                "the polar form".into()
-            } else {
-                "a closed form".into()
-            },
-            reason: format!(
-                "{kind} used as drawn (unshifted) is predicted by the cell form{}; the polar                  form and the closed spectra are for the shifted estimator (--randomization                  shift)",
-                if exact { ", exactly" } else { ", its occupancy estimated from patterns" }
+    let exact = params.spectrum != SpectrumChoice::Estimated && (rule.is_fixed() || latin);
+    check_choices(params, &name, exact)?;
+    let cells: usize = grid.iter().product();
+    let strata = grid
+        .iter()
+        .map(|m| m.to_string())
+        .collect::<Vec<_>>()
+        .join(" × ");
+    let (variance, budget, occupancy, evaluations, reason) = if exact && rule.is_fixed() {
+        let s = fixed_strata_variance(f, &grid, n, &params.budget)?;
+        let why = match rule {
+            CellRule::Whole => format!(
+                "{name}: independent uniform points, (∫f² − I²)/N from the integrand's own moments"
             ),
-        });
-    }
-    let (variance, budget, occupancy, evaluations, reason) =
-        if exact && rule.is_fixed() {
-            let s = fixed_strata_variance(f, &grid, n, &params.budget)?;
-            let why =
-                match rule {
-                    CellRule::Whole => {
-                        "independent uniform points: (∫f² − I²)/N, from the integrand's own \
-                                moments"
-                            .to_string()
-                    }
-                    _ => format!(
-                "one uniform point in each of the {} strata, unshifted: the per-stratum form \
-                 (1/N²) Σ_c Var_c f, exact (each stratum's moments in closed form, jumps at the \
-                 faces included)",
-                grid.iter().map(|m| m.to_string()).collect::<Vec<_>>().join(" × ")
+            _ => format!(
+                "{name}: one uniform point in each of the {strata} strata, unshifted; the \
+                 per-stratum form (1/N²) Σ_c Var_c f, exact (each stratum's moments in closed \
+                 form, jumps at the faces included)"
             ),
-                };
-            (
-                s.variance,
-                rounding(s.rounding),
-                Occupancy::Fixed,
-                cells,
-                why,
-            )
-        } else if exact {
-            let s = latin_hypercube_variance(f, n, &params.budget)?;
-            let why = format!(
-                "Latin hypercube, unshifted: the cell form over the {n}^{d} cells, its pairs of \
-             occupied cells in closed form (exact)"
-            );
-            (
-                s.variance,
-                rounding(s.rounding),
-                Occupancy::Permutations,
-                cells,
-                why,
-            )
-        } else {
-            let per_pattern = n as f64 * (kind.cost_per_point_ns() * 1e-9 + CELL_SECONDS);
-            let affordable = (params.work_budget_seconds / per_pattern) as usize;
-            let initial = params.realizations.unwrap_or(INITIAL_PATTERNS);
-            let max = params
-                .realizations
-                .unwrap_or_else(|| affordable.clamp(INITIAL_PATTERNS, MAX_PATTERNS));
-            params.budget.check(
-                "the occupancy estimate",
-                Needs {
-                    memory_bytes: 8.0 * (max + cells.min(TABLE_CELLS)) as f64 + 16.0 * n as f64,
-                    work_seconds: initial as f64 * per_pattern
-                        + cells.min(TABLE_CELLS) as f64 * CELL_SECONDS,
-                },
-                "lower N or the realizations",
-            )?;
-            let e = occupancy_variance(
-                f,
-                sampler,
-                &grid,
-                n,
-                params.seed,
-                (initial, max),
-                params.target_noise,
-                progress,
-            )?;
-            let why =
-                format!(
-            "{kind} unshifted: its points are independent and uniform in the cells of the {} \
-             grid once their cells are known, so the variance is the cells' inner variance plus \
-             the variance of the occupied cells' mean, estimated from {} patterns with each \
-             pattern's terms exact (no Fourier series: jumps at the faces cost nothing extra)",
-            grid.iter().map(|m| m.to_string()).collect::<Vec<_>>().join(" × "),
+        };
+        (
+            s.variance,
+            rounding(s.rounding),
+            Occupancy::Fixed,
+            cells,
+            why,
+        )
+    } else if exact {
+        let s = latin_hypercube_variance(f, n, &params.budget)?;
+        let why = format!(
+            "{name}, unshifted: the cell form over the {n}^{d} cells, its pairs of occupied \
+             cells in closed form (exact)"
+        );
+        (
+            s.variance,
+            rounding(s.rounding),
+            Occupancy::Permutations,
+            cells,
+            why,
+        )
+    } else {
+        let e = estimate_occupancy(f, source, &grid, n, params, progress)?;
+        let why = format!(
+            "{name}, unshifted: the points are independent and uniform in the cells of the \
+             {strata} grid once their cells are known, so the variance is the cells' inner \
+             variance plus the variance of the occupied cells' mean, estimated from {} patterns \
+             with each pattern's terms exact (no Fourier series: jumps at the faces cost nothing \
+             extra)",
             e.patterns
         );
-            let budget = ErrorBudget {
-                spectrum_noise: e.standard_error,
-                ..Default::default()
-            };
-            (
-                e.variance,
-                budget,
-                Occupancy::Estimated {
-                    patterns: e.patterns,
-                },
-                e.patterns * n,
-                why,
-            )
+        let budget = ErrorBudget {
+            spectrum_noise: e.standard_error,
+            ..Default::default()
         };
+        let occupancy = Occupancy::Estimated {
+            patterns: e.patterns,
+        };
+        (e.variance, budget, occupancy, e.patterns * n, why)
+    };
     Ok(Prediction {
         variance,
         randomization: Randomization::None,
         route: Route {
             form: Form::Cells,
-            spectrum: SpectrumOrigin::Cells(origin(occupancy)),
+            spectrum: SpectrumOrigin::Cells(CellOrigin {
+                cells_per_axis: grid.iter().copied().max().unwrap_or(1),
+                cells,
+                occupancy,
+            }),
         },
         reason,
         budget,
@@ -649,6 +726,96 @@ pub(crate) fn predict_cells(
         evaluations: evaluations as u64,
         alternatives: Vec::new(),
     })
+}
+
+/// Errors for the choices that belong to the shifted estimator's routes: the polar form, a
+/// closed spectrum where the cell form is estimated, a lattice extent.
+fn check_choices(params: &super::PredictParams, name: &str, exact: bool) -> Result<()> {
+    if let Some(kmax) = params.kmax {
+        return Err(crate::error::invalid(
+            "kmax",
+            kmax,
+            "no lattice extent for the cell form of the unshifted estimator, which sums over \
+             cells in space (the lattice forms are the shifted estimator's: --randomization \
+             shift)",
+        ));
+    }
+    if params.form == FormChoice::Polar || (params.spectrum == SpectrumChoice::Closed && !exact) {
+        let route = if params.form == FormChoice::Polar {
+            "the polar form"
+        } else {
+            "a closed form"
+        };
+        let how = if exact {
+            ", exactly"
+        } else {
+            ", its occupancy estimated from patterns"
+        };
+        return Err(Error::OutsideValidity {
+            route: route.into(),
+            reason: format!(
+                "{name} used as drawn (unshifted) is predicted by the cell form{how}; the polar \
+                 form and the closed spectra are for the shifted estimator (--randomization \
+                 shift)"
+            ),
+        });
+    }
+    Ok(())
+}
+
+/// The occupancy estimate of `source` within the work budget.
+fn estimate_occupancy(
+    f: &dyn Integrand,
+    source: CellSource<'_>,
+    grid: &[usize],
+    n: usize,
+    params: &super::PredictParams,
+    progress: &dyn Progress,
+) -> Result<OccupancyEstimate> {
+    let cells: usize = grid.iter().product();
+    let (patterns, cost_ns) = match source {
+        CellSource::Sampler(sampler, kind) => (
+            CellPatterns::Sampler {
+                sampler,
+                seed: params.seed,
+            },
+            kind.cost_per_point_ns(),
+        ),
+        CellSource::Sets(sets, _) => {
+            if sets.len() < 2 {
+                return Err(crate::error::invalid(
+                    "point sets",
+                    sets.len(),
+                    "at least 2 sets, whose spread gives the estimate's noise",
+                ));
+            }
+            (CellPatterns::Sets(sets), 0.0)
+        }
+    };
+    let per_pattern = n as f64 * (cost_ns * 1e-9 + CELL_SECONDS);
+    let affordable = (params.work_budget_seconds / per_pattern) as usize;
+    let initial = params.realizations.unwrap_or(INITIAL_PATTERNS);
+    let max = params
+        .realizations
+        .unwrap_or_else(|| affordable.clamp(INITIAL_PATTERNS, MAX_PATTERNS));
+    params.budget.check(
+        "the occupancy estimate",
+        Needs {
+            memory_bytes: 8.0 * (max + cells.min(TABLE_CELLS)) as f64 + 16.0 * n as f64,
+            work_seconds: initial as f64 * per_pattern
+                + cells.min(TABLE_CELLS) as f64 * CELL_SECONDS,
+        },
+        "lower N or the realizations",
+    )?;
+    occupancy_variance(
+        f,
+        patterns,
+        grid,
+        n,
+        (initial, max),
+        params.target_noise,
+        progress,
+    )
 }
 
 fn rounding(bound: f64) -> ErrorBudget {

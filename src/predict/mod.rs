@@ -32,8 +32,8 @@ mod space;
 
 pub use bias::{bias_of_pattern, regular_grid_bias, sampler_bias, BiasMethod, SpectralBias};
 pub use cells::{
-    fixed_strata_variance, latin_hypercube_variance, occupancy_variance, CellOrigin, CellSum,
-    Occupancy, OccupancyEstimate,
+    fixed_strata_variance, latin_hypercube_variance, occupancy_variance, CellOrigin, CellPatterns,
+    CellSum, Occupancy, OccupancyEstimate,
 };
 pub use lattice::{
     predict_from_power, predict_lattice, predict_on_patterns, LatticePower, PatternPlan,
@@ -50,7 +50,7 @@ use crate::integrand::Integrand;
 use crate::pointset::PointSet;
 use crate::progress::{Progress, Silent};
 use crate::randomization::Randomization;
-use crate::sampler::Sampler;
+use crate::sampler::{CellRule, Sampler};
 use crate::spectrum::{ClosedForm, SpectrumEstimate};
 use serde::Serialize;
 use std::fmt;
@@ -277,6 +277,10 @@ pub struct Problem<'a> {
     /// used in practice: strata and nets as drawn, fixed rules under a random shift), and the
     /// random toroidal shift for point sets and samplers of unknown law.
     pub randomization: Randomization,
+    /// For given point sets: the cells in which their producer guarantees the points are
+    /// independent and uniform once their cells are known ([`with_cells`](Self::with_cells));
+    /// `None` otherwise (a sampler's own come from its facts).
+    pub cells: Option<CellRule>,
 }
 
 impl<'a> Problem<'a> {
@@ -296,6 +300,7 @@ impl<'a> Problem<'a> {
             randomization: sampler
                 .kind()
                 .map_or(Randomization::Shift, |k| k.native_randomization()),
+            cells: None,
         })
     }
 
@@ -336,6 +341,7 @@ impl<'a> Problem<'a> {
             integrand,
             n: first.len(),
             randomization: Randomization::Shift,
+            cells: None,
         })
     }
 
@@ -367,6 +373,58 @@ impl<'a> Problem<'a> {
             randomization,
             ..self
         }
+    }
+
+    /// The same given point sets used as given, with the cells `rule` names: their producer
+    /// guarantees that, once each point's cell is known, the points are independent and uniform
+    /// in their cells (a renderer's jittered strata: `CellRule::Strata`; its multi-jittered or
+    /// orthogonal-array points: `CellRule::Rows`; an Owen-scrambled base-2 net:
+    /// `CellRule::Dyadic`). The cell form then predicts them as given, exactly for strata and
+    /// from the sets' own occupancy otherwise. The occupancy is checked here; the uniformity
+    /// inside the cells is the producer's word.
+    ///
+    /// # Errors
+    /// A sampler's problem (its cells are its own), a rule without cells, or a set whose points
+    /// do not occupy the cells as the rule says.
+    ///
+    /// # Examples
+    /// ```
+    /// use specvar::prelude::*;
+    /// use specvar::sampler::CellRule;
+    /// // A renderer's jittered 8 × 8 strata, 16 pixels' worth.
+    /// let sets: Vec<PointSet> = (0..16).map(|r| Jitter::new(2)?.sample(64, 9, r)).collect::<Result<_>>()?;
+    /// let f = Gaussian::new(0.2, vec![0.8, 0.3], 1.0)?;
+    /// let p = predict(&Problem::from_point_sets(&sets, &f)?.with_cells(CellRule::Strata)?, &Default::default())?;
+    /// let jitter = Jitter::new(2)?;
+    /// let q = predict(&Problem::new(&jitter, &f, 64)?, &Default::default())?;
+    /// assert_eq!((p.randomization, p.variance), (Randomization::None, q.variance));
+    /// # Ok::<(), specvar::Error>(())
+    /// ```
+    pub fn with_cells(self, rule: CellRule) -> Result<Self> {
+        let Patterns::PointSets(sets) = self.patterns else {
+            return Err(invalid(
+                "cells",
+                rule,
+                "given point sets only: a sampler's cells come from its facts",
+            ));
+        };
+        let grid = rule.grid(self.n, self.dimension()).ok_or_else(|| {
+            invalid(
+                "cells",
+                rule,
+                format!(
+                    "a rule with a grid of cells at N = {} in {}D",
+                    self.n,
+                    self.dimension()
+                ),
+            )
+        })?;
+        cells::check_sets_occupy(sets, rule, &grid)?;
+        Ok(Self {
+            cells: Some(rule),
+            randomization: Randomization::None,
+            ..self
+        })
     }
 
     /// The dimension.

@@ -1,6 +1,7 @@
 //! Which route [`super::predict`] takes, and why: every decision of substance about a prediction
 //! (closed form or estimate, form, reference N, lattice extent, realizations) is made here.
 
+use super::cells::CellSource;
 use super::lattice::{predict_on_patterns_many, white_noise, LatticePower, PatternPlan};
 use super::space::{kronecker_variance, rank1_lattice_variance, regular_grid_variance};
 use super::{
@@ -142,9 +143,11 @@ pub(crate) fn check_estimator(problem: &Problem<'_>) -> Result<()> {
         return Ok(());
     }
     let kind = problem.kind();
+    if uses_cells(problem) {
+        return Ok(());
+    }
     match kind {
         Some(k) if k.facts().randomness.has_shifted_variance(r) => Ok(()),
-        Some(_) if uses_cells(problem) => Ok(()),
         Some(k) if k.is_deterministic() && r == Randomization::None => {
             Err(Error::OutsideValidity {
                 route: "a spectral route".into(),
@@ -158,7 +161,8 @@ pub(crate) fn check_estimator(problem: &Problem<'_>) -> Result<()> {
             route: "a spectral route".into(),
             reason: format!(
                 "given point sets of unknown law used {} have no route: the cell form needs the \
-                 cells in which a sampler's points are uniform, and the shifted routes predict \
+                 cells in which their points are uniform (declare them with --cells strata, rows \
+                 or dyadic, if their sampler guarantees it), and the shifted routes predict \
                  another estimator; measure these sets with `specvar mc --input …`, or predict \
                  the shifted estimator with --randomization shift",
                 match r {
@@ -187,10 +191,13 @@ pub(crate) fn check_estimator(problem: &Problem<'_>) -> Result<()> {
 /// whose points are independent and uniform in known cells: the cell form predicts it.
 fn uses_cells(problem: &Problem<'_>) -> bool {
     problem.randomization == Randomization::None
-        && problem.kind().is_some_and(|k| {
-            let facts = k.facts();
-            facts.cells != CellRule::None && !facts.randomness.is_stationary()
-        })
+        && match problem.patterns {
+            Patterns::PointSets(_) => problem.cells.is_some(),
+            Patterns::Sampler(_) => problem.kind().is_some_and(|k| {
+                let facts = k.facts();
+                facts.cells != CellRule::None && !facts.randomness.is_stationary()
+            }),
+        }
 }
 
 pub(crate) fn predict_routed(
@@ -200,10 +207,13 @@ pub(crate) fn predict_routed(
 ) -> Result<Prediction> {
     let n = problem.n;
     let kind = problem.kind();
-    if let (true, Patterns::Sampler(sampler), Some(k)) =
-        (uses_cells(problem), problem.patterns, kind)
-    {
-        return super::cells::predict_cells(problem.integrand, sampler, k, n, params, progress);
+    if uses_cells(problem) {
+        let source = match (problem.patterns, kind, problem.cells) {
+            (Patterns::Sampler(sampler), Some(k), _) => CellSource::Sampler(sampler, k),
+            (Patterns::PointSets(sets), _, Some(rule)) => CellSource::Sets(sets, rule),
+            _ => return Err(Error::Mismatch("a cell form without cells".into())),
+        };
+        return super::cells::predict_cells(problem.integrand, source, n, params, progress);
     }
     let closed = match (params.spectrum, problem.patterns) {
         (SpectrumChoice::Estimated, _) | (_, Patterns::PointSets(_)) => None,

@@ -204,6 +204,24 @@ pub enum CellRule {
     Dyadic,
 }
 
+impl std::str::FromStr for CellRule {
+    type Err = crate::error::Error;
+    /// `whole`, `strata`, `rows` or `dyadic`.
+    fn from_str(s: &str) -> crate::error::Result<Self> {
+        match s.trim() {
+            "whole" => Ok(CellRule::Whole),
+            "strata" => Ok(CellRule::Strata),
+            "rows" => Ok(CellRule::Rows),
+            "dyadic" => Ok(CellRule::Dyadic),
+            other => Err(crate::error::invalid(
+                "cells",
+                other,
+                "whole, strata, rows or dyadic",
+            )),
+        }
+    }
+}
+
 impl CellRule {
     /// The cells on each axis for `n` points in dimension `d`, or `None` where the rule has no
     /// grid (or `n` has no strata).

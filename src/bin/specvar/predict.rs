@@ -4,6 +4,7 @@ use super::problem::{ProblemArgs, Source};
 use specvar::predict::{
     predict_with, Form, FormChoice, PredictParams, Prediction, Problem, SpectrumChoice,
 };
+use specvar::sampler::CellRule;
 use specvar::Result;
 
 /// Arguments of `specvar predict`.
@@ -32,6 +33,12 @@ pub struct Args {
     /// The lattice extent K (default: chosen from N and the integrand's tail).
     #[arg(long)]
     pub kmax: Option<usize>,
+    /// With --input: the cells in which the sets' points are independent and uniform once their
+    /// cells are known, as their sampler guarantees (strata: jittered strata; rows: N-rooks
+    /// such as multi-jitter and orthogonal arrays; dyadic: Owen-scrambled base-2 nets; whole:
+    /// independent points). The sets are then predicted as given, by the cell form.
+    #[arg(long, requires = "input")]
+    pub cells: Option<CellRule>,
     /// Seed.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
@@ -57,7 +64,10 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
     let (source, f, n) = args.problem.build(ctx)?;
     let problem = match &source {
         Source::Sampler(_, sampler) => Problem::new(sampler.as_ref(), f.as_ref(), n)?,
-        Source::Sets(_, sets) => Problem::from_point_sets(sets, f.as_ref())?,
+        Source::Sets(_, sets) => match args.cells {
+            Some(rule) => Problem::from_point_sets(sets, f.as_ref())?.with_cells(rule)?,
+            None => Problem::from_point_sets(sets, f.as_ref())?,
+        },
     }
     .with_randomization(source.randomization(args.problem.randomization));
     let p = predict_with(&problem, &params, &super::bars::Bars::default())?;
