@@ -586,9 +586,58 @@ impl CellSource<'_> {
     }
 }
 
+/// How close to a cell's face, in cell widths, a point may lie and still be counted in the cell
+/// across it: points stored in single precision round `(r + u)/m` with `u` near 1 up to the face
+/// `(r + 1)/m`, or near 0 down below `r/m` (Mitsuba's multi-jittered and orthogonal-array points
+/// do), 6e-8 of the unit away at most.
+const FACE_SLACK: f64 = 1e-5;
+
+/// The points' counts in the cells of `grid` (the coordinates `axes` of each point), a point
+/// on a cell's face moved across it where that fills an empty cell from a crowded one.
+fn settled_counts<'a>(
+    points: impl Iterator<Item = &'a [f64]>,
+    grid: &[usize],
+    axes: &[usize],
+) -> Vec<usize> {
+    let mut count = vec![0usize; grid.iter().product()];
+    let mut on_faces = Vec::new();
+    for x in points {
+        let mut index = 0;
+        let mut stride = 1;
+        let mut faces = Vec::new();
+        for (&a, &m) in axes.iter().zip(grid) {
+            let t = x[a] * m as f64;
+            let row = (t as usize).min(m - 1);
+            let frac = t - row as f64;
+            if row > 0 && frac < FACE_SLACK {
+                faces.push((stride, false));
+            }
+            if row + 1 < m && frac > 1.0 - FACE_SLACK {
+                faces.push((stride, true));
+            }
+            index += row * stride;
+            stride *= m;
+        }
+        count[index] += 1;
+        on_faces.extend(
+            faces
+                .into_iter()
+                .map(|(s, up)| (index, if up { index + s } else { index - s })),
+        );
+    }
+    for (from, to) in on_faces {
+        if count[from] > 1 && count[to] == 0 {
+            count[from] -= 1;
+            count[to] += 1;
+        }
+    }
+    count
+}
+
 /// Errors unless every set has the occupancy `rule` implies on `grid`: one point per stratum
 /// (strata), one per row of every axis (rows), at most one per row of every axis (dyadic).
 pub(crate) fn check_sets_occupy(sets: &[PointSet], rule: CellRule, grid: &[usize]) -> Result<()> {
+    let all: Vec<usize> = (0..grid.len()).collect();
     for (i, set) in sets.iter().enumerate() {
         let bad = |what: String| {
             Err(crate::error::invalid(
@@ -600,22 +649,16 @@ pub(crate) fn check_sets_occupy(sets: &[PointSet], rule: CellRule, grid: &[usize
         match rule {
             CellRule::None | CellRule::Whole => {}
             CellRule::Strata => {
-                let mut count = vec![0usize; grid.iter().product()];
-                for x in set.points() {
-                    count[cell_of(x, grid)] += 1;
-                }
+                let count = settled_counts(set.points(), grid, &all);
                 if let Some(c) = count.iter().position(|&k| k != 1) {
                     return bad(format!("{} points in stratum {c}", count[c]));
                 }
             }
             CellRule::Rows | CellRule::Dyadic => {
                 for (axis, &m) in grid.iter().enumerate() {
-                    let mut count = vec![0usize; m];
-                    for x in set.points() {
-                        count[((x[axis] * m as f64) as usize).min(m - 1)] += 1;
-                    }
-                    let limit_exact = rule == CellRule::Rows;
-                    if let Some(r) = count.iter().position(|&k| k > 1 || (limit_exact && k == 0)) {
+                    let count = settled_counts(set.points(), &[m], &[axis]);
+                    let exact = rule == CellRule::Rows;
+                    if let Some(r) = count.iter().position(|&k| k > 1 || (exact && k == 0)) {
                         return bad(format!("{} points in row {r} of axis {axis}", count[r]));
                     }
                 }
