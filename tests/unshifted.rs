@@ -400,3 +400,70 @@ fn the_shifted_variance_is_the_unshifted_one_averaged_over_offsets() {
         s.variance
     );
 }
+
+/// Given point sets as given, with the cells their sampler guarantees: jitter's sets with their
+/// strata are jitter's exact per-stratum form; multi-jitter's sets with their rows agree with
+/// Monte Carlo on the same sets; coordinates rounded to single precision (which puts some on
+/// cell faces) are still accepted; a set that breaks the declared occupancy is refused.
+#[test]
+fn given_sets_with_declared_cells_are_predicted_as_given() {
+    use specvar::sampler::CellRule;
+    let f = Polygon::edge(30.0, 0.4, 1.0).unwrap();
+    let draw = |kind: SamplerKind, n: usize, count: u64| -> Vec<specvar::PointSet> {
+        let s = kind.build(2).unwrap();
+        (0..count).map(|r| s.sample(n, 21, r).unwrap()).collect()
+    };
+    let jitter_sets = draw(SamplerKind::Jitter, 64, 8);
+    let as_given = Problem::from_point_sets(&jitter_sets, &f)
+        .unwrap()
+        .with_cells(CellRule::Strata)
+        .unwrap();
+    let p = predict(&as_given, &Default::default()).unwrap();
+    let exact = fixed_strata_variance(&f, &[8, 8], 64, &Default::default()).unwrap();
+    assert_eq!(
+        (p.randomization, p.variance),
+        (Randomization::None, exact.variance)
+    );
+
+    let mj_sets: Vec<specvar::PointSet> = draw(SamplerKind::MultiJitter, 256, 3000)
+        .into_iter()
+        .map(|s| {
+            // Stored in single precision, as renderers keep their samples.
+            let coords: Vec<f64> = s.coords().iter().map(|&x| x as f32 as f64).collect();
+            specvar::PointSet::new(2, coords).unwrap()
+        })
+        .collect();
+    let problem = Problem::from_point_sets(&mj_sets, &f)
+        .unwrap()
+        .with_cells(CellRule::Rows)
+        .unwrap();
+    let p = predict(&problem, &Default::default()).unwrap();
+    let mc = empirical_variance(
+        SamplerKind::MultiJitter.build(2).unwrap().as_ref(),
+        &f,
+        256,
+        &McParams::for_sampler(
+            SamplerKind::MultiJitter,
+            20_000,
+            None,
+            5,
+            Randomization::None,
+        ),
+    )
+    .unwrap();
+    assert!(p.z_beyond_bounds(&mc).abs() < Z_STRICT, "{p:?} vs {mc:?}");
+
+    let random_sets = draw(SamplerKind::Random, 64, 4);
+    let refused = Problem::from_point_sets(&random_sets, &f)
+        .unwrap()
+        .with_cells(CellRule::Strata)
+        .err()
+        .expect("random points do not fill the strata")
+        .to_string();
+    assert!(refused.contains("stratum"), "{refused}");
+    // Without cells, given sets as given have no route.
+    let plain = Problem::from_point_sets(&jitter_sets, &f)
+        .unwrap()
+        .with_randomization(Randomization::None);
+    assert!(predict(&plain, &Default::default()).is_err());
+}
