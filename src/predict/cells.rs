@@ -68,8 +68,8 @@ pub enum Occupancy {
 /// The cells of a prediction in space.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 pub struct CellOrigin {
-    /// Cells on each axis (the first axis's count; [`CellRule`] grids are square except
-    /// jitter's rectangular strata, for which this is the larger).
+    /// The most cells on one axis ([`CellRule`] grids are square, except jitter's rectangular
+    /// strata).
     pub cells_per_axis: usize,
     /// Cells in all.
     pub cells: usize,

@@ -149,7 +149,10 @@ pub struct Route {
 
 impl fmt::Display for Route {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}, spectrum {}", self.form, self.spectrum)
+        match self.spectrum {
+            SpectrumOrigin::Cells(cells) => write!(f, "{}, {cells}", self.form),
+            _ => write!(f, "{}, spectrum {}", self.form, self.spectrum),
+        }
     }
 }
 

@@ -314,12 +314,7 @@ fn closure(
     let mut rows = Vec::new();
     for &kind in &config.samplers {
         let sampler = crate::cache::cached_sampler(kind, 2, cache, PATTERN_MEMORY)?;
-        let mut ns: Vec<usize> = config
-            .ns
-            .iter()
-            .map(|&n| kind.nearest_count(n, 2))
-            .collect();
-        ns.dedup();
+        let ns = kind.nearest_counts(&config.ns, 2);
         // The counts run side by side (each is deterministic, and their rows are kept in
         // order): one count's sequential steps overlap another's parallel ones.
         progress.begin(&format!("closure: {kind}"), ns.len() as u64);

@@ -102,12 +102,7 @@ pub fn compute(config: &EstimatorsConfig, seed: u64) -> Result<EstimatorsSection
     let mut rows = Vec::new();
     for &kind in &config.samplers {
         let sampler = kind.build(2)?;
-        let mut ns: Vec<usize> = config
-            .ns
-            .iter()
-            .map(|&n| kind.nearest_count(n, 2))
-            .collect();
-        ns.dedup();
+        let ns = kind.nearest_counts(&config.ns, 2);
         for n in ns {
             for randomization in [Randomization::Shift, Randomization::None] {
                 let mut mc = McParams::pooled(kind, config.trials, seed ^ MC_STREAM, randomization);

@@ -179,6 +179,14 @@ impl SamplerKind {
         self.count_rule().nearest(n, d)
     }
 
+    /// The valid count nearest each of `ns` in dimension `d`, in order, without repeats next to
+    /// each other (two wanted counts may share their nearest valid one).
+    pub fn nearest_counts(self, ns: &[usize], d: usize) -> Vec<usize> {
+        let mut out: Vec<usize> = ns.iter().map(|&n| self.nearest_count(n, d)).collect();
+        out.dedup();
+        out
+    }
+
     /// Whether the pattern ignores the seed and the realization: one fixed point set, which
     /// Monte Carlo homogenizes (the regular grid, rank-1 lattices, the Kronecker sequence).
     pub fn is_deterministic(self) -> bool {
