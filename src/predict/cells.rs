@@ -35,7 +35,7 @@ use std::fmt;
 /// integrands' coefficient cost, which bounds them.
 const CELL_SECONDS: f64 = COEFFICIENT_SECONDS;
 /// The most cells an exact sum over all cells visits (Latin hypercube's pairs): `2^24`.
-const EXACT_CELL_BUDGET: usize = 1 << 24;
+pub(super) const EXACT_CELL_BUDGET: usize = 1 << 24;
 /// Patterns an estimated occupancy starts with.
 const INITIAL_PATTERNS: usize = 64;
 /// Patterns an estimated occupancy never exceeds.
@@ -47,7 +47,7 @@ const TABLE_CHUNK: usize = 4096;
 const TABLE_CELLS: usize = 1 << 24;
 /// Relative rounding of one cell's moments and of the terms built from them (a few operations
 /// of unit roundoff each, and the 3D ball's slices at 1e-14).
-const CELL_ROUNDING: f64 = 1e-13;
+pub(super) const CELL_ROUNDING: f64 = 1e-13;
 
 /// How the occupancy of the cells is known.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -152,7 +152,7 @@ pub(crate) fn check_box_moments(f: &dyn Integrand) -> Result<()> {
     }
 }
 
-fn check_cells(what: &str, cells: usize, budget: &Budget) -> Result<()> {
+pub(super) fn check_cells(what: &str, cells: usize, budget: &Budget) -> Result<()> {
     budget.check(
         what,
         Needs {
@@ -237,102 +237,6 @@ fn chunked_sum(count: usize, term: impl Fn(usize) -> (f64, f64) + Sync) -> (f64,
     (a.value(), b.value())
 }
 
-/// The variance of the Latin hypercube estimator of `n` points in dimension `d`, unshifted,
-/// exactly: the cells are the `N^d` grid, a pair of points occupies two cells that differ on
-/// every axis with probability `N(N−1)/(N(N−1))^d` each, and the sum over such pairs is, by
-/// inclusion–exclusion over the axes they share, `Σ_A (−1)^{|A|} Σ (marginal of G over the
-/// axes outside A)²` with `G = F − I`.
-///
-/// # Errors
-/// An integrand without box moments, or `N^d` cells beyond the budget or above `2^24`.
-///
-/// # Examples
-/// ```
-/// use specvar::integrand::{Gaussian, Integrand};
-/// use specvar::predict::latin_hypercube_variance;
-/// // In 1D, Latin hypercube is jitter with N strata.
-/// let bump = Gaussian::new(0.1, vec![0.4], 1.0)?;
-/// let lhs = latin_hypercube_variance(&bump, 64, &Default::default())?;
-/// let jitter = specvar::predict::fixed_strata_variance(&bump, &[64], 64, &Default::default())?;
-/// assert!((lhs.variance - jitter.variance).abs() < 1e-12 * jitter.variance);
-/// # Ok::<(), specvar::Error>(())
-/// ```
-pub fn latin_hypercube_variance(f: &dyn Integrand, n: usize, budget: &Budget) -> Result<CellSum> {
-    check_box_moments(f)?;
-    let d = f.dimension();
-    let cells = n
-        .checked_pow(d as u32)
-        .filter(|&c| c <= EXACT_CELL_BUDGET)
-        .ok_or_else(|| Error::TooLarge {
-            what: format!("the Latin hypercube's pair sum over N^{d} cells at N = {n}"),
-            needed: format!("{n}^{d} cells"),
-            budget: format!("{EXACT_CELL_BUDGET} cells"),
-            advice: "lower N, or let the occupancy be estimated".into(),
-        })?;
-    check_cells("the Latin hypercube's pair sum", cells, budget)?;
-    let grid = vec![n; d];
-    let integral = f.integral();
-    let table = CellTable::new(f, &grid, n);
-    let (nf, norm) = (n as f64, 1.0 / (n as f64 * n as f64));
-    let occupied = nf.powi(1 - d as i32);
-    let mut squares = CompensatedSum::default();
-    let mut scale = 0.0;
-    for &g in &table.deviation {
-        squares.add(g * g);
-        scale += (g + integral).powi(2);
-    }
-    // The within-cell sum, Σ_c V_c, from the table's (1/(N |C|)) Σ_c V_c.
-    let within = table.within * nf * cells as f64;
-    scale += within;
-    // S = Σ_A (−1)^{|A|} Σ_{c_A} (Σ_{c: c_A fixed} G_c)², A the axes a pair shares.
-    let mut pairs = CompensatedSum::default();
-    for shared in 0..(1usize << d) {
-        // Sharing every axis is the same cell: Σ G², without a copy of the grid.
-        let sum: f64 = if shared == (1 << d) - 1 {
-            squares.value()
-        } else {
-            marginal_sums(&table.deviation, n, d, shared)
-                .iter()
-                .map(|m| m * m)
-                .sum()
-        };
-        let sign = if shared.count_ones() % 2 == 0 {
-            1.0
-        } else {
-            -1.0
-        };
-        pairs.add(sign * sum);
-    }
-    let pair_probability = nf * (nf - 1.0) * (nf * (nf - 1.0)).powi(-(d as i32));
-    let variance = norm
-        * (occupied * within
-            + occupied * squares.value()
-            + if n > 1 {
-                pair_probability * pairs.value()
-            } else {
-                0.0
-            });
-    Ok(CellSum {
-        variance: variance.max(0.0),
-        rounding: CELL_ROUNDING * norm * scale * (1usize << d) as f64,
-    })
-}
-
-/// The sums of `G_c = F_c − I` (`deviation`) over the cells that agree on the axes in
-/// `shared` (a bit set), one per value of those axes.
-fn marginal_sums(deviation: &[f64], n: usize, d: usize, shared: usize) -> Vec<f64> {
-    let kept: Vec<usize> = (0..d).filter(|a| shared >> a & 1 == 1).collect();
-    let mut out = vec![0.0; n.pow(kept.len() as u32)];
-    for (index, &g) in deviation.iter().enumerate() {
-        let mut key = 0;
-        for &a in kept.iter().rev() {
-            key = key * n + (index / n.pow(a as u32)) % n;
-        }
-        out[key] += g;
-    }
-    out
-}
-
 /// An estimate of the unshifted variance from the occupancy of patterns.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct OccupancyEstimate {
@@ -346,13 +250,13 @@ pub struct OccupancyEstimate {
 
 /// The cells' means, tabulated once when the patterns would visit more cells than the grid
 /// has: `F_c − I` per cell, and the within-cell term `(1/N²) Σ_c E[Z_c] V_c` exactly.
-struct CellTable {
-    deviation: Vec<f64>,
-    within: f64,
+pub(super) struct CellTable {
+    pub(super) deviation: Vec<f64>,
+    pub(super) within: f64,
 }
 
 impl CellTable {
-    fn new(f: &dyn Integrand, grid: &[usize], n: usize) -> Self {
+    pub(super) fn new(f: &dyn Integrand, grid: &[usize], n: usize) -> Self {
         let cells: usize = grid.iter().product();
         let integral = f.integral();
         let mut deviation = vec![0.0; cells];
@@ -688,10 +592,19 @@ pub(crate) fn predict_cells(
     if let CellSource::Sets(sets, _) = source {
         check_sets_occupy(sets, rule, &grid)?;
     }
-    let latin = matches!(source, CellSource::Sampler(_, SamplerKind::LatinHypercube))
-        && n.checked_pow(d as u32)
-            .is_some_and(|c| c <= EXACT_CELL_BUDGET);
-    let exact = params.spectrum != SpectrumChoice::Estimated && (rule.is_fixed() || latin);
+    // Latin hypercube and multi-jitter have their pairs of cells in closed form.
+    let pairs = match source {
+        CellSource::Sampler(_, kind @ (SamplerKind::LatinHypercube | SamplerKind::MultiJitter)) => {
+            Some(kind)
+        }
+        _ => None,
+    }
+    .filter(|_| {
+        n.checked_pow(d as u32)
+            .is_some_and(|c| c <= EXACT_CELL_BUDGET)
+    });
+    let exact =
+        params.spectrum != SpectrumChoice::Estimated && (rule.is_fixed() || pairs.is_some());
     check_choices(params, &name, exact)?;
     let cells: usize = grid.iter().product();
     let strata = grid
@@ -719,7 +632,12 @@ pub(crate) fn predict_cells(
             why,
         )
     } else if exact {
-        let s = latin_hypercube_variance(f, n, &params.budget)?;
+        let s = match pairs {
+            Some(SamplerKind::MultiJitter) => {
+                super::cell_pairs::multi_jitter_variance(f, n, &params.budget)?
+            }
+            _ => super::cell_pairs::latin_hypercube_variance(f, n, &params.budget)?,
+        };
         let why = format!(
             "{name}, unshifted: the cell form over the {n}^{d} cells, its pairs of occupied \
              cells in closed form (exact)"

@@ -242,8 +242,8 @@ fn estimators_markdown(config: &EstimatorsConfig, section: &EstimatorsSection) -
          toroidal shift. Renderers use strata and nets as drawn. On {}, a smooth falloff that \
          the square's faces cut (as a pixel's edges cut a light's), each sampler is predicted and \
          measured both ways: shifted (`--randomization shift`: the spectral routes) and as drawn \
-         (`none`, the default for these samplers: the cell form, exact for jitter and Latin \
-         hypercube, its occupancy estimated from patterns otherwise). Monte Carlo: {} \
+         (`none`, the default for these samplers: the cell form, exact for jitter, Latin \
+         hypercube and multi-jitter, its occupancy estimated from patterns otherwise). Monte Carlo: {} \
          evaluations of the same estimator, 99% intervals; `z` as in the closure table.\n",
         section.integrand, config.trials
     );

@@ -1,0 +1,245 @@
+//! The unshifted estimator of N-rooks samplers with their pairs of occupied cells in closed
+//! form: Latin hypercube (independent permutations of every axis's rows) and multi-jitter
+//! (Chiu et al.'s independent shuffles of each column's sub-columns and each row's sub-rows).
+//! Both sum `E[(M − I)²]` over the `N^d` cells' means exactly (`docs/theory.md`, "Strata in
+//! space"), at the cost of tabulating them.
+
+use super::cells::{
+    check_box_moments, check_cells, CellSum, CellTable, CELL_ROUNDING, EXACT_CELL_BUDGET,
+};
+use crate::budget::Budget;
+use crate::error::{Error, Result};
+use crate::integrand::Integrand;
+use crate::quadrature::CompensatedSum;
+
+/// The cells of an exact pair sum, `n^d`, within [`EXACT_CELL_BUDGET`] and the budget.
+fn exact_cells(what: &str, n: usize, d: usize, budget: &Budget) -> Result<usize> {
+    let cells = n
+        .checked_pow(d as u32)
+        .filter(|&c| c <= EXACT_CELL_BUDGET)
+        .ok_or_else(|| Error::TooLarge {
+            what: format!("{what} over N^{d} cells at N = {n}"),
+            needed: format!("{n}^{d} cells"),
+            budget: format!("{EXACT_CELL_BUDGET} cells"),
+            advice: "lower N, or let the occupancy be estimated".into(),
+        })?;
+    check_cells(what, cells, budget)?;
+    Ok(cells)
+}
+
+/// The variance of the Latin hypercube estimator of `n` points in dimension `d`, unshifted,
+/// exactly: the cells are the `N^d` grid, a pair of points occupies two cells that differ on
+/// every axis with probability `N(N−1)/(N(N−1))^d` each, and the sum over such pairs is, by
+/// inclusion–exclusion over the axes they share, `Σ_A (−1)^{|A|} Σ (marginal of G over the
+/// axes outside A)²` with `G = F − I`.
+///
+/// # Errors
+/// An integrand without box moments, or `N^d` cells beyond the budget or above `2^24`.
+///
+/// # Examples
+/// ```
+/// use specvar::integrand::{Gaussian, Integrand};
+/// use specvar::predict::latin_hypercube_variance;
+/// // In 1D, Latin hypercube is jitter with N strata.
+/// let bump = Gaussian::new(0.1, vec![0.4], 1.0)?;
+/// let lhs = latin_hypercube_variance(&bump, 64, &Default::default())?;
+/// let jitter = specvar::predict::fixed_strata_variance(&bump, &[64], 64, &Default::default())?;
+/// assert!((lhs.variance - jitter.variance).abs() < 1e-12 * jitter.variance);
+/// # Ok::<(), specvar::Error>(())
+/// ```
+pub fn latin_hypercube_variance(f: &dyn Integrand, n: usize, budget: &Budget) -> Result<CellSum> {
+    check_box_moments(f)?;
+    let d = f.dimension();
+    let cells = exact_cells("the Latin hypercube's pair sum", n, d, budget)?;
+    let grid = vec![n; d];
+    let integral = f.integral();
+    let table = CellTable::new(f, &grid, n);
+    let (nf, norm) = (n as f64, 1.0 / (n as f64 * n as f64));
+    let occupied = nf.powi(1 - d as i32);
+    let mut squares = CompensatedSum::default();
+    let mut scale = 0.0;
+    for &g in &table.deviation {
+        squares.add(g * g);
+        scale += (g + integral).powi(2);
+    }
+    // The within-cell sum, Σ_c V_c, from the table's (1/(N |C|)) Σ_c V_c.
+    let within = table.within * nf * cells as f64;
+    scale += within;
+    // S = Σ_A (−1)^{|A|} Σ_{c_A} (Σ_{c: c_A fixed} G_c)², A the axes a pair shares.
+    let mut pairs = CompensatedSum::default();
+    for shared in 0..(1usize << d) {
+        // Sharing every axis is the same cell: Σ G², without a copy of the grid.
+        let sum: f64 = if shared == (1 << d) - 1 {
+            squares.value()
+        } else {
+            marginal_sums(&table.deviation, n, d, shared)
+                .iter()
+                .map(|m| m * m)
+                .sum()
+        };
+        let sign = if shared.count_ones() % 2 == 0 {
+            1.0
+        } else {
+            -1.0
+        };
+        pairs.add(sign * sum);
+    }
+    let pair_probability = nf * (nf - 1.0) * (nf * (nf - 1.0)).powi(-(d as i32));
+    let variance = norm
+        * (occupied * within
+            + occupied * squares.value()
+            + if n > 1 {
+                pair_probability * pairs.value()
+            } else {
+                0.0
+            });
+    Ok(CellSum {
+        variance: variance.max(0.0),
+        rounding: CELL_ROUNDING * norm * scale * (1usize << d) as f64,
+    })
+}
+
+/// The sums of `G_c = F_c − I` (`deviation`) over the cells that agree on the axes in
+/// `shared` (a bit set), one per value of those axes.
+fn marginal_sums(deviation: &[f64], n: usize, d: usize, shared: usize) -> Vec<f64> {
+    let kept: Vec<usize> = (0..d).filter(|a| shared >> a & 1 == 1).collect();
+    let mut out = vec![0.0; n.pow(kept.len() as u32)];
+    for (index, &g) in deviation.iter().enumerate() {
+        let mut key = 0;
+        for &a in kept.iter().rev() {
+            key = key * n + (index / n.pow(a as u32)) % n;
+        }
+        out[key] += g;
+    }
+    out
+}
+
+/// The variance of the multi-jittered estimator of `n` points in 2D (Chiu et al.: `m × r`
+/// cells, sub-columns shuffled in each column and sub-rows in each row, every shuffle
+/// independent), unshifted, exactly. Point `(i, j)` falls uniformly in the `N` fine cells of its
+/// block (column `i`'s `r` sub-columns × row `j`'s `m` sub-rows); two points in different
+/// columns and rows are independent; two in one column take distinct sub-columns (a uniform
+/// pair) and independent sub-rows, and two in one row the reverse. With `G = F − I` on the
+/// `N × N` cells, its block means `Ḡ`, column profiles `A_ij(s)` (mean over the block's sub-rows)
+/// and row profiles `B_ij(t)`, `N² E[(M − I)²] = (1/N) Σ G² + S_blocks + S_columns + S_rows`, each
+/// a sum of squares of marginals by inclusion–exclusion.
+///
+/// # Errors
+/// A dimension other than 2, an integrand without box moments, or `N²` cells beyond the budget
+/// or above `2^24`.
+///
+/// # Examples
+/// ```
+/// use specvar::integrand::Polygon;
+/// use specvar::predict::{multi_jitter_variance, predict, PredictParams, Problem, SpectrumChoice};
+/// use specvar::sampler::MultiJitter;
+/// let edge = Polygon::edge(30.0, 0.4, 1.0)?;
+/// let exact = multi_jitter_variance(&edge, 64, &Default::default())?;
+/// // The occupancy estimated from patterns agrees within its noise.
+/// let mj = MultiJitter::new(2)?;
+/// let params = PredictParams { spectrum: SpectrumChoice::Estimated, ..Default::default() };
+/// let e = predict(&Problem::new(&mj, &edge, 64)?, &params)?;
+/// assert!((e.variance - exact.variance).abs() < 5.0 * e.budget.spectrum_noise);
+/// # Ok::<(), specvar::Error>(())
+/// ```
+pub fn multi_jitter_variance(f: &dyn Integrand, n: usize, budget: &Budget) -> Result<CellSum> {
+    check_box_moments(f)?;
+    if f.dimension() != 2 {
+        return Err(crate::error::invalid(
+            "dimension",
+            f.dimension(),
+            "2 for multi-jitter",
+        ));
+    }
+    exact_cells("the multi-jittered pair sum", n, 2, budget)?;
+    let (m, r) = crate::sampler::near_square_factors(n);
+    let table = CellTable::new(f, &[n, n], n);
+    let g = |x: usize, y: usize| table.deviation[y * n + x];
+    // Block (i, j): fine x in [i r, (i + 1) r), fine y in [j m, (j + 1) m).
+    let block = |i: usize, j: usize| i + m * j;
+    let mut columns = vec![0.0; m * r * r]; // A_ij(s) at block(i, j) * r + s
+    let mut rows = vec![0.0; m * r * m]; // B_ij(t) at block(i, j) * m + t
+    let mut means = vec![0.0; m * r];
+    let mut squares = CompensatedSum::default();
+    for j in 0..r {
+        for i in 0..m {
+            let b = block(i, j);
+            for s in 0..r {
+                for t in 0..m {
+                    let v = g(i * r + s, j * m + t);
+                    squares.add(v * v);
+                    columns[b * r + s] += v / m as f64;
+                    rows[b * m + t] += v / r as f64;
+                    means[b] += v / n as f64;
+                }
+            }
+        }
+    }
+    let square = |v: f64| v * v;
+    // Pairs in different columns and rows: independent, each uniform in its block.
+    let total: f64 = means.iter().sum();
+    let by_column: f64 = (0..m)
+        .map(|i| square((0..r).map(|j| means[block(i, j)]).sum()))
+        .sum();
+    let by_row: f64 = (0..r)
+        .map(|j| square((0..m).map(|i| means[block(i, j)]).sum()))
+        .sum();
+    let own: f64 = means.iter().map(|v| v * v).sum();
+    let blocks = square(total) - by_column - by_row + own;
+    // Pairs in one column: distinct sub-columns (the profiles A), independent sub-rows.
+    let same_column = if r > 1 {
+        let sum: f64 = (0..m)
+            .map(|i| {
+                let profile = |j: usize, s: usize| columns[block(i, j) * r + s];
+                let whole: Vec<f64> = (0..r)
+                    .map(|j| (0..r).map(|s| profile(j, s)).sum())
+                    .collect();
+                let distinct_blocks =
+                    square(whole.iter().sum()) - whole.iter().map(|v| v * v).sum::<f64>();
+                let same_sub: f64 = (0..r)
+                    .map(|s| {
+                        let col: Vec<f64> = (0..r).map(|j| profile(j, s)).collect();
+                        square(col.iter().sum()) - col.iter().map(|v| v * v).sum::<f64>()
+                    })
+                    .sum();
+                distinct_blocks - same_sub
+            })
+            .sum();
+        sum / (r * (r - 1)) as f64
+    } else {
+        0.0
+    };
+    // Pairs in one row: distinct sub-rows (the profiles B), independent sub-columns.
+    let same_row = if m > 1 {
+        let sum: f64 = (0..r)
+            .map(|j| {
+                let profile = |i: usize, t: usize| rows[block(i, j) * m + t];
+                let whole: Vec<f64> = (0..m)
+                    .map(|i| (0..m).map(|t| profile(i, t)).sum())
+                    .collect();
+                let distinct_blocks =
+                    square(whole.iter().sum()) - whole.iter().map(|v| v * v).sum::<f64>();
+                let same_sub: f64 = (0..m)
+                    .map(|t| {
+                        let row: Vec<f64> = (0..m).map(|i| profile(i, t)).collect();
+                        square(row.iter().sum()) - row.iter().map(|v| v * v).sum::<f64>()
+                    })
+                    .sum();
+                distinct_blocks - same_sub
+            })
+            .sum();
+        sum / (m * (m - 1)) as f64
+    } else {
+        0.0
+    };
+    let nf = n as f64;
+    let variance =
+        table.within + (squares.value() / nf + blocks + same_column + same_row) / (nf * nf);
+    // The sums of squares cancel down from (Σ_b |Ḡ_b|)², each term rounded once per cell.
+    let mass: f64 = means.iter().map(|v| v.abs()).sum();
+    let scale = table.within + (squares.value() / nf + mass * mass) / (nf * nf);
+    Ok(CellSum {
+        variance: variance.max(0.0),
+        rounding: CELL_ROUNDING * scale,
+    })
+}
