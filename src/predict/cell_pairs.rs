@@ -4,7 +4,7 @@
 //! Both sum `E[(M − I)²]` over the `N^d` cells' means exactly (`docs/theory.md`, "Strata in
 //! space"), at the cost of tabulating them.
 
-use super::cells::{
+use super::cell_moments::{
     check_box_moments, check_cells, CellSum, CellTable, CELL_ROUNDING, EXACT_CELL_BUDGET,
 };
 use crate::budget::Budget;

@@ -18,8 +18,12 @@
 //! estimate: no noise from the points' positions inside their cells). `docs/theory.md`,
 //! "Strata in space", derives it and relates it to the aliased Fourier pairs.
 
+use super::cell_moments::{
+    cell_mean_and_variance, check_box_moments, check_cells, CellSum, CellTable, CELL_ROUNDING,
+    CELL_SECONDS, EXACT_CELL_BUDGET,
+};
 use super::{ErrorBudget, Form, FormChoice, Prediction, Route, SpectrumChoice, SpectrumOrigin};
-use crate::budget::{Budget, Needs, COEFFICIENT_SECONDS};
+use crate::budget::{Budget, Needs};
 use crate::error::{Error, Result};
 use crate::integrand::Integrand;
 use crate::pointset::PointSet;
@@ -31,24 +35,12 @@ use rayon::prelude::*;
 use serde::Serialize;
 use std::fmt;
 
-/// The work of one cell's moments (a clip, a disk–rectangle area, four error functions): the
-/// integrands' coefficient cost, which bounds them.
-const CELL_SECONDS: f64 = COEFFICIENT_SECONDS;
-/// The most cells an exact sum over all cells visits (Latin hypercube's pairs): `2^24`.
-pub(super) const EXACT_CELL_BUDGET: usize = 1 << 24;
 /// Patterns an estimated occupancy starts with.
 const INITIAL_PATTERNS: usize = 64;
 /// Patterns an estimated occupancy never exceeds.
 const MAX_PATTERNS: usize = 1 << 16;
-/// Cells per parallel task of a table: sums over chunks in a fixed order give the same bits
-/// on any number of threads.
-const TABLE_CHUNK: usize = 4096;
 /// The most cells the estimate tabulates (8 bytes each): `2^24`.
 const TABLE_CELLS: usize = 1 << 24;
-/// Relative rounding of one cell's moments and of the terms built from them (a few operations
-/// of unit roundoff each, and the 3D ball's slices at 1e-14).
-pub(super) const CELL_ROUNDING: f64 = 1e-13;
-
 /// How the occupancy of the cells is known.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -95,36 +87,6 @@ impl fmt::Display for CellOrigin {
     }
 }
 
-/// A sum over cells, with a bound on its rounding.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct CellSum {
-    /// The variance.
-    pub variance: f64,
-    /// A bound on its rounding error.
-    pub rounding: f64,
-}
-
-fn cell_box(index: usize, grid: &[usize], lo: &mut [f64], hi: &mut [f64]) {
-    let mut rest = index;
-    for (a, &m) in grid.iter().enumerate() {
-        let i = rest % m;
-        rest /= m;
-        lo[a] = i as f64 / m as f64;
-        hi[a] = (i + 1) as f64 / m as f64;
-    }
-}
-
-/// `(F_c, V_c)`: the mean of `f` over cell `index` of `grid` and its variance inside the cell.
-fn cell_mean_and_variance(f: &dyn Integrand, grid: &[usize], index: usize) -> (f64, f64) {
-    let d = grid.len();
-    let (mut lo, mut hi) = ([0.0; 3], [0.0; 3]);
-    cell_box(index, grid, &mut lo[..d], &mut hi[..d]);
-    let cells: f64 = grid.iter().map(|&m| m as f64).product();
-    let (mass, square) = f.box_moments(&lo[..d], &hi[..d]).unwrap_or((0.0, 0.0));
-    let mean = mass * cells;
-    (mean, (square * cells - mean * mean).max(0.0))
-}
-
 /// The index of the cell of `grid` holding `x`.
 fn cell_of(x: &[f64], grid: &[usize]) -> usize {
     let mut index = 0;
@@ -133,34 +95,6 @@ fn cell_of(x: &[f64], grid: &[usize]) -> usize {
         index = index * m + ((x[a] * m as f64) as usize).min(m - 1);
     }
     index
-}
-
-/// Errors unless `f` has closed-form moments over boxes ([`Integrand::box_moments`]).
-pub(crate) fn check_box_moments(f: &dyn Integrand) -> Result<()> {
-    let d = f.dimension();
-    match f.box_moments(&vec![0.0; d], &vec![1.0; d]) {
-        Some(_) => Ok(()),
-        None => Err(Error::OutsideValidity {
-            route: "the cell form of the unshifted estimator".into(),
-            reason: format!(
-                "{} has no closed form for its integral over a box, which the unshifted \
-                 estimator's cells need; measure it with `specvar mc --randomization none`, or \
-                 tabulate it on a grid",
-                f.label()
-            ),
-        }),
-    }
-}
-
-pub(super) fn check_cells(what: &str, cells: usize, budget: &Budget) -> Result<()> {
-    budget.check(
-        what,
-        Needs {
-            memory_bytes: 0.0,
-            work_seconds: cells as f64 * CELL_SECONDS,
-        },
-        "lower N",
-    )
 }
 
 /// The variance of the unshifted estimator with `n` points spread evenly over the cells of
@@ -246,40 +180,6 @@ pub struct OccupancyEstimate {
     pub standard_error: f64,
     /// Patterns drawn.
     pub patterns: usize,
-}
-
-/// The cells' means, tabulated once when the patterns would visit more cells than the grid
-/// has: `F_c − I` per cell, and the within-cell term `(1/N²) Σ_c E[Z_c] V_c` exactly.
-pub(super) struct CellTable {
-    pub(super) deviation: Vec<f64>,
-    pub(super) within: f64,
-}
-
-impl CellTable {
-    pub(super) fn new(f: &dyn Integrand, grid: &[usize], n: usize) -> Self {
-        let cells: usize = grid.iter().product();
-        let integral = f.integral();
-        let mut deviation = vec![0.0; cells];
-        let within: Vec<f64> = deviation
-            .par_chunks_mut(TABLE_CHUNK)
-            .enumerate()
-            .map(|(c, chunk)| {
-                let mut within = CompensatedSum::default();
-                for (i, slot) in chunk.iter_mut().enumerate() {
-                    let (mean, var) = cell_mean_and_variance(f, grid, c * TABLE_CHUNK + i);
-                    *slot = mean - integral;
-                    within.add(var);
-                }
-                within.value()
-            })
-            .collect();
-        let mut total = CompensatedSum::default();
-        within.iter().for_each(|&w| total.add(w));
-        Self {
-            deviation,
-            within: total.value() / (n as f64 * cells as f64),
-        }
-    }
 }
 
 /// What one pattern contributes, whose mean over patterns is the unshifted variance: with a

@@ -22,6 +22,7 @@
 //! The bias of a fixed pattern is [`bias_of_pattern`] and [`regular_grid_bias`].
 
 mod bias;
+mod cell_moments;
 mod cell_pairs;
 mod cells;
 mod lattice;
@@ -32,9 +33,10 @@ mod route;
 mod space;
 
 pub use bias::{bias_of_pattern, regular_grid_bias, sampler_bias, BiasMethod, SpectralBias};
+pub use cell_moments::CellSum;
 pub use cell_pairs::{latin_hypercube_variance, multi_jitter_variance};
 pub use cells::{
-    fixed_strata_variance, occupancy_variance, CellOrigin, CellPatterns, CellSum, Occupancy,
+    fixed_strata_variance, occupancy_variance, CellOrigin, CellPatterns, Occupancy,
     OccupancyEstimate,
 };
 pub use lattice::{

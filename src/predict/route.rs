@@ -157,7 +157,7 @@ pub(crate) fn check_estimator(problem: &Problem<'_>) -> Result<()> {
                 ),
             })
         }
-        None => Err(Error::OutsideValidity {
+        None if matches!(problem.patterns, Patterns::PointSets(_)) => Err(Error::OutsideValidity {
             route: "a spectral route".into(),
             reason: format!(
                 "given point sets of unknown law used {} have no route: the cell form needs the \

@@ -1,0 +1,117 @@
+//! An integrand's moments over the cells of a grid (`Integrand::box_moments` per cell): the
+//! cells' means and inner variances that every sum of the cell form reads, tabulated when a
+//! route visits more cells than the grid has, and the checks and budget of such sums.
+
+use crate::budget::{Budget, Needs, COEFFICIENT_SECONDS};
+use crate::error::{Error, Result};
+use crate::integrand::Integrand;
+use crate::quadrature::CompensatedSum;
+use rayon::prelude::*;
+
+/// The work of one cell's moments (a clip, a disk–rectangle area, four error functions): the
+/// integrands' coefficient cost, which bounds them.
+pub(crate) const CELL_SECONDS: f64 = COEFFICIENT_SECONDS;
+/// The most cells an exact sum over all cells visits (Latin hypercube's pairs): `2^24`.
+pub(crate) const EXACT_CELL_BUDGET: usize = 1 << 24;
+/// Cells per parallel task of a table: sums over chunks in a fixed order give the same bits
+/// on any number of threads.
+const TABLE_CHUNK: usize = 4096;
+/// Relative rounding of one cell's moments and of the terms built from them (a few operations
+/// of unit roundoff each, and the 3D ball's slices at 1e-14).
+pub(crate) const CELL_ROUNDING: f64 = 1e-13;
+
+/// A sum over cells, with a bound on its rounding.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CellSum {
+    /// The variance.
+    pub variance: f64,
+    /// A bound on its rounding error.
+    pub rounding: f64,
+}
+
+fn cell_box(index: usize, grid: &[usize], lo: &mut [f64], hi: &mut [f64]) {
+    let mut rest = index;
+    for (a, &m) in grid.iter().enumerate() {
+        let i = rest % m;
+        rest /= m;
+        lo[a] = i as f64 / m as f64;
+        hi[a] = (i + 1) as f64 / m as f64;
+    }
+}
+
+/// `(F_c, V_c)`: the mean of `f` over cell `index` of `grid` and its variance inside the cell.
+pub(crate) fn cell_mean_and_variance(
+    f: &dyn Integrand,
+    grid: &[usize],
+    index: usize,
+) -> (f64, f64) {
+    let d = grid.len();
+    let (mut lo, mut hi) = ([0.0; 3], [0.0; 3]);
+    cell_box(index, grid, &mut lo[..d], &mut hi[..d]);
+    let cells: f64 = grid.iter().map(|&m| m as f64).product();
+    let (mass, square) = f.box_moments(&lo[..d], &hi[..d]).unwrap_or((0.0, 0.0));
+    let mean = mass * cells;
+    (mean, (square * cells - mean * mean).max(0.0))
+}
+
+/// Errors unless `f` has closed-form moments over boxes ([`Integrand::box_moments`]).
+pub(crate) fn check_box_moments(f: &dyn Integrand) -> Result<()> {
+    let d = f.dimension();
+    match f.box_moments(&vec![0.0; d], &vec![1.0; d]) {
+        Some(_) => Ok(()),
+        None => Err(Error::OutsideValidity {
+            route: "the cell form of the unshifted estimator".into(),
+            reason: format!(
+                "{} has no closed form for its integral over a box, which the unshifted \
+                 estimator's cells need; measure it with `specvar mc --randomization none`, or \
+                 tabulate it on a grid",
+                f.label()
+            ),
+        }),
+    }
+}
+
+pub(crate) fn check_cells(what: &str, cells: usize, budget: &Budget) -> Result<()> {
+    budget.check(
+        what,
+        Needs {
+            memory_bytes: 0.0,
+            work_seconds: cells as f64 * CELL_SECONDS,
+        },
+        "lower N",
+    )
+}
+
+/// The cells' means, tabulated once when the patterns would visit more cells than the grid
+/// has: `F_c − I` per cell, and the within-cell term `(1/N²) Σ_c E[Z_c] V_c` exactly.
+pub(crate) struct CellTable {
+    pub(crate) deviation: Vec<f64>,
+    pub(crate) within: f64,
+}
+
+impl CellTable {
+    pub(crate) fn new(f: &dyn Integrand, grid: &[usize], n: usize) -> Self {
+        let cells: usize = grid.iter().product();
+        let integral = f.integral();
+        let mut deviation = vec![0.0; cells];
+        let within: Vec<f64> = deviation
+            .par_chunks_mut(TABLE_CHUNK)
+            .enumerate()
+            .map(|(c, chunk)| {
+                let mut within = CompensatedSum::default();
+                for (i, slot) in chunk.iter_mut().enumerate() {
+                    let (mean, var) = cell_mean_and_variance(f, grid, c * TABLE_CHUNK + i);
+                    *slot = mean - integral;
+                    within.add(var);
+                }
+                within.value()
+            })
+            .collect();
+        let mut total = CompensatedSum::default();
+        within.iter().for_each(|&w| total.add(w));
+        Self {
+            deviation,
+            within: total.value() / (n as f64 * cells as f64),
+        }
+    }
+}
