@@ -186,52 +186,14 @@ pub fn multi_jitter_variance(f: &dyn Integrand, n: usize, budget: &Budget) -> Re
         .sum();
     let own: f64 = means.iter().map(|v| v * v).sum();
     let blocks = square(total) - by_column - by_row + own;
-    // Pairs in one column: distinct sub-columns (the profiles A), independent sub-rows.
-    let same_column = if r > 1 {
-        let sum: f64 = (0..m)
-            .map(|i| {
-                let profile = |j: usize, s: usize| columns[block(i, j) * r + s];
-                let whole: Vec<f64> = (0..r)
-                    .map(|j| (0..r).map(|s| profile(j, s)).sum())
-                    .collect();
-                let distinct_blocks =
-                    square(whole.iter().sum()) - whole.iter().map(|v| v * v).sum::<f64>();
-                let same_sub: f64 = (0..r)
-                    .map(|s| {
-                        let col: Vec<f64> = (0..r).map(|j| profile(j, s)).collect();
-                        square(col.iter().sum()) - col.iter().map(|v| v * v).sum::<f64>()
-                    })
-                    .sum();
-                distinct_blocks - same_sub
-            })
-            .sum();
-        sum / (r * (r - 1)) as f64
-    } else {
-        0.0
-    };
-    // Pairs in one row: distinct sub-rows (the profiles B), independent sub-columns.
-    let same_row = if m > 1 {
-        let sum: f64 = (0..r)
-            .map(|j| {
-                let profile = |i: usize, t: usize| rows[block(i, j) * m + t];
-                let whole: Vec<f64> = (0..m)
-                    .map(|i| (0..m).map(|t| profile(i, t)).sum())
-                    .collect();
-                let distinct_blocks =
-                    square(whole.iter().sum()) - whole.iter().map(|v| v * v).sum::<f64>();
-                let same_sub: f64 = (0..m)
-                    .map(|t| {
-                        let row: Vec<f64> = (0..m).map(|i| profile(i, t)).collect();
-                        square(row.iter().sum()) - row.iter().map(|v| v * v).sum::<f64>()
-                    })
-                    .sum();
-                distinct_blocks - same_sub
-            })
-            .sum();
-        sum / (m * (m - 1)) as f64
-    } else {
-        0.0
-    };
+    // Pairs in one column: distinct sub-columns (the profiles A), independent sub-rows; pairs
+    // in one row: distinct sub-rows (the profiles B), independent sub-columns.
+    let same_column: f64 = (0..m)
+        .map(|i| line_pairs(r, |j, s| columns[block(i, j) * r + s]))
+        .sum();
+    let same_row: f64 = (0..r)
+        .map(|j| line_pairs(m, |i, t| rows[block(i, j) * m + t]))
+        .sum();
     let nf = n as f64;
     let variance =
         table.within + (squares.value() / nf + blocks + same_column + same_row) / (nf * nf);
@@ -242,4 +204,25 @@ pub fn multi_jitter_variance(f: &dyn Integrand, n: usize, budget: &Budget) -> Re
         variance: variance.max(0.0),
         rounding: CELL_ROUNDING * scale,
     })
+}
+
+/// The mean over a line's pairs of distinct blocks `k ≠ k'` (its `len` blocks) and distinct
+/// positions `s ≠ s'` across it of `profile(k, s) profile(k', s')`, summed over the pairs of
+/// blocks: `[Σ_{k≠k'} a_k a_k' − Σ_s Σ_{k≠k'} profile(k, s) profile(k', s)] / (len (len − 1))`
+/// with `a_k = Σ_s profile(k, s)`. Two points of one column of multi-jitter take distinct
+/// sub-columns, uniformly: this is their sum.
+fn line_pairs(len: usize, profile: impl Fn(usize, usize) -> f64) -> f64 {
+    if len < 2 {
+        return 0.0;
+    }
+    // Σ_{k≠k'} v_k v_k' = (Σ v)² − Σ v².
+    let distinct = |values: &mut dyn Iterator<Item = f64>| {
+        let (sum, squares) = values.fold((0.0, 0.0), |(s, q), v| (s + v, q + v * v));
+        sum * sum - squares
+    };
+    let whole = distinct(&mut (0..len).map(|k| (0..len).map(|s| profile(k, s)).sum::<f64>()));
+    let same: f64 = (0..len)
+        .map(|s| distinct(&mut (0..len).map(|k| profile(k, s))))
+        .sum();
+    (whole - same) / (len * (len - 1)) as f64
 }
