@@ -154,19 +154,9 @@ impl Gaussian {
     }
 }
 
-/// `∫_a^b exp(-(x - c)² / (2 s²)) dx`, through `erfc` of the nearer end where both ends lie on
-/// one side of `c` (the difference of two `erf` near ±1 would cancel).
+/// `∫_a^b exp(-(x - c)² / (2 s²)) dx`: [`gaussian_segment`] of width `s √2`.
 pub(crate) fn axis_mass(a: f64, b: f64, c: f64, s: f64) -> f64 {
-    let k = s * SQRT_2;
-    let (u, v) = ((a - c) / k, (b - c) / k);
-    let scale = s * (PI / 2.0).sqrt();
-    if u >= 0.0 {
-        scale * (libm::erfc(u) - libm::erfc(v))
-    } else if v <= 0.0 {
-        scale * (libm::erfc(-v) - libm::erfc(-u))
-    } else {
-        scale * (libm::erf(v) - libm::erf(u))
-    }
+    gaussian_segment(a, b, c, s * SQRT_2)
 }
 
 impl Integrand for Gaussian {

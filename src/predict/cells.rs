@@ -31,6 +31,7 @@ use crate::progress::{stage, Progress};
 use crate::quadrature::CompensatedSum;
 use crate::randomization::Randomization;
 use crate::sampler::{CellRule, Sampler, SamplerKind};
+use crate::spectrum::PatternSource;
 use rayon::prelude::*;
 use serde::Serialize;
 use std::fmt;
@@ -212,53 +213,6 @@ fn pattern_term(
     within.value() / (nf * nf) + m * m
 }
 
-/// Where the patterns of an occupancy estimate come from.
-#[derive(Clone, Copy)]
-pub enum CellPatterns<'a> {
-    /// Realizations `0, 1, …` of `seed`, as drawn.
-    Sampler {
-        /// The sampler.
-        sampler: &'a dyn Sampler,
-        /// The seed.
-        seed: u64,
-    },
-    /// Given point sets, each one pattern, as given.
-    Sets(&'a [PointSet]),
-}
-
-impl CellPatterns<'_> {
-    fn dimension(&self) -> usize {
-        match self {
-            CellPatterns::Sampler { sampler, .. } => sampler.dimension(),
-            CellPatterns::Sets(sets) => sets.first().map_or(0, |s| s.dimension()),
-        }
-    }
-
-    /// The contribution of pattern `index`.
-    fn term(
-        &self,
-        f: &dyn Integrand,
-        (n, index): (usize, usize),
-        grid: &[usize],
-        table: Option<&CellTable>,
-    ) -> Result<f64> {
-        Ok(match self {
-            CellPatterns::Sampler { sampler, seed } => {
-                pattern_term(f, &sampler.sample(n, *seed, index as u64)?, grid, table)
-            }
-            CellPatterns::Sets(sets) => pattern_term(f, &sets[index], grid, table),
-        })
-    }
-
-    /// How many patterns there are at most (`None`: as many as asked).
-    fn available(&self) -> Option<usize> {
-        match self {
-            CellPatterns::Sampler { .. } => None,
-            CellPatterns::Sets(sets) => Some(sets.len()),
-        }
-    }
-}
-
 /// The unshifted variance of the estimator of `patterns`, estimated from their occupancy of
 /// `grid` (cells in which their points are independent and uniform once their cells are
 /// known): the mean over patterns of `(1/N²) Σ_j V_{c_j} + (M − I)²`, unbiased, each term exact
@@ -272,28 +226,30 @@ impl CellPatterns<'_> {
 /// # Examples
 /// ```
 /// use specvar::integrand::Gaussian;
-/// use specvar::predict::{fixed_strata_variance, occupancy_variance, CellPatterns};
+/// use specvar::predict::{fixed_strata_variance, occupancy_variance};
 /// use specvar::progress::Silent;
 /// use specvar::sampler::Jitter;
+/// use specvar::spectrum::PatternSource;
 /// // Jitter's strata, its occupancy fixed: every pattern gives the exact value.
 /// let bump = Gaussian::new(0.15, vec![0.4, 0.6], 1.0)?;
 /// let jitter = Jitter::new(2)?;
-/// let patterns = CellPatterns::Sampler { sampler: &jitter, seed: 1 };
-/// let e = occupancy_variance(&bump, patterns, &[8, 8], 64, (4, 4), 0.01, &Silent)?;
+/// let patterns = PatternSource::Sampler { sampler: &jitter, n: 64, seed: 1 };
+/// let e = occupancy_variance(&bump, patterns, &[8, 8], (4, 4), 0.01, &Silent)?;
 /// let exact = fixed_strata_variance(&bump, &[8, 8], 64, &Default::default())?;
 /// assert!((e.variance - exact.variance).abs() < 1e-9 * exact.variance);
 /// # Ok::<(), specvar::Error>(())
 /// ```
 pub fn occupancy_variance(
     f: &dyn Integrand,
-    patterns: CellPatterns<'_>,
+    patterns: PatternSource<'_>,
     grid: &[usize],
-    n: usize,
     counts: (usize, usize),
     target_noise: f64,
     progress: &dyn Progress,
 ) -> Result<OccupancyEstimate> {
     check_box_moments(f)?;
+    patterns.check()?;
+    let n = patterns.points();
     let (initial, max_patterns) = match patterns.available() {
         Some(sets) => (sets, sets),
         None => counts,
@@ -322,7 +278,9 @@ pub fn occupancy_variance(
                 (start..want)
                     .into_par_iter()
                     .map(|i| {
-                        let t = patterns.term(f, (n, i), grid, table.as_ref());
+                        let t = patterns
+                            .realization(i)
+                            .map(|p| pattern_term(f, &p, grid, table.as_ref()));
                         progress.advance(1);
                         t
                     })
@@ -636,8 +594,9 @@ fn estimate_occupancy(
     let cells: usize = grid.iter().product();
     let (patterns, cost_ns) = match source {
         CellSource::Sampler(sampler, kind) => (
-            CellPatterns::Sampler {
+            PatternSource::Sampler {
                 sampler,
+                n,
                 seed: params.seed,
             },
             kind.cost_per_point_ns(),
@@ -650,7 +609,7 @@ fn estimate_occupancy(
                     "at least 2 sets, whose spread gives the estimate's noise",
                 ));
             }
-            (CellPatterns::Sets(sets), 0.0)
+            (PatternSource::Sets(sets), 0.0)
         }
     };
     let per_pattern = n as f64 * (cost_ns * 1e-9 + CELL_SECONDS);
@@ -672,7 +631,6 @@ fn estimate_occupancy(
         f,
         patterns,
         grid,
-        n,
         (initial, max),
         params.target_noise,
         progress,

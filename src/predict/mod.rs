@@ -36,8 +36,7 @@ pub use bias::{bias_of_pattern, regular_grid_bias, sampler_bias, BiasMethod, Spe
 pub use cell_moments::CellSum;
 pub use cell_pairs::{latin_hypercube_variance, multi_jitter_variance};
 pub use cells::{
-    fixed_strata_variance, occupancy_variance, CellOrigin, CellPatterns, Occupancy,
-    OccupancyEstimate,
+    fixed_strata_variance, occupancy_variance, CellOrigin, Occupancy, OccupancyEstimate,
 };
 pub use lattice::{
     predict_from_power, predict_lattice, predict_on_patterns, LatticePower, PatternPlan,

@@ -36,14 +36,14 @@ pub enum PatternSource<'a> {
 }
 
 impl PatternSource<'_> {
-    fn dimension(&self) -> usize {
+    pub(crate) fn dimension(&self) -> usize {
         match self {
             PatternSource::Sampler { sampler, .. } => sampler.dimension(),
             PatternSource::Sets(sets) => sets[0].dimension(),
         }
     }
 
-    fn points(&self) -> usize {
+    pub(crate) fn points(&self) -> usize {
         match self {
             PatternSource::Sampler { n, .. } => *n,
             PatternSource::Sets(sets) => sets[0].len(),
@@ -72,14 +72,14 @@ impl PatternSource<'_> {
         }
     }
 
-    fn realization(&self, r: usize) -> Result<PointSet> {
+    pub(crate) fn realization(&self, r: usize) -> Result<PointSet> {
         match self {
             PatternSource::Sampler { sampler, n, seed } => sampler.sample(*n, *seed, r as u64),
             PatternSource::Sets(sets) => Ok(sets[r].clone()),
         }
     }
 
-    fn check(&self) -> Result<()> {
+    pub(crate) fn check(&self) -> Result<()> {
         match self {
             PatternSource::Sampler { sampler, n, .. } => sampler.check_count(*n),
             PatternSource::Sets(sets) => {
