@@ -475,3 +475,75 @@ fn given_sets_with_declared_cells_are_predicted_as_given() {
         .with_randomization(Randomization::None);
     assert!(predict(&plain, &Default::default()).is_err());
 }
+
+/// Owen-scrambled Sobol' by Owen's gains, against routes that know nothing of gains: in 1D
+/// its first `2^m` points are jitter with `2^m` strata (the per-stratum form); in 2D and 3D,
+/// and at counts that are no power of two, the occupancy of scrambled patterns.
+#[test]
+fn scrambled_sobol_by_owen_gains_is_its_estimated_occupancy() {
+    use specvar::predict::{Occupancy, SpectrumOrigin};
+    let exact_params = PredictParams::default();
+    let estimated = PredictParams {
+        spectrum: SpectrumChoice::Estimated,
+        target_noise: 0.01,
+        ..Default::default()
+    };
+    let gains = |sampler: &dyn specvar::sampler::Sampler, f: &dyn Integrand, n: usize| {
+        let p = predict(&Problem::new(sampler, f, n).unwrap(), &exact_params).unwrap();
+        match p.route.spectrum {
+            SpectrumOrigin::Cells(c) => assert_eq!(c.occupancy, Occupancy::Gains),
+            other => panic!("{other:?}"),
+        }
+        p
+    };
+    let sobol1 = SamplerKind::Sobol.build(1).unwrap();
+    let f1 = Gaussian::new(0.1, vec![0.3], 1.0).unwrap();
+    for m in [0, 3, 6, 10] {
+        let n = 1usize << m;
+        let p = gains(sobol1.as_ref(), &f1, n);
+        let strata = fixed_strata_variance(&f1, &[n], n, &Default::default()).unwrap();
+        let tolerance = p.budget.quadrature + strata.rounding;
+        assert!(
+            (p.variance - strata.variance).abs() <= tolerance,
+            "N = {n}: {} vs {}",
+            p.variance,
+            strata.variance
+        );
+    }
+    let mut cases: Vec<(usize, Box<dyn Integrand>, usize)> = Vec::new();
+    for f in integrands_2d() {
+        cases.push((2, f, 64));
+    }
+    cases.push((
+        2,
+        Box::new(Gaussian::new(0.3, vec![0.7, 0.2], 1.0).unwrap()),
+        200,
+    ));
+    cases.push((2, Box::new(Polygon::edge(30.0, 0.4, 1.0).unwrap()), 1000));
+    cases.push((1, Box::new(f1.clone()), 48));
+    cases.push((
+        3,
+        Box::new(Ball::new(0.3, vec![0.5, 0.4, 0.6], 1.0).unwrap()),
+        128,
+    ));
+    cases.push((
+        3,
+        Box::new(Gaussian::new(0.15, vec![0.3; 3], 1.0).unwrap()),
+        100,
+    ));
+    for (d, f, n) in cases {
+        let sampler = SamplerKind::Sobol.build(d).unwrap();
+        let p = gains(sampler.as_ref(), f.as_ref(), n);
+        let problem = Problem::new(sampler.as_ref(), f.as_ref(), n).unwrap();
+        let e = predict(&problem, &estimated).unwrap();
+        let z = (e.variance - p.variance) / e.budget.spectrum_noise;
+        assert!(
+            z.abs() < Z_STRICT,
+            "{d}D N = {n} {}: gains {:.5e}, occupancy {:.5e} ± {:.1e}",
+            f.label(),
+            p.variance,
+            e.variance,
+            e.budget.spectrum_noise
+        );
+    }
+}

@@ -29,7 +29,8 @@ pub struct CellSum {
     pub rounding: f64,
 }
 
-fn cell_box(index: usize, grid: &[usize], lo: &mut [f64], hi: &mut [f64]) {
+/// The box of cell `index` of `grid` (axis 0 varies fastest).
+pub(crate) fn cell_box(index: usize, grid: &[usize], lo: &mut [f64], hi: &mut [f64]) {
     let mut rest = index;
     for (a, &m) in grid.iter().enumerate() {
         let i = rest % m;

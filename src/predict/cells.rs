@@ -51,6 +51,9 @@ pub enum Occupancy {
     /// Independent uniform permutations of the rows of every axis (Latin hypercube): its pair
     /// probabilities in closed form.
     Permutations,
+    /// Nested uniform scrambling of a base-2 net: its pairs of points by Owen's gains, in
+    /// closed form given the net's cell counts on dyadic grids.
+    Gains,
     /// Estimated from `patterns` patterns of the sampler.
     Estimated {
         /// Patterns drawn.
@@ -77,6 +80,11 @@ impl fmt::Display for CellOrigin {
             Occupancy::Permutations => write!(
                 f,
                 "occupancy of N-rooks permutations in closed form ({} cells)",
+                self.cells
+            ),
+            Occupancy::Gains => write!(
+                f,
+                "nested uniform scrambling by Owen's gains ({} cells of dyadic grids)",
                 self.cells
             ),
             Occupancy::Estimated { patterns } => write!(
@@ -461,8 +469,13 @@ pub(crate) fn predict_cells(
         n.checked_pow(d as u32)
             .is_some_and(|c| c <= EXACT_CELL_BUDGET)
     });
-    let exact =
-        params.spectrum != SpectrumChoice::Estimated && (rule.is_fixed() || pairs.is_some());
+    // Owen-scrambled Sobol' has its pairs of points by Owen's gains.
+    let scrambled = match source {
+        CellSource::Sampler(sampler, SamplerKind::Sobol) => Some(sampler),
+        _ => None,
+    };
+    let exact = params.spectrum != SpectrumChoice::Estimated
+        && (rule.is_fixed() || pairs.is_some() || scrambled.is_some());
     check_choices(params, &name, exact)?;
     let cells: usize = grid.iter().product();
     let strata = grid
@@ -487,6 +500,22 @@ pub(crate) fn predict_cells(
             rounding(s.rounding),
             Occupancy::Fixed,
             cells,
+            why,
+        )
+    } else if let (true, Some(sampler)) = (exact, scrambled) {
+        let pattern = sampler.sample(n, params.seed, 0)?;
+        let (s, read) = super::owen_gains::scrambled_net_variance(f, &pattern, &params.budget)?;
+        let why = format!(
+            "{name}, as drawn: a net under nested uniform scrambling, whose variance is Owen's \
+             gains (read from the net's pair counts on dyadic grids) times the integrand's \
+             variance at each dyadic level (from its cells' integrals), exact: nothing is \
+             truncated, every level left out has gain 1"
+        );
+        (
+            s.variance,
+            rounding(s.rounding),
+            Occupancy::Gains,
+            read,
             why,
         )
     } else if exact {
@@ -533,7 +562,12 @@ pub(crate) fn predict_cells(
             form: Form::Cells,
             spectrum: SpectrumOrigin::Cells(CellOrigin {
                 cells_per_axis: grid.iter().copied().max().unwrap_or(1),
-                cells,
+                // Owen's gains read the cells of many dyadic grids.
+                cells: if occupancy == Occupancy::Gains {
+                    evaluations
+                } else {
+                    cells
+                },
                 occupancy,
             }),
         },

@@ -26,6 +26,7 @@ mod cell_moments;
 mod cell_pairs;
 mod cells;
 mod lattice;
+mod owen_gains;
 mod pair;
 mod polar;
 mod radial_table;

@@ -1,0 +1,399 @@
+//! Owen's gains: the variance of a base-2 net under nested uniform scrambling, exactly.
+//!
+//! Split `f` by dyadic levels: with `P_a` the mean of `f` over the cells of the grid with
+//! `2^{a_l}` cells on axis `l`, the component at level `k` is `f_k = ⊗_l (P_{k_l} − P_{k_l−1})
+//! f` (`P_{−1} = 0`), and `σ²_k = ‖f_k‖² = Σ_{e ≤ 1_u} (−1)^{|e|} S(k − e)` by inclusion–exclusion,
+//! with `u` the axes where `k_l ≥ 1` and `S(a) = ‖P_a f‖² = Σ_c Φ_c² / |c|` read from the cells'
+//! integrals `Φ_c` ([`Integrand::box_moments`]).
+//!
+//! Nested uniform scrambling in base 2 flips each digit by an independent bit of its node in
+//! the tree of elementary intervals. Two scrambled coordinates that share exactly `γ` leading
+//! digits still share them, differ in digit `γ + 1`, and have independent uniform digits below,
+//! so a level-`k` component (antisymmetric in digit `k`, of mean zero given the digits above)
+//! correlates by `1` if `γ ≥ k`, by `−1` if `γ = k − 1`, and not at all otherwise; components of
+//! different levels never correlate. Summed over the pairs of points,
+//!
+//! `Var μ = (1/N) Σ_{k ≠ 0} Γ_k σ²_k`, `Γ_k = (1/N) Σ_{e ∈ {0,1}^u} Π_{l∈u} (e_l ? 2 : −1) C(k − 1_u + e)`,
+//!
+//! Owen's gain coefficients (Owen 1997, "Monte Carlo variance of scrambled net quadrature"),
+//! with `C(a) = Σ_{i,j} [x_i, x_j share cell of grid a] = Σ_c n_c²`. Scrambling permutes the cells
+//! of every dyadic grid, so `C` is read from any one scrambled pattern. `C(a) ≥ N`, with
+//! equality once the grid separates the points, and then every gain it enters is 1: only the
+//! levels just above the grids where two points share a cell differ from independent sampling,
+//!
+//! `N Var μ = (∫f² − I²) + Σ_{k ∈ K} (Γ_k − 1) σ²_k`, `K = {a + 1_u : C(a) > N, supp a ⊆ u}`,
+//!
+//! exact, nothing truncated. For a `(0, m, 2)`-net with `N = 2^m`, `Γ_k` is 0 for `k_1 + k_2 ≤ m`,
+//! 2 for `k_1 + k_2 = m + 1` (both axes refined) and 1 beyond (`docs/theory.md`, "Scrambled
+//! nets by levels").
+
+use super::cell_moments::{cell_box, CellSum, CELL_ROUNDING, CELL_SECONDS};
+use crate::budget::{Budget, Needs};
+use crate::error::{Error, Result};
+use crate::integrand::Integrand;
+use crate::pointset::PointSet;
+use crate::quadrature::CompensatedSum;
+use rayon::prelude::*;
+use std::collections::HashMap;
+
+/// The most axes a grid of box moments has.
+const MAX_AXES: usize = 3;
+/// Binary digits of a pattern's coordinates (doubles in `[0, 1)` with 53-bit fractions).
+const DIGITS: u8 = 53;
+/// Cells per parallel task of a sum over a grid (a fixed order: the same bits on any number of
+/// threads).
+const CHUNK: usize = 4096;
+
+/// The levels of a dyadic grid: `2^{a_l}` cells on axis `l`.
+type Levels = [u8; MAX_AXES];
+
+/// The pair counts `C(a)` of one scrambled pattern, and the grids where two points share a
+/// cell.
+struct PairCounts {
+    n: usize,
+    d: usize,
+    digits: Vec<[u64; MAX_AXES]>,
+    known: HashMap<Levels, u128>,
+}
+
+impl PairCounts {
+    fn new(pattern: &PointSet) -> Self {
+        let d = pattern.dimension();
+        let scale = (1u64 << DIGITS) as f64;
+        let digits = pattern
+            .points()
+            .map(|x| {
+                let mut v = [0u64; MAX_AXES];
+                for (a, &c) in x.iter().enumerate() {
+                    v[a] = ((c * scale) as u64).min((1u64 << DIGITS) - 1);
+                }
+                v
+            })
+            .collect();
+        Self {
+            n: pattern.len(),
+            d,
+            digits,
+            known: HashMap::new(),
+        }
+    }
+
+    /// `C(a) = Σ_c n_c²` over the cells of grid `a`.
+    fn pairs(&mut self, a: Levels) -> u128 {
+        if let Some(&c) = self.known.get(&a) {
+            return c;
+        }
+        let bits: u32 = a.iter().map(|&l| l as u32).sum();
+        let key = |v: &[u64; MAX_AXES]| {
+            (0..self.d).fold(0u64, |k, l| {
+                let take = a[l] as u32;
+                if take == 0 {
+                    k
+                } else {
+                    (k << take) | (v[l] >> (DIGITS as u32 - take))
+                }
+            })
+        };
+        let c = if bits <= 2 + usize::BITS - self.n.leading_zeros() {
+            // At most 4N cells: count them in place.
+            let mut count = vec![0u32; 1usize << bits];
+            self.digits.iter().for_each(|v| count[key(v) as usize] += 1);
+            count.iter().map(|&c| (c as u128) * (c as u128)).sum()
+        } else {
+            let mut keys: Vec<u64> = self.digits.iter().map(key).collect();
+            keys.sort_unstable();
+            keys.chunk_by(|x, y| x == y)
+                .map(|run| (run.len() as u128).pow(2))
+                .sum()
+        };
+        self.known.insert(a, c);
+        c
+    }
+
+    /// The grids in which two points share a cell (`C(a) > N`), a downward-closed set found
+    /// from the coarsest grid by refining one axis at a time.
+    fn shared_grids(&mut self) -> Result<Vec<Levels>> {
+        let mut shared = Vec::new();
+        let mut queue = vec![[0u8; MAX_AXES]];
+        let mut seen = std::collections::HashSet::new();
+        while let Some(a) = queue.pop() {
+            if !seen.insert(a) || self.pairs(a) <= self.n as u128 {
+                continue;
+            }
+            // 53 digits on every axis and still shared: two points coincide.
+            let bits: u32 = a.iter().map(|&l| l as u32).sum();
+            if a[..self.d].iter().all(|&l| l == DIGITS) || bits >= 60 {
+                return Err(Error::OutsideValidity {
+                    route: "Owen's gains".into(),
+                    reason: "two points of the net share a cell of 2^60 cells".into(),
+                });
+            }
+            shared.push(a);
+            for l in 0..self.d {
+                if a[l] < DIGITS {
+                    let mut b = a;
+                    b[l] += 1;
+                    queue.push(b);
+                }
+            }
+        }
+        shared.sort_unstable();
+        Ok(shared)
+    }
+
+    /// Owen's gain `Γ_k` of level `k` (refined on the axes where `k_l ≥ 1`).
+    fn gain(&mut self, k: Levels) -> f64 {
+        let axes: Vec<usize> = (0..self.d).filter(|&l| k[l] > 0).collect();
+        let mut total: i128 = 0;
+        for e in 0..1u32 << axes.len() {
+            let mut a = k;
+            let mut weight: i128 = 1;
+            for (bit, &l) in axes.iter().enumerate() {
+                if e >> bit & 1 == 1 {
+                    weight *= 2;
+                } else {
+                    a[l] -= 1;
+                    weight = -weight;
+                }
+            }
+            total += weight * self.pairs(a) as i128;
+        }
+        total as f64 / self.n as f64
+    }
+}
+
+/// The levels `k` whose gain may differ from 1: `a + 1_u` for every shared grid `a` and every
+/// set of axes `u ⊇ supp a`, `u` not empty.
+fn levels_off_one(shared: &[Levels], d: usize) -> Vec<Levels> {
+    let mut levels = Vec::new();
+    for a in shared {
+        let support = (0..d).fold(0u32, |s, l| s | (u32::from(a[l] > 0) << l));
+        for u in 1..1u32 << d {
+            if u & support == support {
+                let mut k = *a;
+                (0..d).filter(|l| u >> l & 1 == 1).for_each(|l| k[l] += 1);
+                levels.push(k);
+            }
+        }
+    }
+    levels.sort_unstable();
+    levels.dedup();
+    levels
+}
+
+/// The grids `k − e`, `e ≤ 1_u`, whose `S` the levels' variances read, and the whole cube
+/// (`S = I²`).
+fn grids_read(levels: &[Levels], d: usize) -> Vec<Levels> {
+    let mut grids: Vec<Levels> = std::iter::once([0; MAX_AXES])
+        .chain(levels.iter().flat_map(|k| {
+            (0..1u32 << d).filter_map(move |e| {
+                let mut g = *k;
+                for l in 0..d {
+                    if e >> l & 1 == 1 {
+                        g[l] = g[l].checked_sub(1)?;
+                    }
+                }
+                Some(g)
+            })
+        }))
+        .collect();
+    grids.sort_unstable();
+    grids.dedup();
+    grids
+}
+
+/// The finest grid of every column (all axes but the last fixed), from which the coarser grids
+/// of the column follow by merging cells along the last axis.
+fn columns(grids: &[Levels], d: usize) -> Vec<Levels> {
+    let mut finest: HashMap<Levels, u8> = HashMap::new();
+    for g in grids {
+        let mut column = *g;
+        column[d - 1] = 0;
+        let top = finest.entry(column).or_insert(0);
+        *top = (*top).max(g[d - 1]);
+    }
+    let mut tops: Vec<Levels> = finest
+        .into_iter()
+        .map(|(mut g, top)| {
+            g[d - 1] = top;
+            g
+        })
+        .collect();
+    tops.sort_unstable();
+    tops
+}
+
+fn cells_of(g: &Levels, d: usize) -> usize {
+    1usize << g[..d].iter().map(|&l| l as u32).sum::<u32>()
+}
+
+/// `S(a) = Σ_c Φ_c² / |c|` for every grid of the columns, from the cells' integrals on the
+/// finest grid of each column: `S` and its rounding bound per grid.
+fn squared_means(f: &dyn Integrand, tops: &[Levels], d: usize) -> HashMap<Levels, (f64, f64)> {
+    let mut s = HashMap::new();
+    for top in tops {
+        let sizes: Vec<usize> = (0..d).map(|l| 1usize << top[l]).collect();
+        let mut mass: Vec<f64> = vec![0.0; cells_of(top, d)];
+        mass.par_chunks_mut(CHUNK)
+            .enumerate()
+            .for_each(|(c, chunk)| {
+                let (mut lo, mut hi) = ([0.0; MAX_AXES], [0.0; MAX_AXES]);
+                for (i, slot) in chunk.iter_mut().enumerate() {
+                    cell_box(c * CHUNK + i, &sizes, &mut lo[..d], &mut hi[..d]);
+                    *slot = f.box_moments(&lo[..d], &hi[..d]).map_or(0.0, |m| m.0);
+                }
+            });
+        let mut g = *top;
+        loop {
+            let volume_inverse = cells_of(&g, d) as f64;
+            let parts: Vec<f64> = mass
+                .par_chunks(CHUNK)
+                .map(|chunk| {
+                    let mut sum = CompensatedSum::default();
+                    chunk.iter().for_each(|&m| sum.add(m * m));
+                    sum.value()
+                })
+                .collect();
+            let mut sum = CompensatedSum::default();
+            parts.iter().for_each(|&p| sum.add(p));
+            let value = sum.value() * volume_inverse;
+            s.insert(g, (value, CELL_ROUNDING * value));
+            if g[d - 1] == 0 {
+                break;
+            }
+            // Merge pairs of cells along the last axis (the slowest index).
+            let block = mass.len() >> g[d - 1];
+            mass = (0..mass.len() / 2)
+                .map(|i| {
+                    let (row, offset) = (i / block, i % block);
+                    mass[2 * row * block + offset] + mass[(2 * row + 1) * block + offset]
+                })
+                .collect();
+            g[d - 1] -= 1;
+        }
+    }
+    s
+}
+
+/// The variance of the estimator of a base-2 net under nested uniform scrambling, exactly by
+/// Owen's gains read from one scrambled `pattern` of the net: the variance, its rounding bound,
+/// and the cells whose moments it read.
+///
+/// # Errors
+/// An integrand of more than 3 axes or without box moments, a pattern whose points coincide, or
+/// work beyond `budget`.
+pub(crate) fn scrambled_net_variance(
+    f: &dyn Integrand,
+    pattern: &PointSet,
+    budget: &Budget,
+) -> Result<(CellSum, usize)> {
+    let d = f.dimension();
+    if d > MAX_AXES || pattern.dimension() != d {
+        return Err(Error::Mismatch(format!(
+            "Owen's gains of a {}D pattern for a {d}D integrand (at most {MAX_AXES} axes)",
+            pattern.dimension()
+        )));
+    }
+    let n = pattern.len();
+    let mut counts = PairCounts::new(pattern);
+    let shared = counts.shared_grids()?;
+    let levels = levels_off_one(&shared, d);
+    let grids = grids_read(&levels, d);
+    let tops = columns(&grids, d);
+    let cells: usize = tops.iter().map(|g| cells_of(g, d)).sum();
+    budget.check(
+        "Owen's gains",
+        Needs {
+            memory_bytes: 8.0 * tops.iter().map(|g| cells_of(g, d)).max().unwrap_or(1) as f64,
+            work_seconds: cells as f64 * CELL_SECONDS,
+        },
+        "lower N",
+    )?;
+    let s = squared_means(f, &tops, d);
+    let (_, whole) = f
+        .box_moments(&vec![0.0; d], &vec![1.0; d])
+        .ok_or_else(|| Error::Mismatch(format!("{} has no moments over boxes", f.label())))?;
+    let integral_sq = s[&[0; MAX_AXES]].0;
+    let mut total = CompensatedSum::default();
+    total.add(whole);
+    total.add(-integral_sq);
+    let mut rounding = CELL_ROUNDING * whole;
+    for k in &levels {
+        let excess = counts.gain(*k) - 1.0;
+        if excess == 0.0 {
+            continue;
+        }
+        let axes: Vec<usize> = (0..d).filter(|&l| k[l] > 0).collect();
+        let mut sigma = CompensatedSum::default();
+        let mut sigma_rounding = 0.0;
+        for e in 0..1u32 << axes.len() {
+            let mut g = *k;
+            axes.iter()
+                .enumerate()
+                .filter(|(bit, _)| e >> bit & 1 == 1)
+                .for_each(|(_, &l)| g[l] -= 1);
+            let (value, r) = s[&g];
+            sigma.add(if e.count_ones() % 2 == 0 {
+                value
+            } else {
+                -value
+            });
+            sigma_rounding += r;
+        }
+        total.add(excess * sigma.value());
+        rounding += excess.abs() * sigma_rounding;
+    }
+    let nf = n as f64;
+    Ok((
+        CellSum {
+            variance: total.value().max(0.0) / nf,
+            rounding: rounding / nf,
+        },
+        cells,
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampler::{Sampler, Sobol};
+
+    /// A `(0, m, 2)`-net's gains: 0 up to `k_1 + k_2 = m`, 2 at `m + 1` with both axes refined,
+    /// 1 beyond, and on one axis 0 up to `m`, 1 beyond.
+    #[test]
+    fn a_zero_m_two_net_has_the_known_gains() {
+        for m in [0u8, 1, 4, 7] {
+            let pattern = Sobol::new(2).unwrap().sample(1 << m, 3, 0).unwrap();
+            let mut counts = PairCounts::new(&pattern);
+            for k1 in 0..m + 4 {
+                for k2 in 0..m + 4 {
+                    if k1 + k2 == 0 {
+                        continue;
+                    }
+                    let expected = match (k1, k2) {
+                        (_, 0) | (0, _) if k1 + k2 <= m => 0.0,
+                        (_, 0) | (0, _) => 1.0,
+                        _ if k1 + k2 <= m => 0.0,
+                        _ if k1 + k2 == m + 1 => 2.0,
+                        _ => 1.0,
+                    };
+                    assert_eq!(counts.gain([k1, k2, 0]), expected, "m {m}, k ({k1}, {k2})");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn levels_off_one_are_those_of_shared_grids() {
+        let pattern = Sobol::new(2).unwrap().sample(16, 1, 0).unwrap();
+        let mut counts = PairCounts::new(&pattern);
+        let shared = counts.shared_grids().unwrap();
+        // Two points share a cell exactly where the 16 cells or fewer leave two per cell.
+        assert!(shared.iter().all(|a| a[0] + a[1] <= 3));
+        assert_eq!(shared.len(), 10);
+        for k in levels_off_one(&shared, 2) {
+            let in_k = |a: &Levels| k.iter().zip(a).all(|(x, y)| x >= y);
+            assert!(shared.iter().any(in_k));
+        }
+    }
+}
