@@ -31,7 +31,7 @@
 //!
 //! ## Map of the crate
 //!
-//! - [`sampler`]: eighteen samplers behind one [`Sampler`] trait, keyed by (seed, realization),
+//! - [`sampler`]: nineteen samplers behind one [`Sampler`] trait, keyed by (seed, realization),
 //!   from white noise to PMJ02, orthogonal arrays, rank-1 lattices and the Kronecker sequence;
 //!   each states every fact about itself once, in its own file, as a
 //!   [`sampler::SamplerFacts`] descriptor (N rule, randomness, native randomization, closed

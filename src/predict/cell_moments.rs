@@ -40,6 +40,22 @@ pub(crate) fn cell_box(index: usize, grid: &[usize], lo: &mut [f64], hi: &mut [f
     }
 }
 
+/// `Φ_c = ∫_c f` for every cell of `grid` (at most 3 axes), in parallel chunks.
+pub(crate) fn cell_masses(f: &dyn Integrand, grid: &[usize]) -> Vec<f64> {
+    let d = grid.len();
+    let mut mass: Vec<f64> = vec![0.0; grid.iter().product()];
+    mass.par_chunks_mut(TABLE_CHUNK)
+        .enumerate()
+        .for_each(|(c, chunk)| {
+            let (mut lo, mut hi) = ([0.0; 3], [0.0; 3]);
+            for (i, slot) in chunk.iter_mut().enumerate() {
+                cell_box(c * TABLE_CHUNK + i, grid, &mut lo[..d], &mut hi[..d]);
+                *slot = f.box_moments(&lo[..d], &hi[..d]).map_or(0.0, |m| m.0);
+            }
+        });
+    mass
+}
+
 /// `(F_c, V_c)`: the mean of `f` over cell `index` of `grid` and its variance inside the cell.
 pub(crate) fn cell_mean_and_variance(
     f: &dyn Integrand,

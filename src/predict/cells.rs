@@ -315,7 +315,8 @@ pub fn occupancy_variance(
     }
 }
 
-fn summarize(terms: &[f64]) -> OccupancyEstimate {
+/// The mean of `terms` and its standard error (from their spread).
+pub(crate) fn summarize(terms: &[f64]) -> OccupancyEstimate {
     let r = terms.len() as f64;
     let mut sum = CompensatedSum::default();
     terms.iter().for_each(|&t| sum.add(t));

@@ -32,6 +32,7 @@ mod polar;
 mod radial_table;
 mod route;
 mod space;
+mod walsh;
 
 pub use bias::{bias_of_pattern, regular_grid_bias, sampler_bias, BiasMethod, SpectralBias};
 pub use cell_moments::CellSum;
@@ -48,6 +49,7 @@ pub use route::{default_kmax, default_reference_n, polar_validity};
 pub use space::{
     kronecker_variance, pattern_shift_variance, rank1_lattice_variance, regular_grid_variance,
 };
+pub use walsh::WalshOrigin;
 
 use crate::error::{finite, invalid, Error, Result};
 use crate::integrand::Integrand;
@@ -92,6 +94,8 @@ pub enum SpectrumOrigin {
     Closed(ClosedForm),
     /// No spectrum: the unshifted estimator summed over cells in space.
     Cells(CellOrigin),
+    /// Walsh coefficients of the integrand and of a fixed pattern (a digital shift).
+    Walsh(WalshOrigin),
     /// Estimated from `realizations` patterns of `n` points on the lattice `|k_i| ≤ kmax`.
     Estimated {
         /// The N of the patterns.
@@ -108,6 +112,7 @@ impl fmt::Display for SpectrumOrigin {
         match self {
             SpectrumOrigin::Closed(c) => write!(f, "closed form ({})", c.name()),
             SpectrumOrigin::Cells(c) => c.fmt(f),
+            SpectrumOrigin::Walsh(w) => w.fmt(f),
             SpectrumOrigin::Estimated {
                 n,
                 realizations,
@@ -130,6 +135,8 @@ pub enum Form {
     Lattice,
     /// The sum over a sampler's cells in space (the unshifted estimator of strata and nets).
     Cells,
+    /// The sum over Walsh frequencies (fixed patterns under a digital shift).
+    Walsh,
 }
 
 impl fmt::Display for Form {
@@ -138,6 +145,7 @@ impl fmt::Display for Form {
             Form::Polar => "polar form",
             Form::Lattice => "lattice form",
             Form::Cells => "cell form",
+            Form::Walsh => "Walsh form",
         })
     }
 }
@@ -155,6 +163,7 @@ impl fmt::Display for Route {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self.spectrum {
             SpectrumOrigin::Cells(cells) => write!(f, "{}, {cells}", self.form),
+            SpectrumOrigin::Walsh(walsh) => write!(f, "{}, {walsh}", self.form),
             _ => write!(f, "{}, spectrum {}", self.form, self.spectrum),
         }
     }
@@ -622,20 +631,25 @@ pub fn predict_with(
         .map(|p| for_estimator(p, problem))
 }
 
-/// `p`, which a route computed for the shifted estimator, labelled with the estimator of
-/// `problem` it predicts ([`route::check_estimator`] admitted only randomizations with the same
-/// variance), its reason saying why the two agree.
+/// `p`, which a route computed for the shifted estimator or for the law as drawn, labelled with
+/// the estimator of `problem` it predicts ([`route::check_estimator`] admitted only
+/// randomizations with the same variance), its reason saying why the two agree.
 fn for_estimator(p: Prediction, problem: &Problem<'_>) -> Prediction {
     let randomization = problem.randomization;
-    let why = match randomization {
+    let agreement = match randomization {
         Randomization::Shift => None,
+        _ if route::scrambling_absorbs_shift(problem) => Some((
+            "the law as drawn",
+            "a digital shift of an Owen-scrambled net is again nested uniform scrambling",
+        )),
         _ => problem
             .kind()
-            .and_then(|k| k.facts().randomness.why_shifted_variance(randomization)),
+            .and_then(|k| k.facts().randomness.why_shifted_variance(randomization))
+            .map(|why| ("the variance is the shifted one's", why)),
     };
-    let reason = match why {
-        Some(why) => format!(
-            "{}; under randomization {randomization} the variance is the shifted one's: {why}",
+    let reason = match agreement {
+        Some((what, why)) => format!(
+            "{}; under randomization {randomization} {what}: {why}",
             p.reason
         ),
         None => p.reason,

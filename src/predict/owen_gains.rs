@@ -27,7 +27,7 @@
 //! 2 for `k_1 + k_2 = m + 1` (both axes refined) and 1 beyond (`docs/theory.md`, "Scrambled
 //! nets by levels").
 
-use super::cell_moments::{cell_box, CellSum, CELL_ROUNDING, CELL_SECONDS};
+use super::cell_moments::{cell_masses, CellSum, CELL_ROUNDING, CELL_SECONDS};
 use crate::budget::{Budget, Needs};
 use crate::error::{Error, Result};
 use crate::integrand::Integrand;
@@ -233,16 +233,7 @@ fn squared_means(f: &dyn Integrand, tops: &[Levels], d: usize) -> HashMap<Levels
     let mut s = HashMap::new();
     for top in tops {
         let sizes: Vec<usize> = (0..d).map(|l| 1usize << top[l]).collect();
-        let mut mass: Vec<f64> = vec![0.0; cells_of(top, d)];
-        mass.par_chunks_mut(CHUNK)
-            .enumerate()
-            .for_each(|(c, chunk)| {
-                let (mut lo, mut hi) = ([0.0; MAX_AXES], [0.0; MAX_AXES]);
-                for (i, slot) in chunk.iter_mut().enumerate() {
-                    cell_box(c * CHUNK + i, &sizes, &mut lo[..d], &mut hi[..d]);
-                    *slot = f.box_moments(&lo[..d], &hi[..d]).map_or(0.0, |m| m.0);
-                }
-            });
+        let mut mass = cell_masses(f, &sizes);
         let mut g = *top;
         loop {
             let volume_inverse = cells_of(&g, d) as f64;

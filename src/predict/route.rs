@@ -143,7 +143,7 @@ pub(crate) fn check_estimator(problem: &Problem<'_>) -> Result<()> {
         return Ok(());
     }
     let kind = problem.kind();
-    if uses_cells(problem) {
+    if uses_cells(problem) || uses_walsh(problem) {
         return Ok(());
     }
     match kind {
@@ -188,8 +188,12 @@ pub(crate) fn check_estimator(problem: &Problem<'_>) -> Result<()> {
 }
 
 /// Whether `problem` is the unshifted estimator of a sampler whose law a shift would change and
-/// whose points are independent and uniform in known cells: the cell form predicts it.
+/// whose points are independent and uniform in known cells: the cell form predicts it. A
+/// digital shift of an Owen-scrambled net is again nested uniform scrambling: its law as drawn.
 fn uses_cells(problem: &Problem<'_>) -> bool {
+    if scrambling_absorbs_shift(problem) {
+        return true;
+    }
     problem.randomization == Randomization::None
         && match problem.patterns {
             Patterns::PointSets(_) => problem.cells.is_some(),
@@ -197,6 +201,25 @@ fn uses_cells(problem: &Problem<'_>) -> bool {
                 let facts = k.facts();
                 facts.cells != CellRule::None && !facts.randomness.is_stationary()
             }),
+        }
+}
+
+/// Whether `problem` is Owen-scrambled Sobol' under a digital shift, whose law is Owen's
+/// scrambling as drawn (each node's flip composed with the shift's digit is again a uniform
+/// flip, independent across nodes).
+pub(crate) fn scrambling_absorbs_shift(problem: &Problem<'_>) -> bool {
+    problem.randomization == Randomization::DigitalShift
+        && matches!(problem.patterns, Patterns::Sampler(_))
+        && problem.kind() == Some(SamplerKind::Sobol)
+}
+
+/// Whether `problem` is fixed patterns under a digital shift (a deterministic sampler's, or
+/// given sets): the Walsh form predicts it.
+fn uses_walsh(problem: &Problem<'_>) -> bool {
+    problem.randomization == Randomization::DigitalShift
+        && match problem.patterns {
+            Patterns::PointSets(_) => true,
+            Patterns::Sampler(_) => problem.kind().is_some_and(|k| k.is_deterministic()),
         }
 }
 
@@ -214,6 +237,9 @@ pub(crate) fn predict_routed(
             _ => return Err(Error::Mismatch("a cell form without cells".into())),
         };
         return super::cells::predict_cells(problem.integrand, source, n, params, progress);
+    }
+    if uses_walsh(problem) {
+        return super::walsh::predict_walsh(problem, params, progress);
     }
     let closed = match (params.spectrum, problem.patterns) {
         (SpectrumChoice::Estimated, _) | (_, Patterns::PointSets(_)) => None,
@@ -682,7 +708,7 @@ fn estimated_reason(
 ) -> Prediction {
     let realizations = match p.route.spectrum {
         SpectrumOrigin::Estimated { realizations, .. } => realizations,
-        SpectrumOrigin::Closed(_) | SpectrumOrigin::Cells(_) => 0,
+        SpectrumOrigin::Closed(_) | SpectrumOrigin::Cells(_) | SpectrumOrigin::Walsh(_) => 0,
     };
     let why = match kind {
         None => format!("{what}: no closed form is known"),
@@ -732,6 +758,7 @@ pub(crate) fn predict_routed_many(
         && matches!(first.patterns, Patterns::Sampler(s) if s.closed_form(n).is_some());
     if closed
         || uses_cells(first)
+        || uses_walsh(first)
         || params.form == FormChoice::Polar
         || params.spectrum == SpectrumChoice::Closed
     {

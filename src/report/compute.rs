@@ -88,7 +88,7 @@ pub fn compute(config: &ReportConfig, progress: &dyn Progress) -> Result<Report>
             seconds: edges_seconds - study_seconds,
         },
         Timing {
-            stage: "the estimator as used: shifted and unshifted strata and nets (after the \
+            stage: "the estimator as used: strata and nets shifted and as used (after the \
                     edges, alongside the closure table)"
                 .into(),
             seconds: estimators_seconds - edges_seconds,
@@ -480,7 +480,7 @@ fn estimator_checks(section: &super::EstimatorsSection) -> Vec<Check> {
     let p = binomial_tail(rows, misses, 0.01);
     let worst = section.rows.iter().map(|r| r.z.abs()).fold(0.0, f64::max);
     vec![Check {
-        what: "the estimator as used: shifted and unshifted predictions against Monte Carlo of \
+        what: "the estimator as used: shifted and as-used predictions against Monte Carlo of \
                the same estimator"
             .into(),
         pass: p >= 0.01 && worst <= 4.0,

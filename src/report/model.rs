@@ -127,7 +127,7 @@ pub struct ReportConfig {
     pub closure: ClosureConfig,
     /// Edges at any angle.
     pub edges: EdgesConfig,
-    /// The estimator as used: shifted and unshifted strata and nets on a seam.
+    /// The estimator as used: strata and nets shifted and as used, on a seam.
     pub estimators: super::EstimatorsConfig,
     /// The ambient-occlusion renders.
     #[serde(skip)]
@@ -413,7 +413,7 @@ pub struct Report {
     pub illustration: Illustration,
     /// Edges at any angle.
     pub edges: EdgesSection,
-    /// The estimator as used: shifted and unshifted strata and nets on a seam.
+    /// The estimator as used: strata and nets shifted and as used, on a seam.
     pub estimators: super::EstimatorsSection,
     /// The rendering experiment.
     pub ambient: AmbientSection,

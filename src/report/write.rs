@@ -25,6 +25,7 @@ fn route_short(p: &Prediction) -> String {
             format!("{}, estimated at N ({realizations} patterns)", p.route.form)
         }
         SpectrumOrigin::Cells(c) => format!("{}, {c}", p.route.form),
+        SpectrumOrigin::Walsh(w) => format!("{}, {w}", p.route.form),
     }
 }
 
@@ -179,7 +180,7 @@ fn edges_markdown(config: &EdgesConfig, edges: &EdgesSection) -> String {
     md
 }
 
-/// The ratio of the shifted estimator's variance to the unshifted one's against N, per
+/// The ratio of the shifted estimator's variance to the one's as used against N, per
 /// sampler: predicted (lines) and measured (markers, with the interval of the ratio of the two
 /// Monte Carlo intervals).
 fn estimator_plot(dir: &Path, section: &EstimatorsSection) -> Result<()> {
@@ -222,9 +223,9 @@ fn estimator_plot(dir: &Path, section: &EstimatorsSection) -> Result<()> {
         });
     }
     let axes = Axes {
-        title: format!("shifted over unshifted variance on {}", section.integrand),
+        title: format!("shifted over as-used variance on {}", section.integrand),
         x_label: "N".into(),
-        y_label: "Var shifted / Var unshifted".into(),
+        y_label: "Var shifted / Var as used".into(),
         log_x: true,
         log_y: true,
         x_ticks: None,
@@ -237,21 +238,23 @@ fn estimators_markdown(config: &EstimatorsConfig, section: &EstimatorsSection) -
     let mut md = String::new();
     let _ = writeln!(
         md,
-        "\n## The estimator as used: shifted and unshifted strata and nets\n\n\
+        "\n## The estimator as used: strata and nets shifted and as renderers use them\n\n\
          The talk's variance is the homogenized estimator's: each pattern under a uniform random \
          toroidal shift. Renderers use strata and nets as drawn. On {}, a smooth falloff that \
          the square's faces cut (as a pixel's edges cut a light's), each sampler is predicted and \
-         measured both ways: shifted (`--randomization shift`: the spectral routes) and as drawn \
-         (`none`, the default for these samplers: the cell form, exact for jitter, Latin \
-         hypercube and multi-jitter, its occupancy estimated from patterns otherwise). Monte Carlo: {} \
-         evaluations of the same estimator, 99% intervals; `z` as in the closure table.\n",
+         measured both ways: shifted (`--randomization shift`: the spectral routes) and as used \
+         (the default: as drawn for the strata and Owen-scrambled nets, by the cell form, exact \
+         for jitter, Latin hypercube, multi-jitter and Sobol' (Owen's gains), its occupancy \
+         estimated from patterns for CMJ, orthogonal arrays and PMJ02; under a digital shift for \
+         the unscrambled Sobol' net `sobol-ds`, by the Walsh form). Monte Carlo: {} evaluations \
+         of the same estimator, 99% intervals; `z` as in the closure table.\n",
         section.integrand, config.trials
     );
-    let _ = writeln!(md, "![shifted over unshifted variance](estimators.svg)\n");
+    let _ = writeln!(md, "![shifted over as-used variance](estimators.svg)\n");
     let _ = writeln!(
         md,
-        "| sampler | N | shifted: predicted (route) | measured | z | unshifted: predicted (route) \
-         | measured | z | shifted / unshifted |\n|---|---|---|---|---|---|---|---|---|"
+        "| sampler | N | shifted: predicted (route) | measured | z | as used: predicted (route) \
+         | measured | z | shifted / as used |\n|---|---|---|---|---|---|---|---|---|"
     );
     for (s, u) in estimators::pairs(section) {
         let _ = writeln!(
@@ -294,14 +297,15 @@ fn estimator_findings(section: &EstimatorsSection) -> String {
         .min_by(|a, b| a.2.total_cmp(&b.2))
         .unwrap_or(largest);
     format!(
-        "\nThe shift costs most for {} at N = {} ({:.1}× the unshifted variance) and least for \
+        "\nThe shift costs most for {} at N = {} ({:.1}× the variance as used) and least for \
          {} at N = {} ({:.2}×). The shifted estimator moves the strata across the faces, so the \
          jump there falls inside strata and costs what an interior edge would (its torus \
-         coefficients fall like 1/|k| along the axes); the unshifted strata and nets keep \
-         the faces on their cell boundaries, where the jump costs nothing. Latin hypercube stratifies only each axis's projection: its variance \
+         coefficients fall like 1/|k| along the axes); strata and nets as drawn keep the faces \
+         on their cell boundaries, where the jump costs nothing, and so does a digital shift, \
+         which permutes the dyadic cells. Latin hypercube stratifies only each axis's projection: its variance \
          is mostly the integrand's interaction between the axes, which the seam barely touches. \
          The talk's rates above are the shifted estimator's; a renderer's samples are this \
-         section's unshifted ones.\n",
+         section's estimators as used.\n",
         largest.0, largest.1, largest.2, smallest.0, smallest.1, smallest.2
     )
 }

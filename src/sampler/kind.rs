@@ -8,7 +8,7 @@ use super::ClosedForm;
 use super::{
     Ccvt, CorrelatedMultiJitter, GaussianBlueNoise, GaussianJitter, Halton, Jitter, Kronecker,
     LatinHypercube, LatticeRule, MultiJitter, OrthogonalArray, Pmj02, PoissonDisk, PoissonMethod,
-    Random, Rank1Lattice, Regular, Sampler, Sobol,
+    Random, Rank1Lattice, Regular, Sampler, Sobol, SobolNet,
 };
 use crate::budget::Needs;
 use crate::error::{Error, Result};
@@ -41,6 +41,8 @@ pub enum SamplerKind {
     Halton,
     /// Owen-scrambled Sobol.
     Sobol,
+    /// The unscrambled Sobol' net under a digital shift.
+    SobolNet,
     /// Correlated multi-jittered (2D).
     Cmj,
     /// Gaussian jitter: grid centres moved by Gaussian offsets.
@@ -100,7 +102,7 @@ pub fn costly_realizations(cheap: usize) -> usize {
 
 impl SamplerKind {
     /// All kinds, in display order.
-    pub const ALL: [SamplerKind; 18] = [
+    pub const ALL: [SamplerKind; 19] = [
         SamplerKind::Random,
         SamplerKind::Regular,
         SamplerKind::Jitter,
@@ -112,6 +114,7 @@ impl SamplerKind {
         SamplerKind::LatinHypercube,
         SamplerKind::Halton,
         SamplerKind::Sobol,
+        SamplerKind::SobolNet,
         SamplerKind::MultiJitter,
         SamplerKind::Cmj,
         SamplerKind::OrthogonalArray,
@@ -134,6 +137,7 @@ impl SamplerKind {
             SamplerKind::OrthogonalArray => &super::orthogonal::FACTS,
             SamplerKind::Halton => &super::halton::FACTS,
             SamplerKind::Sobol => &super::sobol::FACTS,
+            SamplerKind::SobolNet => &super::sobol_net::FACTS,
             SamplerKind::Cmj => &super::cmj::FACTS,
             SamplerKind::GaussianJitter => &super::gaussian_jitter::FACTS,
             SamplerKind::Korobov => &super::rank1::KOROBOV_FACTS,
@@ -445,6 +449,7 @@ impl SamplerKind {
             SamplerKind::OrthogonalArray => Box::new(OrthogonalArray::new(d)?),
             SamplerKind::Halton => Box::new(Halton::new(d)?),
             SamplerKind::Sobol => Box::new(Sobol::new(d)?),
+            SamplerKind::SobolNet => Box::new(SobolNet::new(d)?),
             SamplerKind::Cmj => Box::new(CorrelatedMultiJitter::new(d)?),
             SamplerKind::GaussianJitter => Box::new(GaussianJitter::new(d)?),
             SamplerKind::Korobov => Box::new(Rank1Lattice::new(d, LatticeRule::Korobov)?),

@@ -26,6 +26,7 @@ mod random;
 mod rank1;
 mod regular;
 mod sobol;
+mod sobol_net;
 
 pub use ccvt::{Ccvt, CcvtParams, CcvtStats};
 pub use closed_form::{fejer, sinc, ClosedForm, ClosedLattice, TailDeviation};
@@ -57,6 +58,7 @@ pub use random::Random;
 pub use rank1::{shortest_dual_vector_sq, LatticeRule, Rank1Lattice};
 pub use regular::{strata, Regular};
 pub use sobol::Sobol;
+pub use sobol_net::SobolNet;
 
 use crate::error::{Error, Result};
 use crate::pointset::PointSet;

@@ -40,10 +40,10 @@ const JOE_KUO: [(u32, u32, &[u32]); MAX_DIMENSION - 1] = [
     (5, 2, &[1, 1, 5, 5, 17]),
 ];
 
-const BITS: usize = 32;
+pub(super) const BITS: usize = 32;
 
 /// The 32 direction numbers `v_k = m_k · 2^(32-k)` of an axis (axis 0 is van der Corput).
-fn direction_numbers(axis: usize) -> [u32; BITS] {
+pub(super) fn direction_numbers(axis: usize) -> [u32; BITS] {
     let mut v = [0u32; BITS];
     if axis == 0 {
         for (k, vk) in v.iter_mut().enumerate() {
@@ -91,7 +91,7 @@ fn sobol_bits(index: u32, v: &[u32; BITS]) -> u32 {
 
 /// `c_t = v_0 ^ … ^ v_t`: stepping from index `i - 1` to `i` flips the bits `0 … t` of the
 /// index, `t` its trailing zeros, so `x(i) = x(i - 1) ^ c_t` (one XOR per point).
-fn flip_masks(v: &[u32; BITS]) -> [u32; BITS] {
+pub(super) fn flip_masks(v: &[u32; BITS]) -> [u32; BITS] {
     let mut c = [0u32; BITS];
     let mut acc = 0;
     for k in 0..BITS {

@@ -1,0 +1,430 @@
+//! Digital shifts: fixed patterns under a uniform random digital shift, by Walsh functions.
+//!
+//! A digital shift XORs every coordinate's binary digits with those of one uniform fraction
+//! `Δ_l` per axis. It is to the Walsh functions what the toroidal shift is to the Fourier ones:
+//! with `wal_κ(x) = (−1)^{Σ_l Σ_i κ_{l,i} x_{l,i+1}}` (bit `i` of `κ_l` against digit `i + 1` of
+//! `x_l`), `wal_κ(x ⊕ Δ) = wal_κ(x) wal_κ(Δ)`, and the `wal_κ(Δ)` are orthonormal over `Δ`. With
+//! `f̌(κ) = ∫ f wal_κ` and `S_κ = (1/N) Σ_j wal_κ(x_j)`, the estimator is unbiased and
+//!
+//! `Var μ = Σ_{κ≠0} |f̌(κ)|² |S_κ|²`
+//!
+//! (for a digital net `|S_κ|²` is 1 on its dual net and 0 elsewhere).
+//!
+//! Split `f = f_L + g`, `f_L` its mean over the cells of the grid with `2^L` cells per axis:
+//! `f_L`'s Walsh coefficients are `f`'s for `κ < 2^L` and zero beyond, `g`'s the reverse, so the
+//! variance is the sum of the two parts' variances, with no cross term. The first is exact: the
+//! fast Walsh–Hadamard transform of the cells' integrals gives `f̌(κ)` for `κ < 2^L`, and that of
+//! the points' counts in the cells gives `N S_κ` (a Walsh function below level `L` is constant
+//! on the cells). The second, the digits below `2^−L`, is measured: the mean of
+//! `((1/N) Σ_j g(x_j ⊕ Δ))²` over random shifts is unbiased for it (the mean of `g` over every
+//! cell is zero), and its standard error is the prediction's noise. With `L` a few digits past
+//! the pattern's own (`log2 N`), it is a small part of the whole (`docs/theory.md`, "Digital
+//! shifts").
+
+use super::cell_moments::{cell_masses, check_box_moments, CELL_ROUNDING, CELL_SECONDS};
+use super::cells::{summarize, OccupancyEstimate};
+use super::{
+    ErrorBudget, Form, FormChoice, Patterns, PredictParams, Prediction, Problem, Route,
+    SpectrumChoice, SpectrumOrigin,
+};
+use crate::budget::{Budget, Needs};
+use crate::error::{Error, Result};
+use crate::integrand::Integrand;
+use crate::pointset::PointSet;
+use crate::progress::{stage, Progress};
+use crate::quadrature::CompensatedSum;
+use crate::randomization::{digital_shift, xor_digits, Randomization};
+use rayon::prelude::*;
+use serde::Serialize;
+use std::fmt;
+
+/// The most axes (box moments exist up to 3).
+const MAX_AXES: usize = 3;
+/// The most cells of the tabulated level: `2^22` (two arrays of 32 MiB).
+pub(crate) const MAX_WALSH_CELLS: usize = 1 << 22;
+/// Digits past the pattern's own (`⌈log2 N⌉`) the tabulated level reaches, within
+/// [`MAX_WALSH_CELLS`]: the remainder below it is then a small part of the variance (its
+/// share falls like `4^{−extra}` for a smooth integrand, `2^{−extra}` for a jump).
+const EXTRA_DIGITS: u32 = 4;
+/// Shifts that measure the remainder at first.
+const INITIAL_SHIFTS: usize = 64;
+/// Shifts the remainder never exceeds.
+const MAX_SHIFTS: usize = 1 << 16;
+/// The work of one evaluation of the remainder `g` at a shifted point.
+const EVALUATION_SECONDS: f64 = 1e-7;
+/// Elements per parallel task of a transform or a sum (a fixed order: the same bits on any
+/// number of threads).
+const CHUNK: usize = 1 << 12;
+
+/// A digitally shifted prediction: the exact part below the level, the remainder measured.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct WalshEstimate {
+    /// The variance: exact part plus remainder.
+    pub(crate) variance: f64,
+    /// A bound on the rounding of the exact part.
+    pub(crate) rounding: f64,
+    /// The remainder's standard error.
+    pub(crate) noise: f64,
+    /// The remainder's share of the variance.
+    pub(crate) remainder: f64,
+    /// Cells per axis of the tabulated level.
+    pub(crate) cells_per_axis: usize,
+    /// Shifts that measured the remainder.
+    pub(crate) shifts: usize,
+}
+
+/// The Walsh–Hadamard transform in place, `a[κ] ← Σ_c a[c] (−1)^{popcount(κ & c)}` (`a.len()`
+/// a power of 2): butterflies of growing span, the short ones within blocks in parallel.
+pub(crate) fn walsh_hadamard(a: &mut [f64]) {
+    let n = a.len();
+    let butterflies = |x: &mut [f64], y: &mut [f64]| {
+        for (u, v) in x.iter_mut().zip(y.iter_mut()) {
+            let (p, q) = (*u, *v);
+            *u = p + q;
+            *v = p - q;
+        }
+    };
+    a.par_chunks_mut(CHUNK.min(n)).for_each(|block| {
+        let mut h = 1;
+        while h < block.len() {
+            block.chunks_mut(2 * h).for_each(|pair| {
+                let (x, y) = pair.split_at_mut(h);
+                butterflies(x, y);
+            });
+            h *= 2;
+        }
+    });
+    let mut h = CHUNK;
+    while h < n {
+        a.chunks_mut(2 * h).for_each(|pair| {
+            let (x, y) = pair.split_at_mut(h);
+            x.par_chunks_mut(CHUNK)
+                .zip(y.par_chunks_mut(CHUNK))
+                .for_each(|(x, y)| butterflies(x, y));
+        });
+        h *= 2;
+    }
+}
+
+/// The tabulated level: `EXTRA_DIGITS` past `⌈log2 N⌉` per axis, within [`MAX_WALSH_CELLS`].
+pub(crate) fn walsh_level(n: usize, d: usize) -> u32 {
+    let own = usize::BITS - (n.max(1) - 1).leading_zeros();
+    let most = MAX_WALSH_CELLS.trailing_zeros() / d as u32;
+    (own + EXTRA_DIGITS).min(most).max(1)
+}
+
+fn cell_index(x: &[f64], side: usize) -> usize {
+    x.iter().rev().fold(0, |index, &c| {
+        index * side + ((c * side as f64) as usize).min(side - 1)
+    })
+}
+
+/// `Σ_{κ≠0} a[κ]² (b[κ]/N)²` and `Σ_{κ≠0} |a[κ]| (b[κ]/N)²`, in chunks summed in a fixed order.
+fn weighted_energy(a: &[f64], b: &[f64], n: f64) -> (f64, f64) {
+    let parts: Vec<(f64, f64)> = a
+        .par_chunks(CHUNK)
+        .zip(b.par_chunks(CHUNK))
+        .enumerate()
+        .map(|(c, (a, b))| {
+            let (mut energy, mut magnitude) =
+                (CompensatedSum::default(), CompensatedSum::default());
+            for (i, (x, y)) in a.iter().zip(b).enumerate() {
+                if c == 0 && i == 0 {
+                    continue;
+                }
+                let s = (y / n) * (y / n);
+                energy.add(x * x * s);
+                magnitude.add(x.abs() * s);
+            }
+            (energy.value(), magnitude.value())
+        })
+        .collect();
+    let (mut energy, mut magnitude) = (CompensatedSum::default(), CompensatedSum::default());
+    for (e, m) in parts {
+        energy.add(e);
+        magnitude.add(m);
+    }
+    (energy.value(), magnitude.value())
+}
+
+/// `((1/N) Σ_j g(x_j ⊕ Δ))²` for one shift: the remainder's estimator, squared.
+fn remainder_term(
+    f: &dyn Integrand,
+    pattern: &PointSet,
+    means: &[f64],
+    side: usize,
+    mask: &[u64],
+) -> f64 {
+    let d = pattern.dimension();
+    let mut y = [0.0; MAX_AXES];
+    let mut sum = CompensatedSum::default();
+    for x in pattern.points() {
+        for l in 0..d {
+            y[l] = xor_digits(x[l], mask[l]);
+        }
+        sum.add(f.eval(&y[..d]) - means[cell_index(&y[..d], side)]);
+    }
+    let m = sum.value() / pattern.len() as f64;
+    m * m
+}
+
+/// The variance of the estimator of `patterns` (each a fixed pattern, all equally likely)
+/// under a uniform random digital shift: exact through level `walsh_level(N, d)` by the Walsh
+/// transforms, the finer digits measured by shifts (`counts.0` first, then as many as the
+/// relative standard error `target_noise` needs, up to `counts.1`), keyed by `seed`.
+///
+/// # Errors
+/// An integrand of more than 3 axes or without box moments, patterns of another dimension or
+/// count, or work beyond `budget`.
+pub(crate) fn digital_shift_variance(
+    f: &dyn Integrand,
+    patterns: &[PointSet],
+    target_noise: f64,
+    seed: u64,
+    work_seconds: f64,
+    budget: &Budget,
+    progress: &dyn Progress,
+) -> Result<WalshEstimate> {
+    let d = f.dimension();
+    let n = patterns.first().map_or(0, PointSet::len);
+    if d > MAX_AXES || patterns.iter().any(|p| p.dimension() != d || p.len() != n) || n == 0 {
+        return Err(Error::Mismatch(format!(
+            "the Walsh form needs patterns of one N > 0 in the integrand's dimension {d} (at \
+             most {MAX_AXES})"
+        )));
+    }
+    let level = walsh_level(n, d);
+    let side = 1usize << level;
+    let cells = 1usize << (level as usize * d);
+    budget.check(
+        "the Walsh form",
+        Needs {
+            memory_bytes: 16.0 * cells as f64,
+            work_seconds: cells as f64
+                * (CELL_SECONDS + 1e-9 * (level as usize * d) as f64)
+                * (1 + patterns.len()) as f64,
+        },
+        "lower N",
+    )?;
+    let grid = vec![side; d];
+    let (means, coefficients) = stage(progress, "Walsh coefficients", 0, || {
+        let mut masses = cell_masses(f, &grid);
+        let means: Vec<f64> = masses.iter().map(|m| m * cells as f64).collect();
+        walsh_hadamard(&mut masses);
+        (means, masses)
+    });
+    let nf = n as f64;
+    let (mut exact, mut magnitude) = (CompensatedSum::default(), CompensatedSum::default());
+    let mut counts = vec![0.0; cells];
+    for pattern in patterns {
+        counts.iter_mut().for_each(|c| *c = 0.0);
+        pattern
+            .points()
+            .for_each(|x| counts[cell_index(x, side)] += 1.0);
+        walsh_hadamard(&mut counts);
+        let (e, m) = weighted_energy(&coefficients, &counts, nf);
+        exact.add(e);
+        magnitude.add(m);
+    }
+    let sets = patterns.len() as f64;
+    let exact = exact.value() / sets;
+    // Each coefficient is off by at most its cells' rounding plus one unit per butterfly, of
+    // the total mass Σ|Φ_c|.
+    let mass: f64 = means.iter().map(|m| m.abs()).sum::<f64>() / cells as f64;
+    let coefficient_error = (CELL_ROUNDING + f64::EPSILON * (level as usize * d) as f64) * mass;
+    let rounding = 2.0 * coefficient_error * magnitude.value() / sets;
+    let per_shift = nf * EVALUATION_SECONDS;
+    let max_shifts = ((work_seconds / per_shift) as usize).clamp(INITIAL_SHIFTS, MAX_SHIFTS);
+    let remainder = measure_remainder(
+        f,
+        patterns,
+        &means,
+        side,
+        exact,
+        (target_noise, seed, max_shifts),
+        progress,
+    )?;
+    Ok(WalshEstimate {
+        variance: exact + remainder.variance,
+        rounding,
+        noise: remainder.standard_error,
+        remainder: remainder.variance,
+        cells_per_axis: side,
+        shifts: remainder.patterns,
+    })
+}
+
+/// The remainder below the tabulated level, measured by shifts until its standard error is
+/// `target_noise` of `exact` plus itself.
+fn measure_remainder(
+    f: &dyn Integrand,
+    patterns: &[PointSet],
+    means: &[f64],
+    side: usize,
+    exact: f64,
+    (target_noise, seed, max_shifts): (f64, u64, usize),
+    progress: &dyn Progress,
+) -> Result<OccupancyEstimate> {
+    let d = f.dimension();
+    let mut terms: Vec<f64> = Vec::new();
+    let mut want = INITIAL_SHIFTS.min(max_shifts);
+    loop {
+        let start = terms.len();
+        let more: Vec<f64> = stage(
+            progress,
+            "finer digits by digital shifts",
+            (want - start) as u64,
+            || {
+                (start..want)
+                    .into_par_iter()
+                    .map(|unit| {
+                        let pattern = &patterns[unit % patterns.len()];
+                        let mask = digital_shift(d, seed, unit as u64);
+                        let t = remainder_term(f, pattern, means, side, &mask[..d]);
+                        progress.advance(1);
+                        t
+                    })
+                    .collect()
+            },
+        );
+        terms.extend(more);
+        let estimate = summarize(&terms);
+        let relative = estimate.standard_error / (exact + estimate.variance);
+        if relative.is_nan() || relative <= target_noise || terms.len() >= max_shifts {
+            return Ok(estimate);
+        }
+        let needed = terms.len() as f64 * (relative / target_noise).powi(2) * 1.1;
+        want = (needed.ceil() as usize)
+            .max(terms.len() + terms.len() / 2)
+            .min(max_shifts);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The fast transform against its definition.
+    #[test]
+    fn the_fast_transform_is_the_walsh_sum() {
+        for n in [1usize, 2, 8, 1 << 13] {
+            let a: Vec<f64> = (0..n).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
+            let mut fast = a.clone();
+            walsh_hadamard(&mut fast);
+            for k in (0..n).step_by((n / 16).max(1)) {
+                let direct: f64 = a
+                    .iter()
+                    .enumerate()
+                    .map(|(c, x)| {
+                        if (k & c).count_ones() % 2 == 0 {
+                            *x
+                        } else {
+                            -x
+                        }
+                    })
+                    .sum();
+                assert!((fast[k] - direct).abs() < 1e-9, "n {n}, k {k}");
+            }
+        }
+    }
+}
+
+/// Where a Walsh-form prediction's coefficients come from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct WalshOrigin {
+    /// Cells per axis of the level through which the sum is exact.
+    pub cells_per_axis: usize,
+    /// Digital shifts that measured the finer digits.
+    pub shifts: usize,
+}
+
+impl fmt::Display for WalshOrigin {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "Walsh coefficients exact through {} cells per axis (fast Walsh–Hadamard \
+             transforms), the finer digits measured by {} digital shifts",
+            self.cells_per_axis, self.shifts
+        )
+    }
+}
+
+/// The prediction for fixed patterns under a digital shift: a deterministic sampler's pattern,
+/// or every given set (each equally likely).
+pub(crate) fn predict_walsh(
+    problem: &Problem<'_>,
+    params: &PredictParams,
+    progress: &dyn Progress,
+) -> Result<Prediction> {
+    let f = problem.integrand;
+    check_box_moments(f)?;
+    check_choices(params)?;
+    let drawn;
+    let patterns: &[PointSet] = match problem.patterns {
+        Patterns::Sampler(s) => {
+            drawn = [s.sample(problem.n, params.seed, 0)?];
+            &drawn
+        }
+        Patterns::PointSets(sets) => sets,
+    };
+    let e = digital_shift_variance(
+        f,
+        patterns,
+        params.target_noise,
+        params.seed,
+        params.work_budget_seconds,
+        &params.budget,
+        progress,
+    )?;
+    let whose = match problem.kind() {
+        Some(k) => format!("{k}'s fixed pattern"),
+        None => format!("{} given point sets (each equally likely)", patterns.len()),
+    };
+    let reason = format!(
+        "{whose} under a random digital shift: the sum over Walsh frequencies of the \
+         integrand's coefficients times the pattern's, exact through {} cells per axis, the \
+         finer digits ({:.1}% of the value) measured by {} shifts of the remainder",
+        e.cells_per_axis,
+        100.0 * e.remainder / e.variance.max(f64::MIN_POSITIVE),
+        e.shifts
+    );
+    Ok(Prediction {
+        variance: e.variance,
+        randomization: Randomization::DigitalShift,
+        route: Route {
+            form: Form::Walsh,
+            spectrum: SpectrumOrigin::Walsh(WalshOrigin {
+                cells_per_axis: e.cells_per_axis,
+                shifts: e.shifts,
+            }),
+        },
+        reason,
+        budget: ErrorBudget {
+            spectrum_noise: e.noise,
+            quadrature: e.rounding,
+            ..Default::default()
+        },
+        n: problem.n,
+        dimension: f.dimension(),
+        dc_term: 0.0,
+        evaluations: (e.shifts * problem.n) as u64,
+        alternatives: Vec::new(),
+    })
+}
+
+/// Errors for the choices that belong to the shifted estimator's routes.
+fn check_choices(params: &PredictParams) -> Result<()> {
+    if params.kmax.is_some()
+        || params.form == FormChoice::Polar
+        || params.spectrum == SpectrumChoice::Closed
+    {
+        return Err(Error::OutsideValidity {
+            route: "the polar form, a closed spectrum or a lattice extent".into(),
+            reason: "a digital shift is predicted by the Walsh form, over Walsh frequencies; the \
+                     polar form, the closed spectra and the lattice extent are for the toroidal \
+                     shift (--randomization shift)"
+                .into(),
+        });
+    }
+    Ok(())
+}
