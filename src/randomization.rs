@@ -120,7 +120,8 @@ impl std::str::FromStr for Randomization {
 }
 
 /// A randomization asked for: the sampler's native one, or a given one.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(into = "String", try_from = "String")]
 pub enum RandomizationChoice {
     /// The sampler's native randomization
     /// ([`SamplerFacts::native_randomization`](crate::sampler::SamplerFacts)).
@@ -136,6 +137,35 @@ impl RandomizationChoice {
             RandomizationChoice::Native => native,
             RandomizationChoice::Given(r) => r,
         }
+    }
+
+    /// Words for the estimator, as tables and reports print it.
+    pub fn estimator(self) -> &'static str {
+        match self {
+            RandomizationChoice::Native => "as-used",
+            RandomizationChoice::Given(r) => r.estimator(),
+        }
+    }
+
+    /// What it does to each trial's pattern, in words.
+    pub fn per_trial(self) -> &'static str {
+        match self {
+            RandomizationChoice::Native => "each sampler's own randomization per trial",
+            RandomizationChoice::Given(r) => r.per_trial(),
+        }
+    }
+}
+
+impl From<RandomizationChoice> for String {
+    fn from(c: RandomizationChoice) -> Self {
+        c.to_string()
+    }
+}
+
+impl TryFrom<String> for RandomizationChoice {
+    type Error = Error;
+    fn try_from(name: String) -> Result<Self> {
+        name.parse()
     }
 }
 

@@ -280,3 +280,45 @@ fn a_study_split_into_blocks_is_the_one_call_study() {
         assert!(finish_study(&config, &done, &Silent).is_err());
     }
 }
+
+/// A study of the estimators as used: each sampler's predictions and Monte Carlo are for its
+/// native randomization (jitter as drawn, by the cell form; the unscrambled net under a digital
+/// shift, by the Walsh form), and the measured slope lies in the interval of the predicted one
+/// widened by the measurement's.
+#[test]
+fn a_study_as_used_predicts_and_measures_each_sampler_under_its_own_randomization() {
+    use specvar::progress::Silent;
+    use specvar::randomization::{Randomization, RandomizationChoice};
+    let config = StudyConfig {
+        samplers: vec![SamplerKind::Jitter, SamplerKind::SobolNet],
+        integrands: vec!["disk:r=0.3".parse().unwrap()],
+        ns: vec![16, 64, 256],
+        trials: 2000,
+        seed: 5,
+        randomization: RandomizationChoice::Native,
+        ..StudyConfig::in_dimension(2)
+    };
+    let study = run_study(&config, &Silent).unwrap();
+    for series in &study.series {
+        let native = series.sampler.native_randomization();
+        assert!(native != Randomization::Shift);
+        assert!(series.predicted.iter().all(|p| p.randomization == native));
+        assert!(series.measured.iter().all(|m| m.randomization == native));
+        assert!(series
+            .predicted
+            .iter()
+            .all(|p| p.route.form != Form::Lattice));
+    }
+    for row in &study.rows {
+        let (p, e) = (&row.predicted_rate, &row.empirical_rate);
+        let half = (e.ci.1 - e.ci.0) / 2.0 + (p.ci.1 - p.ci.0) / 2.0;
+        assert!(
+            (p.slope - e.slope).abs() <= half,
+            "{}: predicted {:.3}, measured {:.3} ± {:.3}",
+            row.sampler,
+            p.slope,
+            e.slope,
+            half
+        );
+    }
+}

@@ -81,17 +81,17 @@ def mitsuba_points(name, spp, seeds):
 
 values = tabulate(256)
 print(f"pixel integrand tabulated on 256 x 256 cells: mean {values.mean():.5f}")
-# Mitsuba's sampler, the cells its points are guaranteed uniform in, and specvar's sampler of
-# the same law. Mitsuba's ldsampler is a (0,2)-sequence under one digital shift per pixel: its
-# points are not uniform cell by cell (one shift moves them all), and its estimator's analysis
-# is in Walsh functions, which specvar does not have yet; specvar's Owen-scrambled Sobol' is
-# shown beside it as another estimator, not as its prediction.
+# Mitsuba's sampler, how its points are used (the cells they are guaranteed uniform in, or a
+# digital shift), and specvar's sampler of the same law. Mitsuba's ldsampler is a (0,2)-sequence
+# under one digital shift per pixel: its points are not uniform cell by cell (one shift moves
+# them all), but its sets shifted again have its law, so the Walsh form predicts them as given;
+# specvar's sobol-ds is the same net under the same shift.
 SAMPLERS = [
     ("independent", "whole", "random", (16, 64, 256)),
     ("stratified", "strata", "jitter", (16, 64, 256)),
     ("multijitter", "rows", "cmj", (16, 64, 256)),
     ("orthogonal", "rows", "orthogonal", (25, 49, 289)),
-    ("ldsampler", None, "sobol", (16, 64, 256)),
+    ("ldsampler", "digital-shift", "sobol-ds", (16, 64, 256)),
 ]
 SEEDS = 1000
 print(
@@ -102,9 +102,10 @@ for name, cells, ours, counts in SAMPLERS:
     for spp in counts:
         sets = mitsuba_points(name, spp, SEEDS)
         measured = specvar.monte_carlo(values, points=sets, randomization="none")
-        given = (
-            specvar.predict(values, points=sets, cells=cells).variance if cells else float("nan")
-        )
+        if cells == "digital-shift":
+            given = specvar.predict(values, points=sets, randomization="digital-shift").variance
+        else:
+            given = specvar.predict(values, points=sets, cells=cells).variance
         before = specvar.predict(values, sampler=ours, n=sets.shape[1])
         shifted = specvar.predict(values, sampler=ours, n=sets.shape[1], randomization="shift")
         print(

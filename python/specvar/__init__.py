@@ -602,13 +602,13 @@ def study(
     client: Any = None,
     patterns_per_block: int = 256,
     cache: bool = False,
-    randomization: Literal["shift", "digital-shift", "none"] = "shift",
+    randomization: Literal["shift", "native", "digital-shift", "none"] = "shift",
 ) -> Study:
     """A rate study: every sampler on every integrand at every N, predicted and measured.
 
     ``reference`` overrides the reference spectrum (``{"n", "kmax", "realizations",
     "costly_realizations"}``). ``randomization`` names the estimator predicted and measured
-    (the random shift by default). Without ``client`` the study runs in this process; with a
+    (the random shift by default, the talk's setting; ``native``: each sampler as it is used). Without ``client`` the study runs in this process; with a
     ``dask.distributed`` client its Monte Carlo runs on the cluster in blocks of
     ``patterns_per_block`` patterns (see :func:`specvar.cluster.study`), with the same bits.
     """

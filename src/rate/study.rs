@@ -10,7 +10,7 @@ use crate::montecarlo::{
 };
 use crate::predict::{predict_many, PredictParams, Prediction, Problem};
 use crate::progress::{stage, Progress};
-use crate::randomization::Randomization;
+use crate::randomization::{Randomization, RandomizationChoice};
 use crate::sampler::SamplerKind;
 use crate::spectrum::{estimate, Engine, SpectrumEstimate, SpectrumParams};
 use serde::Serialize;
@@ -62,8 +62,8 @@ pub struct StudyConfig {
     /// The reference spectrum (for `α` and the plots; predictions estimate what they need).
     pub reference: ReferenceSpectrum,
     /// How each pattern is randomized: the estimator predicted and measured (by default the
-    /// random shift, the talk's homogenized estimator).
-    pub randomization: Randomization,
+    /// random shift, the talk's homogenized estimator; `Native`: each sampler as it is used).
+    pub randomization: RandomizationChoice,
     /// The predictions' parameters (their seed is the study's prediction stream).
     #[serde(skip)]
     pub predict: PredictParams,
@@ -103,7 +103,7 @@ impl StudyConfig {
                 realizations: 64,
                 costly_realizations: crate::sampler::costly_realizations(64),
             },
-            randomization: Randomization::Shift,
+            randomization: RandomizationChoice::Given(Randomization::Shift),
             predict: PredictParams::default(),
             patterns_cache: None,
         }
@@ -131,16 +131,16 @@ pub struct StudyDescription {
     /// The reference spectrum (`null`: the default for the dimension).
     #[serde(default)]
     pub reference: Option<ReferenceSpectrum>,
-    /// The estimator (`shift`, `digital-shift` or `none`; by default `shift`).
+    /// The estimator (`native`, `shift`, `digital-shift` or `none`; by default `shift`).
     #[serde(default = "shifted")]
-    pub randomization: Randomization,
+    pub randomization: RandomizationChoice,
     /// Whether costly patterns are kept in the cache directory between runs.
     #[serde(default)]
     pub cache: bool,
 }
 
-fn shifted() -> Randomization {
-    Randomization::Shift
+fn shifted() -> RandomizationChoice {
+    RandomizationChoice::Given(Randomization::Shift)
 }
 
 impl StudyDescription {
@@ -450,7 +450,12 @@ impl StudyConfig {
     fn mc_params(&self, kind: SamplerKind) -> McParams {
         McParams {
             budget: self.predict.budget,
-            ..McParams::pooled(kind, self.trials, self.seed ^ MC_STREAM, self.randomization)
+            ..McParams::pooled(
+                kind,
+                self.trials,
+                self.seed ^ MC_STREAM,
+                self.randomization.resolve(kind.native_randomization()),
+            )
         }
     }
 
@@ -545,8 +550,11 @@ pub fn finish_study(
                 let problems = f_refs
                     .iter()
                     .map(|f| {
-                        Problem::new(sampler.as_ref(), *f, n)
-                            .map(|p| p.with_randomization(config.randomization))
+                        Problem::new(sampler.as_ref(), *f, n).map(|p| {
+                            p.with_randomization(
+                                config.randomization.resolve(kind.native_randomization()),
+                            )
+                        })
                     })
                     .collect::<Result<Vec<_>>>()?;
                 predict_many(&problems, &params, progress)

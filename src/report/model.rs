@@ -189,7 +189,9 @@ impl ReportConfig {
                     realizations: 256,
                     costly_realizations: 16,
                 },
-                randomization: Randomization::Shift,
+                randomization: crate::randomization::RandomizationChoice::Given(
+                    Randomization::Shift,
+                ),
                 predict: PredictParams::default(),
                 patterns_cache: None,
             },

@@ -2,7 +2,7 @@
 //! call the report makes.
 
 use specvar::integrand::IntegrandSpec;
-use specvar::randomization::Randomization;
+use specvar::randomization::{Randomization, RandomizationChoice};
 use specvar::rate::{rate_ns, run_study, StudyConfig};
 use specvar::sampler::SamplerKind;
 use specvar::Result;
@@ -29,9 +29,11 @@ pub struct Args {
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// How each pattern is randomized, for the predictions and the Monte Carlo alike: shift
-    /// (the homogenized estimator), digital-shift, or none (the patterns as drawn).
-    #[arg(long, default_value_t = Randomization::Shift)]
-    pub randomization: Randomization,
+    /// (the default: the homogenized estimator of the talk's rates), native (each sampler as it
+    /// is used: strata and nets as drawn, fixed rules shifted), digital-shift, or none (the
+    /// patterns as drawn).
+    #[arg(long, default_value_t = RandomizationChoice::Given(Randomization::Shift))]
+    pub randomization: RandomizationChoice,
     /// JSON output.
     #[arg(long)]
     pub json: bool,
@@ -68,19 +70,23 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
         #[derive(serde::Serialize)]
         struct Doc<'a> {
             n_values: &'a [usize],
+            randomization: RandomizationChoice,
             rows: &'a [specvar::rate::StudyRow],
         }
         let doc = Doc {
             n_values: &study.config.ns,
+            randomization: study.config.randomization,
             rows: &study.rows,
         };
         outln!("{}", super::to_json(&doc)?)?;
         return Ok(());
     }
     outln!(
-        "rates r in Var ∝ N^r over N = {:?}, d = {}",
+        "rates r in Var ∝ N^r over N = {:?}, d = {}, {} estimator ({})",
         study.config.ns,
-        args.dimension
+        args.dimension,
+        study.config.randomization.estimator(),
+        study.config.randomization.per_trial()
     )?;
     outln!(
         "{:<8} {:<40} {:>7} {:>9} {:>10} {:>19} {:>6}",
