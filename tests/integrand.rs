@@ -490,8 +490,28 @@ fn projection_energy_is_the_axis_line_sum() {
 fn autocorrelations_match_numerical_integration() {
     let g = Gaussian::new(0.1, vec![0.3, 0.6], 1.0).unwrap();
     let disk = Ball::new(0.3, vec![0.1, 0.5], 1.0).unwrap();
+    // Polygons: the midpoint rule errs by about a cell along the boundary of the overlap,
+    // its perimeter (at most twice the polygon's) over the grid step.
+    let l_shape = Polygon::new(
+        vec![
+            [0.0, 0.0],
+            [0.6, 0.0],
+            [0.6, 0.2],
+            [0.2, 0.2],
+            [0.2, 0.8],
+            [0.0, 0.8],
+        ],
+        1.5,
+    )
+    .unwrap();
+    let edge = Polygon::edge(30.0, 0.4, 1.0).unwrap();
     let steps = 2000;
-    for (f, tolerance) in [(&g as &dyn Integrand, 1e-5), (&disk, 4.0 * 0.3 / 2000.0)] {
+    for (f, tolerance) in [
+        (&g as &dyn Integrand, 1e-5),
+        (&disk, 4.0 * 0.3 / 2000.0),
+        (&l_shape, 2.0 * 3.2 / 2000.0 / 0.2),
+        (&edge, 2.0 * 4.0 / 2000.0 / 0.4),
+    ] {
         for r in [[0.0, 0.0], [0.05, -0.1], [0.4, 0.3], [-0.45, 0.2]] {
             let mut sum = 0.0;
             for i in 0..steps {
@@ -515,6 +535,61 @@ fn autocorrelations_match_numerical_integration() {
                 f.label()
             );
         }
+    }
+}
+
+/// A grid's autocorrelation (the bilinear interpolation of its cells' FFT autocorrelation)
+/// against the overlaps of every pair of cells summed directly, at offsets on and between the
+/// cell lattice and across the torus's seam.
+#[test]
+fn grid_autocorrelation_is_the_sum_of_cell_overlaps() {
+    let (w, h) = (6usize, 4usize);
+    let values: Vec<f64> = (0..w * h).map(|i| ((i * 7) % 5) as f64 - 1.3).collect();
+    let f = GridIntegrand::new(w, h, values.clone()).unwrap();
+    // The overlap length of [a, a + c) with [b, b + c) moved by t on the circle of length 1.
+    let overlap = |a: f64, b: f64, c: f64, t: f64| -> f64 {
+        (-1..=1)
+            .map(|m| {
+                let start = a + t + m as f64;
+                (start + c).min(b + c) - start.max(b)
+            })
+            .map(|o| o.max(0.0))
+            .sum()
+    };
+    for r in [
+        [0.0, 0.0],
+        [0.25, 0.5],
+        [0.1, 0.33],
+        [0.97, 0.71],
+        [-0.2, -0.6],
+    ] {
+        let mut direct = 0.0;
+        for j in 0..h {
+            for i in 0..w {
+                for q in 0..h {
+                    for p in 0..w {
+                        let ox = overlap(
+                            i as f64 / w as f64,
+                            p as f64 / w as f64,
+                            1.0 / w as f64,
+                            r[0],
+                        );
+                        let oy = overlap(
+                            j as f64 / h as f64,
+                            q as f64 / h as f64,
+                            1.0 / h as f64,
+                            r[1],
+                        );
+                        direct += values[j * w + i] * values[q * w + p] * ox * oy;
+                    }
+                }
+            }
+        }
+        let a = f.autocorrelation(&r).unwrap();
+        assert!(
+            (a - direct).abs() < common::ROUNDING * f.integral_of_square(),
+            "r = {r:?}: {a} vs {direct}"
+        );
     }
 }
 

@@ -78,9 +78,16 @@ fn pair_correlation_route_refuses_what_it_cannot_do() {
         pair_correlation_variance(&disk, &sets, 4.0).is_err(),
         "beyond half the torus"
     );
-    let edge = specvar::integrand::Polygon::edge(30.0, 0.5, 1.0).unwrap();
+    // A polygon of more vertices than are cut into triangles has no autocorrelation.
+    let many = (0..600)
+        .map(|i| {
+            let t = 2.0 * std::f64::consts::PI * i as f64 / 600.0;
+            [0.5 + 0.3 * t.cos(), 0.5 + 0.3 * t.sin()]
+        })
+        .collect();
+    let round = specvar::integrand::Polygon::new(many, 1.0).unwrap();
     assert!(
-        pair_correlation_variance(&edge, &sets, 3.0).is_err(),
+        pair_correlation_variance(&round, &sets, 3.0).is_err(),
         "no autocorrelation"
     );
 }

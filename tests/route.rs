@@ -351,3 +351,68 @@ fn lattice_and_kronecker_sums_in_space_equal_the_pair_sum() {
         }
     }
 }
+
+/// Given sets under the shift are summed exactly over their pairs: a rank-1 lattice's, a
+/// regular grid's and a Kronecker sequence's sets give their samplers' own exact sums over
+/// lattice vectors or lags (another route to the same number), for a disk, an edge and a grid;
+/// random sets agree with Monte Carlo of those sets under shifts.
+#[test]
+fn given_sets_under_the_shift_are_summed_over_their_pairs() {
+    let pixel =
+        GridIntegrand::new(5, 3, (0..15).map(|i| ((i * 3) % 7) as f64 * 0.2).collect()).unwrap();
+    let integrands: Vec<Box<dyn Integrand>> = vec![
+        Box::new(Ball::new(0.25, vec![0.5, 0.5], 1.0).unwrap()),
+        Box::new(Polygon::edge(30.0, 0.4, 1.0).unwrap()),
+        Box::new(pixel),
+    ];
+    for (kind, n) in [
+        (SamplerKind::Fibonacci, 233),
+        (SamplerKind::Regular, 256),
+        (SamplerKind::Kronecker, 200),
+    ] {
+        let sampler = kind.build(2).unwrap();
+        let sets = [sampler.sample(n, 0, 0).unwrap()];
+        for f in &integrands {
+            let own = predict_default(sampler.as_ref(), f.as_ref(), n);
+            let given = predict(
+                &Problem::from_point_sets(&sets, f.as_ref())
+                    .unwrap()
+                    .with_randomization(Randomization::Shift),
+                &PredictParams::default(),
+            )
+            .unwrap();
+            assert!(
+                matches!(given.route.spectrum, SpectrumOrigin::Pairs { sets: 1 }),
+                "{:?}",
+                given.route
+            );
+            let tolerance = own.budget.half_width(0.0) + given.budget.quadrature;
+            assert!(
+                (own.variance - given.variance).abs() <= tolerance,
+                "{kind} {}: {} by its own route, {} over pairs",
+                f.label(),
+                own.variance,
+                given.variance
+            );
+        }
+    }
+    let random = SamplerKind::Random.build(2).unwrap();
+    let sets: Vec<_> = (0..24).map(|i| random.sample(64, 3, i).unwrap()).collect();
+    let f = Polygon::new(vec![[0.1, 0.2], [0.8, 0.1], [0.4, 0.9]], 2.0).unwrap();
+    let p = predict(
+        &Problem::from_point_sets(&sets, &f)
+            .unwrap()
+            .with_randomization(Randomization::Shift),
+        &PredictParams::default(),
+    )
+    .unwrap();
+    let mc = &specvar::montecarlo::empirical_variances_of_sets(
+        &sets,
+        &[&f],
+        &McParams::for_sets(24, 48_000, None, 7, Randomization::Shift),
+        &specvar::progress::Silent,
+    )
+    .unwrap()[0];
+    let z = p.z_beyond_bounds(mc);
+    assert!(z.abs() < common::Z_STRICT, "{} vs {mc:?}", p.variance);
+}

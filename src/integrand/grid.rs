@@ -48,6 +48,8 @@ pub struct GridIntegrand {
     mean: f64,
     mean_square: f64,
     name: String,
+    /// The cells' circular autocorrelation, computed when first asked for.
+    correlation: std::sync::OnceLock<Vec<f64>>,
 }
 
 impl GridIntegrand {
@@ -96,6 +98,7 @@ impl GridIntegrand {
             mean,
             mean_square,
             name: format!("grid({width}×{height})"),
+            correlation: std::sync::OnceLock::new(),
         })
     }
 
@@ -165,8 +168,31 @@ impl GridIntegrand {
 
 /// The unnormalized 2D DFT of row-major values, by rows then columns.
 fn dft_2d(width: usize, height: usize, values: &[f64]) -> Vec<Complex64> {
+    transform_2d(
+        width,
+        height,
+        values.iter().map(|&v| Complex64::new(v, 0.0)).collect(),
+    )
+}
+
+/// The normalized circular autocorrelation of the cell values,
+/// `Â[q w + p] = (1/(w h)) Σ_{i,j} F[i, j] F[i + p, j + q]`, from `|G|²` (even in `k` for real
+/// values, so its forward transform is its inverse).
+fn cell_autocorrelation(width: usize, height: usize, dft: &[Complex64]) -> Vec<f64> {
+    let power = dft
+        .iter()
+        .map(|g| Complex64::new(g.norm_sqr(), 0.0))
+        .collect();
+    let scale = ((width * height) as f64).powi(2);
+    transform_2d(width, height, power)
+        .iter()
+        .map(|c| c.re / scale)
+        .collect()
+}
+
+/// The unnormalized 2D DFT of row-major complex values, by rows then columns.
+fn transform_2d(width: usize, height: usize, mut data: Vec<Complex64>) -> Vec<Complex64> {
     let mut planner = FftPlanner::<f64>::new();
-    let mut data: Vec<Complex64> = values.iter().map(|&v| Complex64::new(v, 0.0)).collect();
     planner.plan_fft_forward(width).process(&mut data);
     let column_fft = planner.plan_fft_forward(height);
     let mut column = vec![Complex64::new(0.0, 0.0); height];
@@ -284,6 +310,29 @@ impl Integrand for GridIntegrand {
                 .collect()
         };
         means.iter().map(|m| m * m).sum::<f64>() / means.len() as f64
+    }
+    /// Exact: a cell moved by `((p + α)/w, (q + β)/h)` (`p, q` whole, `α, β ∈ [0, 1)`) meets four
+    /// cells with the overlaps `(1 − α)(1 − β)`, `α(1 − β)`, `(1 − α)β` and `αβ` of its area, so the
+    /// autocorrelation is the bilinear interpolation of the cells' circular autocorrelation
+    /// `Â` (one 2D FFT of `|G|²`, kept).
+    fn autocorrelation(&self, r: &[f64]) -> Option<f64> {
+        let (w, h) = (self.width, self.height);
+        let a = self
+            .correlation
+            .get_or_init(|| cell_autocorrelation(w, h, &self.dft));
+        let split = |t: f64, m: usize| {
+            let x = (t - t.floor()) * m as f64;
+            let whole = (x.floor() as usize).min(m - 1);
+            (whole, (x - whole as f64).clamp(0.0, 1.0))
+        };
+        let ((p, alpha), (q, beta)) = (split(r[0], w), split(r[1], h));
+        let at = |i: usize, j: usize| a[((j % h) * w) + (i % w)];
+        Some(
+            (1.0 - alpha) * (1.0 - beta) * at(p, q)
+                + alpha * (1.0 - beta) * at(p + 1, q)
+                + (1.0 - alpha) * beta * at(p, q + 1)
+                + alpha * beta * at(p + 1, q + 1),
+        )
     }
     fn autocorrelation_beyond(&self, _distance: f64) -> Option<f64> {
         None

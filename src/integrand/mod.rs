@@ -18,6 +18,7 @@ mod gaussian;
 mod grid;
 mod grid_io;
 mod polygon;
+mod polygon_overlap;
 mod spec;
 mod truncated_lobe;
 

@@ -1,6 +1,7 @@
 //! Polygons in the unit square: indicators with exact Fourier transforms, and the edge (a
 //! half-plane clipped to the square) at any angle.
 
+use super::polygon_overlap::{clip, signed_area};
 use super::{Integrand, IntegrandKind, MAX_HEIGHT};
 use crate::error::{invalid, Result};
 use crate::quadrature::GaussLegendre;
@@ -38,6 +39,8 @@ pub struct Polygon {
     height: f64,
     area: f64,
     label: String,
+    /// Its triangles, cut when the autocorrelation is first asked for (`None`: not cut).
+    triangles: std::sync::OnceLock<Option<Vec<[[f64; 2]; 3]>>>,
 }
 
 impl Polygon {
@@ -105,6 +108,7 @@ impl Polygon {
             vertices,
             height,
             label,
+            triangles: std::sync::OnceLock::new(),
         })
     }
 
@@ -193,17 +197,6 @@ impl Polygon {
     }
 }
 
-/// Twice the shoelace sum, halved: positive for counter-clockwise vertices.
-fn signed_area(v: &[[f64; 2]]) -> f64 {
-    let n = v.len();
-    0.5 * (0..n)
-        .map(|i| {
-            let (a, b) = (v[i], v[(i + 1) % n]);
-            a[0] * b[1] - b[0] * a[1]
-        })
-        .sum::<f64>()
-}
-
 /// The first pair of non-adjacent edges that cross, if any (`O(n²)`).
 fn crossing_edges(v: &[[f64; 2]]) -> Option<(usize, usize)> {
     let n = v.len();
@@ -225,24 +218,6 @@ fn crossing_edges(v: &[[f64; 2]]) -> Option<(usize, usize)> {
         }
     }
     None
-}
-
-/// Sutherland–Hodgman: the part of a convex polygon with `n·x ≤ level`.
-fn clip(polygon: &[[f64; 2]], n: [f64; 2], level: f64) -> Vec<[f64; 2]> {
-    let side = |p: [f64; 2]| n[0] * p[0] + n[1] * p[1] - level;
-    let mut out = Vec::new();
-    for i in 0..polygon.len() {
-        let (a, b) = (polygon[i], polygon[(i + 1) % polygon.len()]);
-        let (sa, sb) = (side(a), side(b));
-        if sa <= 0.0 {
-            out.push(a);
-        }
-        if (sa < 0.0 && sb > 0.0) || (sa > 0.0 && sb < 0.0) {
-            let t = sa / (sa - sb);
-            out.push([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]);
-        }
-    }
-    out
 }
 
 impl Polygon {
@@ -344,6 +319,27 @@ impl Integrand for Polygon {
     }
     fn fourier(&self, omega: &[f64]) -> Complex64 {
         self.transform([omega[0], omega[1]])
+    }
+    /// `a² Σ_m area(P ∩ (P + r + m))` over the images `m ∈ {0, −1}²` of `r` reduced to
+    /// `[0, 1)²` (the others miss the square), each overlap by clipping the polygon with the
+    /// triangles of its moved copy; `None` for a polygon of more than 512 vertices.
+    fn autocorrelation(&self, r: &[f64]) -> Option<f64> {
+        let triangles = self
+            .triangles
+            .get_or_init(|| super::polygon_overlap::triangulate(&self.vertices))
+            .as_ref()?;
+        let s = [r[0] - r[0].floor(), r[1] - r[1].floor()];
+        let area: f64 = [[0.0, 0.0], [-1.0, 0.0], [0.0, -1.0], [-1.0, -1.0]]
+            .iter()
+            .map(|m| {
+                super::polygon_overlap::shared_area(
+                    &self.vertices,
+                    triangles,
+                    [s[0] + m[0], s[1] + m[1]],
+                )
+            })
+            .sum();
+        Some(self.height * self.height * area)
     }
     fn autocorrelation_beyond(&self, distance: f64) -> Option<f64> {
         // a(r) vanishes once r exceeds the polygon's extent along an axis; below, it is at

@@ -96,6 +96,12 @@ pub enum SpectrumOrigin {
     Cells(CellOrigin),
     /// Walsh coefficients of the integrand and of a fixed pattern (a digital shift).
     Walsh(WalshOrigin),
+    /// Each given set's own periodogram, summed in space over its pairs of points through the
+    /// integrand's autocorrelation: exact.
+    Pairs {
+        /// Sets averaged.
+        sets: usize,
+    },
     /// Estimated from `realizations` patterns of `n` points on the lattice `|k_i| ≤ kmax`.
     Estimated {
         /// The N of the patterns.
@@ -113,6 +119,10 @@ impl fmt::Display for SpectrumOrigin {
             SpectrumOrigin::Closed(c) => write!(f, "closed form ({})", c.name()),
             SpectrumOrigin::Cells(c) => c.fmt(f),
             SpectrumOrigin::Walsh(w) => w.fmt(f),
+            SpectrumOrigin::Pairs { sets } => write!(
+                f,
+                "each set's own periodogram, summed in space over its pairs ({sets} sets)"
+            ),
             SpectrumOrigin::Estimated {
                 n,
                 realizations,

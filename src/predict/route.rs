@@ -3,7 +3,9 @@
 
 use super::cells::CellSource;
 use super::lattice::{predict_on_patterns_many, white_noise, LatticePower, PatternPlan};
-use super::space::{kronecker_variance, rank1_lattice_variance, regular_grid_variance};
+use super::space::{
+    kronecker_variance, rank1_lattice_variance, regular_grid_variance, sets_shift_variance,
+};
 use super::{
     predict_from_power, predict_polar, Alternative, ErrorBudget, Form, FormChoice, Patterns,
     PredictParams, Prediction, Problem, Route, SpectrumChoice, SpectrumOrigin, SpectrumSource,
@@ -245,6 +247,24 @@ pub(crate) fn predict_routed(
         (SpectrumChoice::Estimated, _) | (_, Patterns::PointSets(_)) => None,
         (_, Patterns::Sampler(s)) => s.closed_form(n),
     };
+    let pairs_route = params.spectrum == SpectrumChoice::Auto
+        && params.form != FormChoice::Polar
+        && params.kmax.is_none()
+        && closed.is_none();
+    if pairs_route {
+        let fixed = match (problem.patterns, kind) {
+            (Patterns::PointSets(sets), _) => Some(sets.to_vec()),
+            (Patterns::Sampler(s), Some(k)) if k.is_deterministic() => {
+                Some(vec![s.sample(n, params.seed, 0)?])
+            }
+            _ => None,
+        };
+        if let Some(sets) = fixed {
+            if let Some(p) = fixed_sets_in_space(problem.integrand, &sets, kind, params)? {
+                return Ok(p);
+            }
+        }
+    }
     if params.spectrum == SpectrumChoice::Closed && closed.is_none() {
         return Err(invalid(
             "spectrum",
@@ -395,6 +415,66 @@ fn tighter_of(mut lattice: Prediction, mut polar: Prediction) -> Prediction {
 
 fn lattice(d: usize, kmax: usize) -> Lattice {
     Lattice { dimension: d, kmax }
+}
+
+/// The most pairs of points the exact pair sum over given sets visits (`2^22`: seconds for the
+/// costliest autocorrelations, a polygon's clips); beyond, their spectrum is estimated.
+const EXACT_PAIRS: usize = 1 << 22;
+
+/// Fixed patterns under the shift (given sets, or a deterministic sampler's one pattern),
+/// exactly: each set's own periodogram summed in space, `(1/N²) Σ_{i,j} a_f(x_i − x_j) − I²`,
+/// averaged over the sets, where the integrand has a closed-form autocorrelation and the pairs
+/// are within [`EXACT_PAIRS`]; `None` otherwise.
+fn fixed_sets_in_space(
+    f: &dyn Integrand,
+    sets: &[crate::pointset::PointSet],
+    kind: Option<SamplerKind>,
+    params: &PredictParams,
+) -> Result<Option<Prediction>> {
+    let d = f.dimension();
+    let n = sets.first().map_or(0, |s| s.len());
+    let pairs = sets.len().saturating_mul(n.saturating_mul(n));
+    if pairs > EXACT_PAIRS || f.autocorrelation(&vec![0.0; d]).is_none() {
+        return Ok(None);
+    }
+    params.budget.check(
+        "the pair sum over the given sets",
+        Needs {
+            memory_bytes: 8.0 * n as f64,
+            work_seconds: pairs as f64 * COEFFICIENT_SECONDS,
+        },
+        "fewer or smaller sets",
+    )?;
+    let Some((variance, rounding)) = sets_shift_variance(f, sets)? else {
+        return Ok(None);
+    };
+    Ok(Some(Prediction {
+        variance,
+        randomization: Randomization::Shift,
+        route: Route {
+            form: Form::Lattice,
+            spectrum: SpectrumOrigin::Pairs { sets: sets.len() },
+        },
+        reason: format!(
+            "{} under a random shift: the lattice form with each set's own periodogram is, by \
+             Poisson summation, (1/N²) Σ_(i,j) a_f(x_i − x_j) − I² over its {} pairs, with the \
+             integrand's autocorrelation in closed form: exact, nothing truncated",
+            match kind {
+                Some(k) => format!("{k}'s fixed pattern"),
+                None => format!("{} given point sets", sets.len()),
+            },
+            n * n
+        ),
+        budget: ErrorBudget {
+            quadrature: rounding,
+            ..Default::default()
+        },
+        n,
+        dimension: d,
+        dc_term: 0.0,
+        evaluations: pairs as u64,
+        alternatives: Vec::new(),
+    }))
 }
 
 /// The lattice forms whose peaks continue beyond any lattice (the regular grid's replicas, a
@@ -708,7 +788,10 @@ fn estimated_reason(
 ) -> Prediction {
     let realizations = match p.route.spectrum {
         SpectrumOrigin::Estimated { realizations, .. } => realizations,
-        SpectrumOrigin::Closed(_) | SpectrumOrigin::Cells(_) | SpectrumOrigin::Walsh(_) => 0,
+        SpectrumOrigin::Closed(_)
+        | SpectrumOrigin::Cells(_)
+        | SpectrumOrigin::Walsh(_)
+        | SpectrumOrigin::Pairs { .. } => 0,
     };
     let why = match kind {
         None => format!("{what}: no closed form is known"),
@@ -759,6 +842,7 @@ pub(crate) fn predict_routed_many(
     if closed
         || uses_cells(first)
         || uses_walsh(first)
+        || kind.is_some_and(|k| k.is_deterministic())
         || params.form == FormChoice::Polar
         || params.spectrum == SpectrumChoice::Closed
     {
@@ -766,6 +850,20 @@ pub(crate) fn predict_routed_many(
             .iter()
             .map(|p| predict_routed(p, params, progress))
             .collect();
+    }
+    if let Patterns::PointSets(sets) = first.patterns {
+        if first.randomization == Randomization::Shift
+            && params.spectrum == SpectrumChoice::Auto
+            && params.kmax.is_none()
+        {
+            let exact = problems
+                .iter()
+                .map(|p| fixed_sets_in_space(p.integrand, sets, None, params))
+                .collect::<Result<Option<Vec<_>>>>()?;
+            if let Some(all) = exact {
+                return Ok(all);
+            }
+        }
     }
     let refs: Vec<&Problem<'_>> = problems.iter().collect();
     estimated_lattice_many(&refs, kind, params, progress)

@@ -58,6 +58,32 @@ pub fn pattern_shift_variance(f: &dyn Integrand, points: &PointSet) -> Result<Op
     Ok(Some(finish(f, &rows, (n * n) as f64)))
 }
 
+/// The variance of given point sets, each equally likely, under uniform random shifts: the
+/// mean of their [`pattern_shift_variance`]s (each set's estimator is unbiased, so the sets'
+/// means do not vary), exactly. `None` if `f` has no closed-form autocorrelation. Returns the
+/// value and a bound on its rounding error.
+///
+/// # Errors
+/// A dimension mismatch, or no sets.
+pub(crate) fn sets_shift_variance(
+    f: &dyn Integrand,
+    sets: &[PointSet],
+) -> Result<Option<(f64, f64)>> {
+    if sets.is_empty() {
+        return Err(invalid("point sets", 0, "at least one set"));
+    }
+    let (mut total, mut rounding) = (CompensatedSum::default(), 0.0);
+    for set in sets {
+        let Some((v, r)) = pattern_shift_variance(f, set)? else {
+            return Ok(None);
+        };
+        total.add(v);
+        rounding += r;
+    }
+    let count = sets.len() as f64;
+    Ok(Some((total.value() / count, rounding / count)))
+}
+
 /// The variance of the homogenized regular grid with `n` cells ([`strata`]): every difference
 /// of two grid points is a grid vector, N times each, so it is `(1/N) Σ_g a_f(g) - I²` over the
 /// N grid vectors `g`. `None` if `f` has no closed-form autocorrelation. Returns the value and

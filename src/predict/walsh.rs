@@ -106,11 +106,23 @@ pub(crate) fn walsh_hadamard(a: &mut [f64]) {
     }
 }
 
-/// The tabulated level: `EXTRA_DIGITS` past `⌈log2 N⌉` per axis, within [`MAX_WALSH_CELLS`].
-pub(crate) fn walsh_level(n: usize, d: usize) -> u32 {
-    let own = usize::BITS - (n.max(1) - 1).leading_zeros();
-    let most = MAX_WALSH_CELLS.trailing_zeros() / d as u32;
-    (own + EXTRA_DIGITS).min(most).max(1)
+/// The most cells transformed over all patterns, `2^26`: each pattern's counts are
+/// transformed once, so many given sets share this work (a level coarser by a digit per
+/// quadrupling of the sets in 2D), and the remainder's shifts measure what it leaves.
+const PATTERN_CELLS: usize = 1 << 26;
+
+/// The tabulated level for `sets` patterns of `n` points: `EXTRA_DIGITS` past `⌈log2 N⌉` per
+/// axis, within [`MAX_WALSH_CELLS`] and [`PATTERN_CELLS`] over all patterns.
+pub(crate) fn walsh_level(n: usize, d: usize, sets: usize) -> u32 {
+    let ceil_log2 = |x: usize| usize::BITS - (x.max(1) - 1).leading_zeros();
+    let cell_bits = MAX_WALSH_CELLS.trailing_zeros().min(
+        PATTERN_CELLS
+            .trailing_zeros()
+            .saturating_sub(ceil_log2(sets)),
+    );
+    (ceil_log2(n) + EXTRA_DIGITS)
+        .min(cell_bits / d as u32)
+        .max(1)
 }
 
 fn cell_index(x: &[f64], side: usize) -> usize {
@@ -193,7 +205,7 @@ pub(crate) fn digital_shift_variance(
              most {MAX_AXES})"
         )));
     }
-    let level = walsh_level(n, d);
+    let level = walsh_level(n, d, patterns.len());
     let side = 1usize << level;
     let cells = 1usize << (level as usize * d);
     budget.check(
