@@ -83,20 +83,6 @@ fn the_walsh_form_is_every_shift_where_the_integrand_is_dyadic() {
     );
 }
 
-/// `z` with `P(Z > z) = p`, by bisection on the complementary error function.
-fn inverse_normal_tail(p: f64) -> f64 {
-    let (mut lo, mut hi) = (0.0, 10.0);
-    for _ in 0..100 {
-        let mid = (lo + hi) / 2.0;
-        if libm::erfc(mid / std::f64::consts::SQRT_2) / 2.0 > p {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    (lo + hi) / 2.0
-}
-
 /// The unscrambled Sobol' net under digital shifts on integrands that are not dyadic (the
 /// remainder below the tabulated cells measured), in 2D and 3D: the default prediction against
 /// Monte Carlo of the same estimator, Bonferroni over the cases.
@@ -127,7 +113,7 @@ fn the_walsh_form_agrees_with_monte_carlo_of_digital_shifts() {
             512,
         ),
     ];
-    let z_family = inverse_normal_tail(0.01 / cases.len() as f64 / 2.0);
+    let z_family = common::inverse_normal_tail(0.01 / cases.len() as f64 / 2.0);
     let params = PredictParams {
         target_noise: 0.03,
         ..Default::default()

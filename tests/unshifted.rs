@@ -290,7 +290,7 @@ fn predictions_agree_with_monte_carlo_of_the_same_estimator() {
     ];
     let integrands = integrands_2d();
     let cases = (samplers.len() * 2 * integrands.len()) as f64;
-    let z_family = inverse_normal_tail(0.01 / cases / 2.0);
+    let z_family = common::inverse_normal_tail(0.01 / cases / 2.0);
     let params = PredictParams {
         target_noise: 0.03,
         ..Default::default()
@@ -332,20 +332,6 @@ fn predictions_agree_with_monte_carlo_of_the_same_estimator() {
         }
     }
     eprintln!("worst |z| {worst:.2} of {cases} cases (limit {z_family:.2})");
-}
-
-/// `z` with `P(Z > z) = p`, by bisection on the complementary error function.
-fn inverse_normal_tail(p: f64) -> f64 {
-    let (mut lo, mut hi) = (0.0, 10.0);
-    for _ in 0..100 {
-        let mid = 0.5 * (lo + hi);
-        if 0.5 * libm::erfc(mid / std::f64::consts::SQRT_2) > p {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    0.5 * (lo + hi)
 }
 
 #[test]

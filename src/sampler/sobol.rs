@@ -198,6 +198,15 @@ fn owen_scramble(x: u32, key: u64, distinct: usize) -> u64 {
     out | uniform_tail(x, key, distinct)
 }
 
+/// Errors unless the Sobol' sequence has `n` points: 1 to `2^32 − 1` (32-bit indices).
+pub(super) fn check_sobol_count(name: &'static str, d: usize, n: usize) -> Result<()> {
+    super::check_positive(name, d, n)?;
+    if n > u32::MAX as usize {
+        return Err(crate::error::invalid("N", n, "at most 2^32 - 1 for Sobol"));
+    }
+    Ok(())
+}
+
 /// The first N points of the Sobol sequence (Joe–Kuo directions, up to 8 axes) with Owen
 /// scrambling keyed by (seed, realization), and the bits below 2^-32 filled uniformly at random,
 /// as the scrambling of the infinite tail of zeros would. Scrambling keeps the (t, m, s)-net
@@ -229,11 +238,7 @@ impl Sampler for Sobol {
         Some(SamplerKind::Sobol)
     }
     fn check_count(&self, n: usize) -> Result<()> {
-        super::check_positive(self.name(), self.dimension, n)?;
-        if n > u32::MAX as usize {
-            return Err(crate::error::invalid("N", n, "at most 2^32 - 1 for Sobol"));
-        }
-        Ok(())
+        check_sobol_count(self.name(), self.dimension, n)
     }
     fn sample(&self, n: usize, seed: u64, realization: u64) -> Result<PointSet> {
         self.check_count(n)?;

@@ -69,15 +69,7 @@ impl Sampler for SobolNet {
         Some(SamplerKind::SobolNet)
     }
     fn check_count(&self, n: usize) -> Result<()> {
-        super::check_positive(self.name(), self.dimension, n)?;
-        if n > u32::MAX as usize {
-            return Err(crate::error::invalid(
-                "N",
-                n,
-                "at most 2^32 - 1 for the Sobol' net",
-            ));
-        }
-        Ok(())
+        super::sobol::check_sobol_count(self.name(), self.dimension, n)
     }
     fn sample(&self, n: usize, _seed: u64, _realization: u64) -> Result<PointSet> {
         self.check_count(n)?;

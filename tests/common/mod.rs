@@ -134,3 +134,17 @@ pub fn geometric_jitter_variance(r: f64, c: [f64; 2], m: usize, q: usize) -> f64
     }
     energy / n - mean / (q * q) as f64
 }
+
+/// `z` with `P(Z > z) = p`, by bisection on the complementary error function.
+pub fn inverse_normal_tail(p: f64) -> f64 {
+    let (mut lo, mut hi) = (0.0, 10.0);
+    for _ in 0..100 {
+        let mid = (lo + hi) / 2.0;
+        if libm::erfc(mid / std::f64::consts::SQRT_2) / 2.0 > p {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    (lo + hi) / 2.0
+}
