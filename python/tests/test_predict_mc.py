@@ -74,7 +74,8 @@ def test_external_point_sets_are_analysed_and_predicted():
     qmc = pytest.importorskip("scipy.stats.qmc")
     sets = np.array([qmc.Sobol(d=2, scramble=True, seed=s).random(256) for s in range(64)])
     p = specvar.predict("gaussian", points=sets, randomization="shift")
-    assert p.route.spectrum["estimated"]["realizations"] == 64
+    # Under the shift each set's variance is its pair sum, exact: 64 × 256² pairs.
+    assert p.route.spectrum["pairs"]["sets"] == 64 and p.budget.spectrum_noise == 0.0
     m = specvar.monte_carlo("gaussian", points=sets, trials=64 * 50, seed=2, randomization="shift")
     assert m.patterns == 64 and m.shifts == 50
     assert p.interval(3.0)[0] <= m.ci_high and m.ci_low <= p.interval(3.0)[1], (p, m)
