@@ -21,10 +21,10 @@ fn main() -> specvar::Result<()> {
     println!("N = {:?}", study.config.ns);
     for row in &study.rows {
         println!(
-            "{:<7} {:<40} theory {:+.2}  predicted {:+.3}  Monte Carlo {:+.3} [{:+.3}, {:+.3}]",
+            "{:<7} {:<40} theory {}  predicted {:+.3}  Monte Carlo {:+.3} [{:+.3}, {:+.3}]",
             row.sampler.to_string(),
             row.integrand,
-            row.theory_rate,
+            specvar::rate::theory_text(row.theory_rate, 2),
             row.predicted_rate.slope,
             row.empirical_rate.slope,
             row.empirical_rate.ci.0,

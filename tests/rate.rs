@@ -322,3 +322,32 @@ fn a_study_as_used_predicts_and_measures_each_sampler_under_its_own_randomizatio
         );
     }
 }
+
+/// A fixed rule has no low-frequency power law: its row gives no theoretical rate (a rank-1
+/// lattice's spectrum is peaks on its dual lattice, whose fitted "α" means nothing), while its
+/// predicted and measured rates stand.
+#[test]
+fn a_fixed_rule_has_no_theoretical_rate() {
+    use specvar::progress::Silent;
+    let config = StudyConfig {
+        samplers: vec![SamplerKind::Korobov, SamplerKind::Jitter],
+        integrands: vec!["gaussian".parse().unwrap()],
+        ns: vec![16, 64, 256],
+        trials: 400,
+        seed: 2,
+        reference: ReferenceSpectrum {
+            n: 256,
+            kmax: 32,
+            realizations: 8,
+            costly_realizations: 2,
+        },
+        ..StudyConfig::in_dimension(2)
+    };
+    let study = run_study(&config, &Silent).unwrap();
+    let (korobov, jitter) = (&study.rows[0], &study.rows[1]);
+    assert_eq!(korobov.alpha_source, AlphaSource::NoPowerLaw);
+    assert_eq!(korobov.theory_rate, None);
+    assert!(korobov.predicted_rate.slope < -2.0);
+    assert_eq!(jitter.theory_rate, Some(-2.0));
+    assert_eq!(theory_text(korobov.theory_rate, 2), "no power law");
+}

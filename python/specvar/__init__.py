@@ -497,7 +497,7 @@ class StudyRow:
     dimension: int
     alpha: float
     alpha_source: str
-    theory_rate: float
+    theory_rate: Optional[float]
     log_factor: bool
     predicted_rate: SlopeFit
     empirical_rate: SlopeFit

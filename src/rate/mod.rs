@@ -109,6 +109,19 @@ pub fn weighted_line(x: &[f64], y: &[f64], variances: Option<&[f64]>) -> Result<
     })
 }
 
+/// A theoretical rate as tables print it, with `digits` decimals: "no power law" for none
+/// (a fixed rule's spectrum has no low-frequency law to give one).
+///
+/// # Examples
+/// ```
+/// use specvar::rate::theory_text;
+/// assert_eq!(theory_text(Some(-1.5), 2), "-1.50");
+/// assert_eq!(theory_text(None, 2), "no power law");
+/// ```
+pub fn theory_text(rate: Option<f64>, digits: usize) -> String {
+    rate.map_or_else(|| "no power law".to_string(), |r| format!("{r:.digits$}"))
+}
+
 /// The log-log slope of `values` against `ns` fitted with the weights `1/rel_weights²` (another
 /// series' relative errors), its standard error propagated from `values`' own relative errors
 /// `rel_errors`: the slope is `Σ c_i ln v_i`, so its variance is `Σ c_i² rel_i²`. Two series

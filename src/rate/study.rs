@@ -332,6 +332,10 @@ pub enum AlphaSource {
     Known,
     /// Fitted on the reference spectrum.
     Fitted,
+    /// Fitted, but not a power law: a fixed rule's spectrum is peaks on a lattice (or the
+    /// Fejér kernel of a sequence), with no low-frequency law for `α` to describe, so it gives
+    /// no theoretical rate.
+    NoPowerLaw,
 }
 
 /// A row of the rate table.
@@ -347,8 +351,9 @@ pub struct StudyRow {
     pub alpha: f64,
     /// Where it comes from.
     pub alpha_source: AlphaSource,
-    /// Theoretical asymptotic rate.
-    pub theory_rate: f64,
+    /// Theoretical asymptotic rate from `(α, β, d)`; `None` where the sampler has no power law
+    /// at low frequencies ([`AlphaSource::NoPowerLaw`]).
+    pub theory_rate: Option<f64>,
     /// Whether a `log N` factor applies.
     pub log_factor: bool,
     /// Log-log slope of the predicted variances over the N range, fitted with Monte Carlo's
@@ -402,7 +407,7 @@ impl Study {
 /// };
 /// let study = run_study(&config, &Silent)?;
 /// let jitter = &study.rows[1];
-/// assert!((jitter.theory_rate + 2.0).abs() < 1e-12); // N^-2 on a Gaussian
+/// assert!((jitter.theory_rate.unwrap() + 2.0).abs() < 1e-12); // N^-2 on a Gaussian
 /// assert!(jitter.empirical_rate.slope < -1.5);
 /// # Ok::<(), specvar::Error>(())
 /// ```
@@ -667,9 +672,18 @@ fn row(
     let ns: Vec<f64> = series.ns.iter().map(|&n| n as f64).collect();
     let (alpha, alpha_source) = match series.sampler.known_alpha() {
         Some(a) => (a, AlphaSource::Known),
+        None if series.sampler.is_deterministic() => {
+            (spectrum.alpha.alpha, AlphaSource::NoPowerLaw)
+        }
         None => (spectrum.alpha.alpha, AlphaSource::Fitted),
     };
-    let (theory, log_factor) = theory_rate(alpha, f.decay_exponent(), d);
+    let (theory, log_factor) = match alpha_source {
+        AlphaSource::NoPowerLaw => (None, false),
+        _ => {
+            let (rate, log) = theory_rate(alpha, f.decay_exponent(), d);
+            (Some(rate), log)
+        }
+    };
     let predicted: Vec<f64> = series.predicted.iter().map(|p| p.variance).collect();
     // One standard error of each prediction, its bounds counted as such.
     let predicted_rel: Vec<f64> = series

@@ -441,8 +441,9 @@ fn study_checks(study: &Study) -> Vec<Check> {
             ),
             pass: predicted + slack >= lo && predicted - slack <= hi,
             detail: format!(
-                "predicted {predicted:.3} ± {slack:.3}, Monte Carlo {:.3} [{lo:.3}, {hi:.3}], theory {:.3}",
-                row.empirical_rate.slope, row.theory_rate
+                "predicted {predicted:.3} ± {slack:.3}, Monte Carlo {:.3} [{lo:.3}, {hi:.3}], theory {}",
+                row.empirical_rate.slope,
+                crate::rate::theory_text(row.theory_rate, 3)
             ),
         });
     }

@@ -730,10 +730,10 @@ fn markdown(report: &Report) -> String {
         let talk = talk_rate(row.sampler, series.integrand.kind());
         let _ = writeln!(
             md,
-            "| {} | {} | {talk} | {:.2}{} | {:.3} | {:.3} [{:.3}, {:.3}] | {:.2} |",
+            "| {} | {} | {talk} | {}{} | {:.3} | {:.3} [{:.3}, {:.3}] | {:.2} |",
             row.sampler,
             series.integrand.kind(),
-            row.theory_rate,
+            crate::rate::theory_text(row.theory_rate, 2),
             if row.log_factor { " (·log N)" } else { "" },
             row.predicted_rate.slope,
             row.empirical_rate.slope,

@@ -89,7 +89,7 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
         study.config.randomization.per_trial()
     )?;
     outln!(
-        "{:<8} {:<40} {:>7} {:>9} {:>10} {:>19} {:>6}",
+        "{:<8} {:<40} {:>12} {:>9} {:>10} {:>19} {:>6}",
         "sampler",
         "integrand",
         "theory",
@@ -100,10 +100,10 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
     )?;
     for r in &study.rows {
         outln!(
-            "{:<8} {:<40} {:>7.3} {:>9.3} {:>10.3}   [{:>6.3}, {:>6.3}] {:>6.2}",
+            "{:<8} {:<40} {:>12} {:>9.3} {:>10.3}   [{:>6.3}, {:>6.3}] {:>6.2}",
             r.sampler,
             r.integrand,
-            r.theory_rate,
+            specvar::rate::theory_text(r.theory_rate, 3),
             r.predicted_rate.slope,
             r.empirical_rate.slope,
             r.empirical_rate.ci.0,

@@ -59,10 +59,10 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
     )?;
     for (row, series) in report.study.rows.iter().zip(&report.study.series) {
         outln!(
-            "{:<8} {:<9} {:>7.2} {:>10.3} {:>12.3}",
+            "{:<8} {:<9} {:>7} {:>10.3} {:>12.3}",
             row.sampler,
             series.integrand.kind(),
-            row.theory_rate,
+            specvar::rate::theory_text(row.theory_rate, 2),
             row.predicted_rate.slope,
             row.empirical_rate.slope
         )?;
