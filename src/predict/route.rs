@@ -252,15 +252,17 @@ pub(crate) fn predict_routed(
         && params.kmax.is_none()
         && closed.is_none();
     if pairs_route {
-        let fixed = match (problem.patterns, kind) {
-            (Patterns::PointSets(sets), _) => Some(sets.to_vec()),
+        let drawn;
+        let fixed: Option<&[crate::pointset::PointSet]> = match (problem.patterns, kind) {
+            (Patterns::PointSets(sets), _) => Some(sets),
             (Patterns::Sampler(s), Some(k)) if k.is_deterministic() => {
-                Some(vec![s.sample(n, params.seed, 0)?])
+                drawn = [s.sample(n, params.seed, 0)?];
+                Some(&drawn)
             }
             _ => None,
         };
         if let Some(sets) = fixed {
-            if let Some(p) = fixed_sets_in_space(problem.integrand, &sets, kind, params)? {
+            if let Some(p) = fixed_sets_in_space(problem.integrand, sets, kind, params)? {
                 return Ok(p);
             }
         }
