@@ -29,6 +29,15 @@
 //! `P̆_f(ρ) ~ ρ^{-β}`, the variance falls like `N^{-1 - min(α, β - d)/d}`: jitter (α = 2) on a
 //! disk (β = 3) in 2D converges as `N^{-1.5}`, on a Gaussian as `N^{-2}`.
 //!
+//! Renderers use other estimators, and each has its own exact analysis. Strata and
+//! Owen-scrambled nets as drawn are uniform inside known cells, so their variance is a sum over
+//! cells in space: the per-stratum form for jitter, closed pair sums for Latin hypercube and
+//! multi-jitter, and Owen's gains times the integrand's variance at each dyadic level for
+//! scrambled Sobol' (the *cell form*). A fixed net under a random digital shift is a sum over
+//! Walsh frequencies (the *Walsh form*), and a fixed pattern under the toroidal shift is
+//! `(1/N²) Σ_{i,j} a_f(x_i − x_j) − I²` over its pairs. Every prediction names its estimator
+//! (`docs/theory.md`, "The estimator").
+//!
 //! ## Map of the crate
 //!
 //! - [`sampler`]: nineteen samplers behind one [`Sampler`] trait, keyed by (seed, realization),
