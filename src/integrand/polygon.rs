@@ -1,7 +1,7 @@
 //! Polygons in the unit square: indicators with exact Fourier transforms, and the edge (a
 //! half-plane clipped to the square) at any angle.
 
-use super::polygon_overlap::{clip, signed_area};
+use super::polygon_overlap::{bounds, clip, cross, signed_area};
 use super::{Integrand, IntegrandKind, MAX_HEIGHT};
 use crate::error::{invalid, Result};
 use crate::quadrature::GaussLegendre;
@@ -200,9 +200,6 @@ impl Polygon {
 /// The first pair of non-adjacent edges that cross, if any (`O(n²)`).
 fn crossing_edges(v: &[[f64; 2]]) -> Option<(usize, usize)> {
     let n = v.len();
-    let cross = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| {
-        (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
-    };
     for i in 0..n {
         for j in i + 2..n {
             if i == 0 && j == n - 1 {
@@ -226,15 +223,7 @@ impl Polygon {
     /// window; the edges it adds along the window enclose nothing).
     fn area_in_box(&self, lo: &[f64], hi: &[f64]) -> f64 {
         let [x0, y0, x1, y1] = [lo[0], lo[1], hi[0], hi[1]];
-        let (min, max) = self.vertices.iter().fold(
-            ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]),
-            |(mn, mx), v| {
-                (
-                    [mn[0].min(v[0]), mn[1].min(v[1])],
-                    [mx[0].max(v[0]), mx[1].max(v[1])],
-                )
-            },
-        );
+        let (min, max) = bounds(&self.vertices);
         if max[0] <= x0 || min[0] >= x1 || max[1] <= y0 || min[1] >= y1 {
             return 0.0;
         }
@@ -344,15 +333,8 @@ impl Integrand for Polygon {
     fn autocorrelation_beyond(&self, distance: f64) -> Option<f64> {
         // a(r) vanishes once r exceeds the polygon's extent along an axis; below, it is at
         // most ∫f² (Cauchy–Schwarz).
-        let extent = (0..2)
-            .map(|a| {
-                let (lo, hi) = self
-                    .vertices
-                    .iter()
-                    .fold((1.0f64, 0.0f64), |(l, h), v| (l.min(v[a]), h.max(v[a])));
-                hi - lo
-            })
-            .fold(0.0, f64::max);
+        let (lo, hi) = bounds(&self.vertices);
+        let extent = (hi[0] - lo[0]).max(hi[1] - lo[1]);
         Some(if distance > extent {
             0.0
         } else {

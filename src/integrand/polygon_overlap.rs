@@ -38,7 +38,8 @@ pub(super) const MAX_TRIANGULATED: usize = 512;
 
 type Triangle = [[f64; 2]; 3];
 
-fn cross(o: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+/// `(a − o) × (b − o)`: positive when `o, a, b` turn counter-clockwise.
+pub(super) fn cross(o: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
     (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
 }
 
@@ -86,17 +87,21 @@ pub(super) fn triangulate(vertices: &[[f64; 2]]) -> Option<Vec<Triangle>> {
     Some(triangles)
 }
 
+/// The corners `(min, max)` of the box around `vertices`.
+pub(super) fn bounds(vertices: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
+    vertices
+        .iter()
+        .fold(([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]), |(l, h), v| {
+            (
+                [l[0].min(v[0]), l[1].min(v[1])],
+                [h[0].max(v[0]), h[1].max(v[1])],
+            )
+        })
+}
+
 /// The area `polygon` (counter-clockwise) shares with the triangles moved by `shift`.
 pub(super) fn shared_area(polygon: &[[f64; 2]], triangles: &[Triangle], shift: [f64; 2]) -> f64 {
-    let (lo, hi) =
-        polygon
-            .iter()
-            .fold(([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]), |(l, h), v| {
-                (
-                    [l[0].min(v[0]), l[1].min(v[1])],
-                    [h[0].max(v[0]), h[1].max(v[1])],
-                )
-            });
+    let (lo, hi) = bounds(polygon);
     let mut area = 0.0;
     for t in triangles {
         let moved = t.map(|v| [v[0] + shift[0], v[1] + shift[1]]);

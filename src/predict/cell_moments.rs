@@ -13,7 +13,7 @@ use rayon::prelude::*;
 pub(crate) const CELL_SECONDS: f64 = COEFFICIENT_SECONDS;
 /// The most cells an exact sum over all cells visits (Latin hypercube's pairs): `2^24`.
 pub(crate) const EXACT_CELL_BUDGET: usize = 1 << 24;
-/// Cells per parallel task of a table: sums over chunks in a fixed order give the same bits
+/// Cells per parallel task of a table or a sum: sums over chunks in a fixed order give the same bits
 /// on any number of threads.
 const TABLE_CHUNK: usize = 4096;
 /// Relative rounding of one cell's moments and of the terms built from them (a few operations
@@ -131,4 +131,27 @@ impl CellTable {
             within: total.value() / (n as f64 * cells as f64),
         }
     }
+}
+
+/// `Σ_i term(i).0` over `0..count` and `Σ_i term(i).1`, in parallel chunks summed in a fixed
+/// order (the same bits on any number of threads).
+pub(crate) fn chunked_sum(count: usize, term: impl Fn(usize) -> (f64, f64) + Sync) -> (f64, f64) {
+    let parts: Vec<(f64, f64)> = (0..count.div_ceil(TABLE_CHUNK))
+        .into_par_iter()
+        .map(|c| {
+            let (mut a, mut b) = (CompensatedSum::default(), CompensatedSum::default());
+            for i in c * TABLE_CHUNK..((c + 1) * TABLE_CHUNK).min(count) {
+                let (x, y) = term(i);
+                a.add(x);
+                b.add(y);
+            }
+            (a.value(), b.value())
+        })
+        .collect();
+    let (mut a, mut b) = (CompensatedSum::default(), CompensatedSum::default());
+    for (x, y) in parts {
+        a.add(x);
+        b.add(y);
+    }
+    (a.value(), b.value())
 }

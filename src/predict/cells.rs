@@ -19,8 +19,8 @@
 //! "Strata in space", derives it and relates it to the aliased Fourier pairs.
 
 use super::cell_moments::{
-    cell_mean_and_variance, check_box_moments, check_cells, CellSum, CellTable, CELL_ROUNDING,
-    CELL_SECONDS, EXACT_CELL_BUDGET,
+    cell_mean_and_variance, check_box_moments, check_cells, chunked_sum, CellSum, CellTable,
+    CELL_ROUNDING, CELL_SECONDS, EXACT_CELL_BUDGET,
 };
 use super::{ErrorBudget, Form, FormChoice, Prediction, Route, SpectrumChoice, SpectrumOrigin};
 use crate::budget::{Budget, Needs};
@@ -97,7 +97,7 @@ impl fmt::Display for CellOrigin {
 }
 
 /// The index of the cell of `grid` holding `x`.
-fn cell_of(x: &[f64], grid: &[usize]) -> usize {
+pub(crate) fn cell_of(x: &[f64], grid: &[usize]) -> usize {
     let mut index = 0;
     for a in (0..grid.len()).rev() {
         let m = grid[a];
@@ -154,30 +154,6 @@ pub fn fixed_strata_variance(
         variance: sum * norm,
         rounding: CELL_ROUNDING * scale * norm,
     })
-}
-
-/// `Σ_i term(i).0` over `0..count` and `Σ_i term(i).1`, in parallel chunks summed in a fixed
-/// order (the same bits on any number of threads).
-fn chunked_sum(count: usize, term: impl Fn(usize) -> (f64, f64) + Sync) -> (f64, f64) {
-    const CHUNK: usize = 4096;
-    let parts: Vec<(f64, f64)> = (0..count.div_ceil(CHUNK))
-        .into_par_iter()
-        .map(|c| {
-            let (mut a, mut b) = (CompensatedSum::default(), CompensatedSum::default());
-            for i in c * CHUNK..((c + 1) * CHUNK).min(count) {
-                let (x, y) = term(i);
-                a.add(x);
-                b.add(y);
-            }
-            (a.value(), b.value())
-        })
-        .collect();
-    let (mut a, mut b) = (CompensatedSum::default(), CompensatedSum::default());
-    for (x, y) in parts {
-        a.add(x);
-        b.add(y);
-    }
-    (a.value(), b.value())
 }
 
 /// An estimate of the unshifted variance from the occupancy of patterns.
@@ -274,36 +250,55 @@ pub fn occupancy_variance(
     let table = cells
         .filter(|&c| c <= TABLE_CELLS && c <= max_patterns.saturating_mul(n))
         .map(|_| stage(progress, "cell means", 0, || CellTable::new(f, grid, n)));
+    let within = table.as_ref().map_or(0.0, |t| t.within);
+    let mut estimate = mean_to_target_noise(
+        "occupancy of the cells",
+        (initial.clamp(2, max_patterns), max_patterns),
+        target_noise,
+        within,
+        |i| {
+            patterns
+                .realization(i)
+                .map(|p| pattern_term(f, &p, grid, table.as_ref()))
+        },
+        progress,
+    )?;
+    estimate.variance += within;
+    Ok(estimate)
+}
+
+/// The mean of `term(0), term(1), …` and its standard error: `counts.0` terms first, then as
+/// many as the spread so far says the relative standard error `target_noise` of `offset` plus
+/// the mean needs, up to `counts.1`. Terms are computed in parallel and kept in index order, so
+/// the result depends only on the final count.
+pub(crate) fn mean_to_target_noise(
+    label: &str,
+    (initial, max): (usize, usize),
+    target_noise: f64,
+    offset: f64,
+    term: impl Fn(usize) -> Result<f64> + Sync,
+    progress: &dyn Progress,
+) -> Result<OccupancyEstimate> {
     let mut terms: Vec<f64> = Vec::new();
-    let mut want = initial.clamp(2, max_patterns);
+    let mut want = initial.min(max);
     loop {
         let start = terms.len();
-        let more = stage(
-            progress,
-            "occupancy of the cells",
-            (want - start) as u64,
-            || {
-                (start..want)
-                    .into_par_iter()
-                    .map(|i| {
-                        let t = patterns
-                            .realization(i)
-                            .map(|p| pattern_term(f, &p, grid, table.as_ref()));
-                        progress.advance(1);
-                        t
-                    })
-                    .collect::<Result<Vec<f64>>>()
-            },
-        )?;
+        let more = stage(progress, label, (want - start) as u64, || {
+            (start..want)
+                .into_par_iter()
+                .map(|i| {
+                    let t = term(i);
+                    progress.advance(1);
+                    t
+                })
+                .collect::<Result<Vec<f64>>>()
+        })?;
         terms.extend(more);
-        let mut estimate = summarize(&terms);
-        if let Some(t) = &table {
-            estimate.variance += t.within;
-        }
-        let relative = estimate.standard_error / estimate.variance;
-        // A zero variance (relative NaN) needs no more patterns.
+        let estimate = summarize(&terms);
+        let relative = estimate.standard_error / (offset + estimate.variance);
+        // A zero variance (relative NaN) needs no more terms.
         let quiet = relative.is_nan() || relative <= target_noise;
-        if quiet || terms.len() >= max_patterns {
+        if quiet || terms.len() >= max {
             return Ok(estimate);
         }
         // The standard error falls like 1/√R: ask for what the spread so far says is needed,
@@ -311,12 +306,12 @@ pub fn occupancy_variance(
         let needed = terms.len() as f64 * (relative / target_noise).powi(2) * 1.1;
         want = (needed.ceil() as usize)
             .max(terms.len() + terms.len() / 2)
-            .min(max_patterns);
+            .min(max);
     }
 }
 
 /// The mean of `terms` and its standard error (from their spread).
-pub(crate) fn summarize(terms: &[f64]) -> OccupancyEstimate {
+fn summarize(terms: &[f64]) -> OccupancyEstimate {
     let r = terms.len() as f64;
     let mut sum = CompensatedSum::default();
     terms.iter().for_each(|&t| sum.add(t));

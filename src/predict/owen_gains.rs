@@ -27,22 +27,18 @@
 //! 2 for `k_1 + k_2 = m + 1` (both axes refined) and 1 beyond (`docs/theory.md`, "Scrambled
 //! nets by levels").
 
-use super::cell_moments::{cell_masses, CellSum, CELL_ROUNDING, CELL_SECONDS};
+use super::cell_moments::{cell_masses, chunked_sum, CellSum, CELL_ROUNDING, CELL_SECONDS};
 use crate::budget::{Budget, Needs};
 use crate::error::{Error, Result};
 use crate::integrand::Integrand;
 use crate::pointset::PointSet;
 use crate::quadrature::CompensatedSum;
-use rayon::prelude::*;
 use std::collections::HashMap;
 
 /// The most axes a grid of box moments has.
 const MAX_AXES: usize = 3;
 /// Binary digits of a pattern's coordinates (doubles in `[0, 1)` with 53-bit fractions).
 const DIGITS: u8 = 53;
-/// Cells per parallel task of a sum over a grid (a fixed order: the same bits on any number of
-/// threads).
-const CHUNK: usize = 4096;
 
 /// The levels of a dyadic grid: `2^{a_l}` cells on axis `l`.
 type Levels = [u8; MAX_AXES];
@@ -237,17 +233,8 @@ fn squared_means(f: &dyn Integrand, tops: &[Levels], d: usize) -> HashMap<Levels
         let mut g = *top;
         loop {
             let volume_inverse = cells_of(&g, d) as f64;
-            let parts: Vec<f64> = mass
-                .par_chunks(CHUNK)
-                .map(|chunk| {
-                    let mut sum = CompensatedSum::default();
-                    chunk.iter().for_each(|&m| sum.add(m * m));
-                    sum.value()
-                })
-                .collect();
-            let mut sum = CompensatedSum::default();
-            parts.iter().for_each(|&p| sum.add(p));
-            let value = sum.value() * volume_inverse;
+            let (squares, _) = chunked_sum(mass.len(), |i| (mass[i] * mass[i], 0.0));
+            let value = squares * volume_inverse;
             s.insert(g, (value, CELL_ROUNDING * value));
             if g[d - 1] == 0 {
                 break;

@@ -21,8 +21,10 @@
 //! the pattern's own (`log2 N`), it is a small part of the whole (`docs/theory.md`, "Digital
 //! shifts").
 
-use super::cell_moments::{cell_masses, check_box_moments, CELL_ROUNDING, CELL_SECONDS};
-use super::cells::{summarize, OccupancyEstimate};
+use super::cell_moments::{
+    cell_masses, check_box_moments, chunked_sum, CELL_ROUNDING, CELL_SECONDS,
+};
+use super::cells::{cell_of, mean_to_target_noise};
 use super::{
     ErrorBudget, Form, FormChoice, Patterns, PredictParams, Prediction, Problem, Route,
     SpectrumChoice, SpectrumOrigin,
@@ -125,38 +127,15 @@ pub(crate) fn walsh_level(n: usize, d: usize, sets: usize) -> u32 {
         .max(1)
 }
 
-fn cell_index(x: &[f64], side: usize) -> usize {
-    x.iter().rev().fold(0, |index, &c| {
-        index * side + ((c * side as f64) as usize).min(side - 1)
-    })
-}
-
 /// `Σ_{κ≠0} a[κ]² (b[κ]/N)²` and `Σ_{κ≠0} |a[κ]| (b[κ]/N)²`, in chunks summed in a fixed order.
 fn weighted_energy(a: &[f64], b: &[f64], n: f64) -> (f64, f64) {
-    let parts: Vec<(f64, f64)> = a
-        .par_chunks(CHUNK)
-        .zip(b.par_chunks(CHUNK))
-        .enumerate()
-        .map(|(c, (a, b))| {
-            let (mut energy, mut magnitude) =
-                (CompensatedSum::default(), CompensatedSum::default());
-            for (i, (x, y)) in a.iter().zip(b).enumerate() {
-                if c == 0 && i == 0 {
-                    continue;
-                }
-                let s = (y / n) * (y / n);
-                energy.add(x * x * s);
-                magnitude.add(x.abs() * s);
-            }
-            (energy.value(), magnitude.value())
-        })
-        .collect();
-    let (mut energy, mut magnitude) = (CompensatedSum::default(), CompensatedSum::default());
-    for (e, m) in parts {
-        energy.add(e);
-        magnitude.add(m);
-    }
-    (energy.value(), magnitude.value())
+    chunked_sum(a.len(), |k| {
+        if k == 0 {
+            return (0.0, 0.0);
+        }
+        let s = (b[k] / n) * (b[k] / n);
+        (a[k] * a[k] * s, a[k].abs() * s)
+    })
 }
 
 /// `((1/N) Σ_j g(x_j ⊕ Δ))²` for one shift: the remainder's estimator, squared.
@@ -164,7 +143,7 @@ fn remainder_term(
     f: &dyn Integrand,
     pattern: &PointSet,
     means: &[f64],
-    side: usize,
+    grid: &[usize],
     mask: &[u64],
 ) -> f64 {
     let d = pattern.dimension();
@@ -174,7 +153,7 @@ fn remainder_term(
         for l in 0..d {
             y[l] = xor_digits(x[l], mask[l]);
         }
-        sum.add(f.eval(&y[..d]) - means[cell_index(&y[..d], side)]);
+        sum.add(f.eval(&y[..d]) - means[cell_of(&y[..d], grid)]);
     }
     let m = sum.value() / pattern.len() as f64;
     m * m
@@ -232,7 +211,7 @@ pub(crate) fn digital_shift_variance(
         counts.iter_mut().for_each(|c| *c = 0.0);
         pattern
             .points()
-            .for_each(|x| counts[cell_index(x, side)] += 1.0);
+            .for_each(|x| counts[cell_of(x, &grid)] += 1.0);
         walsh_hadamard(&mut counts);
         let (e, m) = weighted_energy(&coefficients, &counts, nf);
         exact.add(e);
@@ -247,13 +226,18 @@ pub(crate) fn digital_shift_variance(
     let rounding = 2.0 * coefficient_error * magnitude.value() / sets;
     let per_shift = nf * EVALUATION_SECONDS;
     let max_shifts = ((work_seconds / per_shift) as usize).clamp(INITIAL_SHIFTS, MAX_SHIFTS);
-    let remainder = measure_remainder(
-        f,
-        patterns,
-        &means,
-        side,
+    // The remainder below the level, measured by shifts until its standard error is
+    // `target_noise` of the whole.
+    let remainder = mean_to_target_noise(
+        "finer digits by digital shifts",
+        (INITIAL_SHIFTS, max_shifts),
+        target_noise,
         exact,
-        (target_noise, seed, max_shifts),
+        |unit| {
+            let pattern = &patterns[unit % patterns.len()];
+            let mask = digital_shift(d, seed, unit as u64);
+            Ok(remainder_term(f, pattern, &means, &grid, &mask[..d]))
+        },
         progress,
     )?;
     Ok(WalshEstimate {
@@ -264,52 +248,6 @@ pub(crate) fn digital_shift_variance(
         cells_per_axis: side,
         shifts: remainder.patterns,
     })
-}
-
-/// The remainder below the tabulated level, measured by shifts until its standard error is
-/// `target_noise` of `exact` plus itself.
-fn measure_remainder(
-    f: &dyn Integrand,
-    patterns: &[PointSet],
-    means: &[f64],
-    side: usize,
-    exact: f64,
-    (target_noise, seed, max_shifts): (f64, u64, usize),
-    progress: &dyn Progress,
-) -> Result<OccupancyEstimate> {
-    let d = f.dimension();
-    let mut terms: Vec<f64> = Vec::new();
-    let mut want = INITIAL_SHIFTS.min(max_shifts);
-    loop {
-        let start = terms.len();
-        let more: Vec<f64> = stage(
-            progress,
-            "finer digits by digital shifts",
-            (want - start) as u64,
-            || {
-                (start..want)
-                    .into_par_iter()
-                    .map(|unit| {
-                        let pattern = &patterns[unit % patterns.len()];
-                        let mask = digital_shift(d, seed, unit as u64);
-                        let t = remainder_term(f, pattern, means, side, &mask[..d]);
-                        progress.advance(1);
-                        t
-                    })
-                    .collect()
-            },
-        );
-        terms.extend(more);
-        let estimate = summarize(&terms);
-        let relative = estimate.standard_error / (exact + estimate.variance);
-        if relative.is_nan() || relative <= target_noise || terms.len() >= max_shifts {
-            return Ok(estimate);
-        }
-        let needed = terms.len() as f64 * (relative / target_noise).powi(2) * 1.1;
-        want = (needed.ceil() as usize)
-            .max(terms.len() + terms.len() / 2)
-            .min(max_shifts);
-    }
 }
 
 #[cfg(test)]
