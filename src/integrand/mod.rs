@@ -90,6 +90,14 @@ pub trait Integrand: Send + Sync {
         let _ = (lo, hi);
         None
     }
+    /// `∫_c f` over every cell `c` of the regular grid with `grid[l]` cells on axis `l` (axis 0
+    /// varying fastest), of the integrand shifted by `t` on the torus (`f(x + t mod 1)`), when
+    /// it has a faster form than one [`box_moments`](Self::box_moments) per cell (a separable
+    /// integrand: one row of axis integrals per axis); `None` otherwise.
+    fn grid_masses(&self, grid: &[usize], t: &[f64]) -> Option<Vec<f64>> {
+        let _ = (grid, t);
+        None
+    }
     /// `f̂(ω)` over the whole space, in closed form (the polar form's transform).
     fn fourier(&self, omega: &[f64]) -> Complex64;
     /// The relative difference between the full-space energy `∫_{R^d} f²` and the torus's

@@ -54,6 +54,12 @@ pub enum Occupancy {
     /// Nested uniform scrambling of a base-2 net: its pairs of points by Owen's gains, in
     /// closed form given the net's cell counts on dyadic grids.
     Gains,
+    /// Owen's gains of a scrambled base-2 net under a random shift: the exact variance of each
+    /// shifted integrand, averaged over `shifts` independent uniform shifts.
+    GainsOverShifts {
+        /// Shifts averaged.
+        shifts: usize,
+    },
     /// Estimated from `patterns` patterns of the sampler.
     Estimated {
         /// Patterns drawn.
@@ -85,6 +91,12 @@ impl fmt::Display for CellOrigin {
             Occupancy::Gains => write!(
                 f,
                 "nested uniform scrambling by Owen's gains ({} cells of dyadic grids)",
+                self.cells
+            ),
+            Occupancy::GainsOverShifts { shifts } => write!(
+                f,
+                "Owen's gains averaged over {shifts} random shifts ({} cells of dyadic grids \
+                 each)",
                 self.cells
             ),
             Occupancy::Estimated { patterns } => write!(

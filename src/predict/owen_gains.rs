@@ -224,12 +224,18 @@ fn cells_of(g: &Levels, d: usize) -> usize {
 }
 
 /// `S(a) = Σ_c Φ_c² / |c|` for every grid of the columns, from the cells' integrals on the
-/// finest grid of each column: `S` and its rounding bound per grid.
-fn squared_means(f: &dyn Integrand, tops: &[Levels], d: usize) -> HashMap<Levels, (f64, f64)> {
+/// finest grid of each column, for the integrand shifted by `t`: `S` and its rounding bound per
+/// grid.
+fn squared_means(
+    f: &dyn Integrand,
+    tops: &[Levels],
+    d: usize,
+    t: &[f64],
+) -> HashMap<Levels, (f64, f64)> {
     let mut s = HashMap::new();
     for top in tops {
         let sizes: Vec<usize> = (0..d).map(|l| 1usize << top[l]).collect();
-        let mut mass = cell_masses(f, &sizes);
+        let mut mass = cell_masses(f, &sizes, t);
         let mut g = *top;
         loop {
             let volume_inverse = cells_of(&g, d) as f64;
@@ -253,6 +259,105 @@ fn squared_means(f: &dyn Integrand, tops: &[Levels], d: usize) -> HashMap<Levels
     s
 }
 
+/// A base-2 net under nested uniform scrambling, read once from one scrambled pattern: the
+/// levels whose gain differs from 1, their excess gains `Γ_k − 1`, and the grids whose cells
+/// their variances read. Its variance on any integrand (or any shift of one) follows from
+/// those cells' integrals alone.
+pub(crate) struct ScrambledNet {
+    n: usize,
+    d: usize,
+    excess: Vec<(Levels, f64)>,
+    tops: Vec<Levels>,
+    /// The cells whose integrals one variance reads.
+    pub(crate) cells: usize,
+}
+
+impl ScrambledNet {
+    /// The gains of the net `pattern` is a scrambling of, for an integrand of dimension `d`.
+    ///
+    /// # Errors
+    /// More than 3 axes, a pattern of another dimension, a pattern whose points coincide, or
+    /// one variance's work beyond `budget`.
+    pub(crate) fn new(pattern: &PointSet, d: usize, budget: &Budget) -> Result<Self> {
+        if d > MAX_AXES || pattern.dimension() != d {
+            return Err(Error::Mismatch(format!(
+                "Owen's gains of a {}D pattern for a {d}D integrand (at most {MAX_AXES} axes)",
+                pattern.dimension()
+            )));
+        }
+        let mut counts = PairCounts::new(pattern);
+        let shared = counts.shared_grids()?;
+        let levels = levels_off_one(&shared, d);
+        let excess: Vec<(Levels, f64)> = levels
+            .iter()
+            .map(|&k| (k, counts.gain(k) - 1.0))
+            .filter(|&(_, e)| e != 0.0)
+            .collect();
+        let kept: Vec<Levels> = excess.iter().map(|&(k, _)| k).collect();
+        let tops = columns(&grids_read(&kept, d), d);
+        let cells: usize = tops.iter().map(|g| cells_of(g, d)).sum();
+        budget.check(
+            "Owen's gains",
+            Needs {
+                memory_bytes: 8.0 * tops.iter().map(|g| cells_of(g, d)).max().unwrap_or(1) as f64,
+                work_seconds: cells as f64 * CELL_SECONDS,
+            },
+            "lower N",
+        )?;
+        Ok(Self {
+            n: pattern.len(),
+            d,
+            excess,
+            tops,
+            cells,
+        })
+    }
+
+    /// The variance of the scrambled net's estimator of `f` shifted by `t` on the torus
+    /// (`f_t(x) = f(x + t mod 1)`; `t = 0`: of `f` itself), and its rounding bound.
+    ///
+    /// # Errors
+    /// An integrand without moments over boxes.
+    pub(crate) fn variance(&self, f: &dyn Integrand, t: &[f64]) -> Result<CellSum> {
+        let d = self.d;
+        let s = squared_means(f, &self.tops, d, t);
+        let (_, whole) = f
+            .box_moments(&vec![0.0; d], &vec![1.0; d])
+            .ok_or_else(|| Error::Mismatch(format!("{} has no moments over boxes", f.label())))?;
+        let integral_sq = s[&[0; MAX_AXES]].0;
+        let mut total = CompensatedSum::default();
+        total.add(whole);
+        total.add(-integral_sq);
+        let mut rounding = CELL_ROUNDING * whole;
+        for &(k, excess) in &self.excess {
+            let axes: Vec<usize> = (0..d).filter(|&l| k[l] > 0).collect();
+            let mut sigma = CompensatedSum::default();
+            let mut sigma_rounding = 0.0;
+            for e in 0..1u32 << axes.len() {
+                let mut g = k;
+                axes.iter()
+                    .enumerate()
+                    .filter(|(bit, _)| e >> bit & 1 == 1)
+                    .for_each(|(_, &l)| g[l] -= 1);
+                let (value, r) = s[&g];
+                sigma.add(if e.count_ones() % 2 == 0 {
+                    value
+                } else {
+                    -value
+                });
+                sigma_rounding += r;
+            }
+            total.add(excess * sigma.value());
+            rounding += excess.abs() * sigma_rounding;
+        }
+        let nf = self.n as f64;
+        Ok(CellSum {
+            variance: total.value().max(0.0) / nf,
+            rounding: rounding / nf,
+        })
+    }
+}
+
 /// The variance of the estimator of a base-2 net under nested uniform scrambling, exactly by
 /// Owen's gains read from one scrambled `pattern` of the net: the variance, its rounding bound,
 /// and the cells whose moments it read.
@@ -266,69 +371,8 @@ pub(crate) fn scrambled_net_variance(
     budget: &Budget,
 ) -> Result<(CellSum, usize)> {
     let d = f.dimension();
-    if d > MAX_AXES || pattern.dimension() != d {
-        return Err(Error::Mismatch(format!(
-            "Owen's gains of a {}D pattern for a {d}D integrand (at most {MAX_AXES} axes)",
-            pattern.dimension()
-        )));
-    }
-    let n = pattern.len();
-    let mut counts = PairCounts::new(pattern);
-    let shared = counts.shared_grids()?;
-    let levels = levels_off_one(&shared, d);
-    let grids = grids_read(&levels, d);
-    let tops = columns(&grids, d);
-    let cells: usize = tops.iter().map(|g| cells_of(g, d)).sum();
-    budget.check(
-        "Owen's gains",
-        Needs {
-            memory_bytes: 8.0 * tops.iter().map(|g| cells_of(g, d)).max().unwrap_or(1) as f64,
-            work_seconds: cells as f64 * CELL_SECONDS,
-        },
-        "lower N",
-    )?;
-    let s = squared_means(f, &tops, d);
-    let (_, whole) = f
-        .box_moments(&vec![0.0; d], &vec![1.0; d])
-        .ok_or_else(|| Error::Mismatch(format!("{} has no moments over boxes", f.label())))?;
-    let integral_sq = s[&[0; MAX_AXES]].0;
-    let mut total = CompensatedSum::default();
-    total.add(whole);
-    total.add(-integral_sq);
-    let mut rounding = CELL_ROUNDING * whole;
-    for k in &levels {
-        let excess = counts.gain(*k) - 1.0;
-        if excess == 0.0 {
-            continue;
-        }
-        let axes: Vec<usize> = (0..d).filter(|&l| k[l] > 0).collect();
-        let mut sigma = CompensatedSum::default();
-        let mut sigma_rounding = 0.0;
-        for e in 0..1u32 << axes.len() {
-            let mut g = *k;
-            axes.iter()
-                .enumerate()
-                .filter(|(bit, _)| e >> bit & 1 == 1)
-                .for_each(|(_, &l)| g[l] -= 1);
-            let (value, r) = s[&g];
-            sigma.add(if e.count_ones() % 2 == 0 {
-                value
-            } else {
-                -value
-            });
-            sigma_rounding += r;
-        }
-        total.add(excess * sigma.value());
-        rounding += excess.abs() * sigma_rounding;
-    }
-    let nf = n as f64;
-    Ok((
-        CellSum {
-            variance: total.value().max(0.0) / nf,
-            rounding: rounding / nf,
-        },
-        cells,
-    ))
+    let net = ScrambledNet::new(pattern, d, budget)?;
+    Ok((net.variance(f, &[0.0; MAX_AXES][..d])?, net.cells))
 }
 
 #[cfg(test)]

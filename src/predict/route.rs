@@ -15,7 +15,7 @@ use crate::error::{invalid, Error, Result};
 use crate::integrand::Integrand;
 use crate::progress::{stage, Progress};
 use crate::randomization::Randomization;
-use crate::sampler::{perfect_root, strata, CellRule, SamplerKind};
+use crate::sampler::{perfect_root, strata, CellRule, Sampler, SamplerKind};
 use crate::spectrum::{estimate, ClosedForm, Engine, Lattice, PatternSource, SpectrumParams};
 
 /// The default reference N for a rescaled spectrum: 4096 in 1D and 2D, 32768 in 3D.
@@ -215,6 +215,34 @@ pub(crate) fn scrambling_absorbs_shift(problem: &Problem<'_>) -> bool {
         && problem.kind() == Some(SamplerKind::Sobol)
 }
 
+/// Owen-scrambled Sobol' under a random shift, on an integrand with moments over boxes of at
+/// most 3 axes, by default: Owen's gains averaged over shifts predict it without truncation
+/// (the estimated spectrum stays available as a check).
+fn shifted_scrambled_net<'a>(
+    problem: &Problem<'a>,
+    params: &PredictParams,
+) -> Option<&'a dyn Sampler> {
+    let d = problem.integrand.dimension();
+    let defaults = params.spectrum == SpectrumChoice::Auto
+        && params.form == FormChoice::Auto
+        && params.kmax.is_none();
+    match problem.patterns {
+        Patterns::Sampler(sampler)
+            if defaults
+                && problem.randomization == Randomization::Shift
+                && problem.kind() == Some(SamplerKind::Sobol)
+                && d <= 3
+                && problem
+                    .integrand
+                    .box_moments(&vec![0.0; d], &vec![1.0; d])
+                    .is_some() =>
+        {
+            Some(sampler)
+        }
+        _ => None,
+    }
+}
+
 /// Whether `problem` is fixed patterns under a digital shift (a deterministic sampler's, or
 /// given sets): the Walsh form predicts it.
 fn uses_walsh(problem: &Problem<'_>) -> bool {
@@ -242,6 +270,15 @@ pub(crate) fn predict_routed(
     }
     if uses_walsh(problem) {
         return super::walsh::predict_walsh(problem, params, progress);
+    }
+    if let Some(sampler) = shifted_scrambled_net(problem, params) {
+        return super::shifted_gains::predict_shifted_net(
+            problem.integrand,
+            sampler,
+            n,
+            params,
+            progress,
+        );
     }
     let closed = match (params.spectrum, problem.patterns) {
         (SpectrumChoice::Estimated, _) | (_, Patterns::PointSets(_)) => None,

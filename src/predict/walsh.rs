@@ -199,7 +199,7 @@ pub(crate) fn digital_shift_variance(
     )?;
     let grid = vec![side; d];
     let (means, coefficients) = stage(progress, "Walsh coefficients", 0, || {
-        let mut masses = cell_masses(f, &grid);
+        let mut masses = cell_masses(f, &grid, &[0.0; 3][..grid.len()]);
         let means: Vec<f64> = masses.iter().map(|m| m * cells as f64).collect();
         walsh_hadamard(&mut masses);
         (means, masses)

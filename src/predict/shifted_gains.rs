@@ -1,0 +1,105 @@
+//! The randomly shifted estimator of an Owen-scrambled net: Owen's gains averaged over shifts.
+//!
+//! With `x_j` a nested uniform scrambling of a base-2 net and `t` an independent uniform shift,
+//! `μ = (1/N) Σ_j f(x_j + t mod 1)`. Each scrambled point is uniform, so `E[μ | t] = I` for
+//! every `t`, and the variance is the mean over shifts of the scrambled net's variance on the
+//! shifted integrand `f_t(x) = f(x + t mod 1)`:
+//!
+//! `Var μ = E_t Var[μ | t] = E_t (1/N) [(∫f² − I²) + Σ_{k∈K} (Γ_k − 1) σ²_k(f_t)]`,
+//!
+//! where the gains `Γ_k` belong to the net alone and each `σ²_k(f_t)` is exact
+//! ([`super::owen_gains`]). Only the average over `t` is estimated, from independent uniform
+//! shifts: every term is an exact conditional variance (nothing truncated, no Fourier series),
+//! so the estimate is unbiased and its standard error, from the terms' spread, is its whole
+//! uncertainty. The lattice form of the same estimator counts the energy beyond its lattice as
+//! white, while a net's spectrum along the axes is far below white (its one-dimensional
+//! projections are stratified): it overestimates integrands that jump across the cube's faces,
+//! more so as N grows (`docs/theory.md`, "Scrambled nets under a shift").
+
+use super::cell_moments::{check_box_moments, CELL_SECONDS};
+use super::cells::{mean_to_target_noise, CellOrigin, Occupancy};
+use super::owen_gains::ScrambledNet;
+use super::{ErrorBudget, Form, PredictParams, Prediction, Route, SpectrumOrigin};
+use crate::error::Result;
+use crate::integrand::Integrand;
+use crate::progress::Progress;
+use crate::randomization::{toroidal_shift, Randomization};
+use crate::sampler::{CellRule, Sampler};
+
+/// Shifts the average starts with: enough for the spread that decides how many more it needs.
+const INITIAL_SHIFTS: usize = 16;
+/// Shifts the average never exceeds.
+const MAX_SHIFTS: usize = 4096;
+
+/// The randomly shifted variance of `sampler`'s Owen-scrambled net at `n` points on `f`, the
+/// mean of the exact scrambled variances of `f` under independent uniform shifts, shifts added
+/// until the relative standard error reaches `params.target_noise` or the work budget ends.
+///
+/// # Errors
+/// An integrand without moments over boxes or of more than 3 axes, a sampler error, or work
+/// beyond the budget.
+pub(crate) fn predict_shifted_net(
+    f: &dyn Integrand,
+    sampler: &dyn Sampler,
+    n: usize,
+    params: &PredictParams,
+    progress: &dyn Progress,
+) -> Result<Prediction> {
+    check_box_moments(f)?;
+    let d = f.dimension();
+    let pattern = sampler.sample(n, params.seed, 0)?;
+    let net = ScrambledNet::new(&pattern, d, &params.budget)?;
+    let per_shift = (net.cells as f64 * CELL_SECONDS).max(f64::MIN_POSITIVE);
+    let affordable = (params.work_budget_seconds / per_shift) as usize;
+    let max = params
+        .realizations
+        .unwrap_or_else(|| affordable.clamp(INITIAL_SHIFTS, MAX_SHIFTS));
+    let initial = params.realizations.unwrap_or(INITIAL_SHIFTS).min(max);
+    let estimate = mean_to_target_noise(
+        "Owen's gains over shifts",
+        (initial.max(2), max.max(2)),
+        params.target_noise,
+        0.0,
+        |i| {
+            let t = toroidal_shift(d, params.seed, i as u64);
+            net.variance(f, &t[..d]).map(|s| s.variance)
+        },
+        progress,
+    )?;
+    let reason = format!(
+        "{}, randomly shifted: each shift of the integrand has its exact variance under nested \
+         uniform scrambling by Owen's gains (the net's pair counts on dyadic grids times the \
+         shifted integrand's variance at each dyadic level, from its cells' integrals), and the \
+         variance is their mean over {} independent uniform shifts (unbiased; the noise is its \
+         standard error; nothing is truncated, so jumps at the faces cost nothing extra)",
+        sampler.name(),
+        estimate.patterns
+    );
+    Ok(Prediction {
+        variance: estimate.variance,
+        randomization: Randomization::Shift,
+        route: Route {
+            form: Form::Cells,
+            spectrum: SpectrumOrigin::Cells(CellOrigin {
+                cells_per_axis: CellRule::Dyadic
+                    .grid(n, d)
+                    .and_then(|g| g.into_iter().max())
+                    .unwrap_or(1),
+                cells: net.cells,
+                occupancy: Occupancy::GainsOverShifts {
+                    shifts: estimate.patterns,
+                },
+            }),
+        },
+        reason,
+        budget: ErrorBudget {
+            spectrum_noise: estimate.standard_error,
+            ..Default::default()
+        },
+        n,
+        dimension: d,
+        dc_term: 0.0,
+        evaluations: (net.cells * estimate.patterns) as u64,
+        alternatives: Vec::new(),
+    })
+}
