@@ -351,3 +351,58 @@ fn a_fixed_rule_has_no_theoretical_rate() {
     assert_eq!(jitter.theory_rate, Some(-2.0));
     assert_eq!(theory_text(korobov.theory_rate, 2), "no power law");
 }
+
+/// A rate study stops where the variance reaches the floor of double precision: Korobov's
+/// lattice on the Gaussian falls by about N^-12, and its exact pair sum cancels to its rounding
+/// bound by N = 361, so its fits use only the N below; jitter's exact values bend over the range
+/// (not yet the asymptotic N^-2), and its predicted slope carries that bend as an interval.
+#[test]
+fn a_study_stops_at_the_floor_of_the_arithmetic_and_exact_slopes_carry_their_bend() {
+    use specvar::progress::Silent;
+    use specvar::rate::FLOOR_FRACTION;
+    let config = StudyConfig {
+        samplers: vec![SamplerKind::Korobov, SamplerKind::Jitter],
+        integrands: vec!["gaussian".parse().unwrap()],
+        ns: vec![16, 49, 121, 361, 1024],
+        trials: 400,
+        seed: 3,
+        reference: ReferenceSpectrum {
+            n: 256,
+            kmax: 32,
+            realizations: 8,
+            costly_realizations: 2,
+        },
+        ..StudyConfig::in_dimension(2)
+    };
+    let study = run_study(&config, &Silent).unwrap();
+    let (korobov, jitter) = (&study.rows[0], &study.rows[1]);
+    let floor = korobov.floor_n.expect("the lattice reaches the floor");
+    let at = config.ns.iter().position(|&n| n == floor).unwrap();
+    let series = &study.series[0];
+    let p = &series.predicted[at];
+    assert!(p.budget.quadrature >= FLOOR_FRACTION * p.variance, "{p:?}");
+    assert!(series.predicted[..at]
+        .iter()
+        .all(|p| p.budget.quadrature < FLOOR_FRACTION * p.variance));
+    assert_eq!(korobov.predicted_rate.points, at);
+    assert_eq!(korobov.empirical_rate.points, at);
+    assert_eq!(jitter.floor_n, None);
+    assert_eq!(jitter.predicted_rate.points, config.ns.len());
+    // Exact values (closed form), yet an interval: their bend off a straight line.
+    assert!(
+        jitter.predicted_rate.stderr > 1e-3,
+        "{:?}",
+        jitter.predicted_rate
+    );
+    let (lo, hi) = jitter.predicted_rate.ci;
+    let measured = jitter.empirical_rate.slope;
+    assert!(lo < measured && measured < hi, "{lo} {measured} {hi}");
+    // An N range that starts at the floor is refused with the N where it lies.
+    let late = StudyConfig {
+        samplers: vec![SamplerKind::Korobov],
+        ns: vec![361, 1024],
+        ..config
+    };
+    let refused = run_study(&late, &Silent).unwrap_err().to_string();
+    assert!(refused.contains("floor of double precision"), "{refused}");
+}

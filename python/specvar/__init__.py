@@ -501,6 +501,9 @@ class StudyRow:
     log_factor: bool
     predicted_rate: SlopeFit
     empirical_rate: SlopeFit
+    #: The first N at which the variance reaches the floor of double precision (both fits stop
+    #: below it), or ``None``.
+    floor_n: Optional[int] = None
 
 
 @dataclass(frozen=True)

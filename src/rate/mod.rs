@@ -14,7 +14,7 @@ mod study;
 pub use alpha::{fit_alpha, fit_low_band, AlphaFit, LowBandFit};
 pub use study::{
     finish_study, rate_ns, run_study, AlphaSource, BlockErrors, McBlock, ReferenceSpectrum,
-    SamplerSpectrum, Study, StudyConfig, StudyDescription, StudyRow, StudySeries,
+    SamplerSpectrum, Study, StudyConfig, StudyDescription, StudyRow, StudySeries, FLOOR_FRACTION,
 };
 
 use crate::error::{invalid, Result};
@@ -126,7 +126,10 @@ pub fn theory_text(rate: Option<f64>, digits: usize) -> String {
 /// series' relative errors), its standard error propagated from `values`' own relative errors
 /// `rel_errors`: the slope is `Σ c_i ln v_i`, so its variance is `Σ c_i² rel_i²`. Two series
 /// fitted with the same weights have slopes that differ only where their values do, even when
-/// the curve they follow is not a power law.
+/// the curve they follow is not a power law. Where it is not, the slope over the range is no
+/// rate either: the weighted scatter of the values about the line, `s² = Σ w_i r_i² / (n − 2)`
+/// over `Σ w_i (x_i − x̄)²`, is added to that variance, so that exact values that bend still
+/// carry an interval as wide as their departure from a power law.
 ///
 /// # Errors
 /// As [`loglog_slope`].
@@ -151,7 +154,19 @@ pub fn loglog_slope_with_weights(
         .zip(rel_errors)
         .map(|((x, w), e)| (w * (x - xm) / sxx * e).powi(2))
         .sum();
-    fit.stderr = variance.sqrt();
+    let bend = if x.len() > 2 {
+        let scatter: f64 = x
+            .iter()
+            .zip(values)
+            .zip(&w)
+            .map(|((x, v), w)| w * (v.ln() - fit.intercept - fit.slope * x).powi(2))
+            .sum::<f64>()
+            / (x.len() - 2) as f64;
+        scatter / sxx
+    } else {
+        0.0
+    };
+    fit.stderr = (variance + bend).sqrt();
     fit.ci = (fit.slope - Z_99 * fit.stderr, fit.slope + Z_99 * fit.stderr);
     Ok(fit)
 }

@@ -361,6 +361,28 @@ pub struct StudyRow {
     pub predicted_rate: SlopeFit,
     /// Log-log slope of the Monte Carlo variances, weighted by their intervals.
     pub empirical_rate: SlopeFit,
+    /// The first N of the study at which the variance reaches the floor of double precision
+    /// (the prediction's rounding or quadrature bound is half its value or more, or a variance
+    /// is not positive): both fits stop below it. `None` where every N is resolved.
+    pub floor_n: Option<usize>,
+}
+
+/// A prediction whose rounding or quadrature bound reaches this fraction of its value is at the
+/// floor of the arithmetic: what it says of the variance is its bound, not a value.
+pub const FLOOR_FRACTION: f64 = 0.5;
+
+/// The first index at which the series reaches the floor of the arithmetic: a prediction whose
+/// bound `quadrature` is [`FLOOR_FRACTION`] of its value or more, or a variance that is not
+/// positive (the exact sum cancelled to 0, or Monte Carlo measured no spread).
+fn floor_index(series: &StudySeries) -> Option<usize> {
+    series
+        .predicted
+        .iter()
+        .zip(&series.measured)
+        .position(|(p, m)| {
+            !(p.variance > 0.0 && m.variance > 0.0)
+                || p.budget.quadrature >= FLOOR_FRACTION * p.variance
+        })
 }
 
 /// A finished study.
@@ -684,15 +706,36 @@ fn row(
             (Some(rate), log)
         }
     };
-    let predicted: Vec<f64> = series.predicted.iter().map(|p| p.variance).collect();
+    let resolved = floor_index(series).unwrap_or(ns.len());
+    if resolved < 2 {
+        return Err(invalid(
+            "N range",
+            format!("{:?} for {} on {}", series.ns, series.sampler, series.label),
+            format!(
+                "at least two N below the floor of double precision, which the variance reaches \
+                 at N = {} (the prediction {:.3e} against its rounding bound {:.1e}); choose \
+                 smaller N",
+                series.ns[resolved],
+                series.predicted[resolved].variance,
+                series.predicted[resolved].budget.quadrature
+            ),
+        ));
+    }
+    let ns = &ns[..resolved];
+    let predicted: Vec<f64> = series.predicted[..resolved]
+        .iter()
+        .map(|p| p.variance)
+        .collect();
     // One standard error of each prediction, its bounds counted as such.
-    let predicted_rel: Vec<f64> = series
-        .predicted
+    let predicted_rel: Vec<f64> = series.predicted[..resolved]
         .iter()
         .map(|p| p.budget.half_width(1.0) / p.variance)
         .collect();
-    let mc: Vec<f64> = series.measured.iter().map(|r| r.variance).collect();
-    let rel: Vec<f64> = series.measured.iter().map(rel_stderr).collect();
+    let mc: Vec<f64> = series.measured[..resolved]
+        .iter()
+        .map(|r| r.variance)
+        .collect();
+    let rel: Vec<f64> = series.measured[..resolved].iter().map(rel_stderr).collect();
     Ok(StudyRow {
         sampler: series.sampler,
         integrand: series.label.clone(),
@@ -702,7 +745,8 @@ fn row(
         theory_rate: theory,
         log_factor,
         // Fitted with Monte Carlo's weights, so that the two slopes weigh the N alike.
-        predicted_rate: loglog_slope_with_weights(&ns, &predicted, &rel, &predicted_rel)?,
-        empirical_rate: loglog_slope(&ns, &mc, Some(&rel))?,
+        predicted_rate: loglog_slope_with_weights(ns, &predicted, &rel, &predicted_rel)?,
+        empirical_rate: loglog_slope(ns, &mc, Some(&rel))?,
+        floor_n: (resolved < series.ns.len()).then(|| series.ns[resolved]),
     })
 }

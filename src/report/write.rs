@@ -742,6 +742,16 @@ fn markdown(report: &Report) -> String {
             row.alpha
         );
     }
+    for row in study.rows.iter().filter(|r| r.floor_n.is_some()) {
+        let _ = writeln!(
+            md,
+            "\n{} on {}: fitted below N = {}, where the variance reaches the floor of double \
+             precision (the prediction's rounding bound is half its value or more).",
+            row.sampler,
+            row.integrand,
+            row.floor_n.unwrap_or_default()
+        );
+    }
     md.push_str(&rate_findings(&study.rows));
     if let Some((fit, derived)) = &report.ccvt_low_band {
         let _ = writeln!(

@@ -111,5 +111,14 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
             r.alpha,
         )?;
     }
+    for r in study.rows.iter().filter(|r| r.floor_n.is_some()) {
+        outln!(
+            "{} on {}: fitted below N = {}, where the variance reaches the floor of double \
+             precision",
+            r.sampler,
+            r.integrand,
+            r.floor_n.unwrap_or_default()
+        )?;
+    }
     Ok(())
 }
