@@ -117,6 +117,7 @@ pub mod report;
 pub mod rng;
 pub mod sampler;
 pub mod spectrum;
+mod spread;
 
 pub use error::{Error, Result};
 pub use pointset::PointSet;

@@ -322,16 +322,12 @@ pub(crate) fn mean_to_target_noise(
     }
 }
 
-/// The mean of `terms` and its standard error (from their spread).
+/// The mean of `terms` and its standard error (from their spread, widened for heavy tails).
 fn summarize(terms: &[f64]) -> OccupancyEstimate {
-    let r = terms.len() as f64;
-    let mut sum = CompensatedSum::default();
-    terms.iter().for_each(|&t| sum.add(t));
-    let mean = sum.value() / r;
-    let spread: f64 = terms.iter().map(|t| (t - mean).powi(2)).sum::<f64>() / (r - 1.0);
+    let (variance, standard_error) = crate::spread::mean_and_standard_error(terms);
     OccupancyEstimate {
-        variance: mean,
-        standard_error: (spread / r).sqrt(),
+        variance,
+        standard_error,
         patterns: terms.len(),
     }
 }

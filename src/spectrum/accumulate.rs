@@ -166,7 +166,10 @@ struct Moments {
     sum: Vec<f64>,
     sum_sq: Vec<f64>,
     ring: Vec<(f64, f64)>,
-    weighted: Vec<(f64, f64)>,
+    weighted: Vec<f64>,
+    /// Each weight vector's sum per realization, in order: its spread and tails give the
+    /// standard error.
+    weighted_terms: Vec<Vec<f64>>,
 }
 
 impl Moments {
@@ -175,7 +178,8 @@ impl Moments {
             sum: super::written_zeros(len),
             sum_sq: super::written_zeros(len),
             ring: vec![(0.0, 0.0); rings],
-            weighted: vec![(0.0, 0.0); weights],
+            weighted: vec![0.0; weights],
+            weighted_terms: vec![Vec::new(); weights],
         }
     }
 
@@ -196,9 +200,14 @@ impl Moments {
                 acc.1 += mean * mean;
             }
         }
-        for (acc, &value) in self.weighted.iter_mut().zip(&r.weighted) {
-            acc.0 += value;
-            acc.1 += value * value;
+        for ((acc, terms), &value) in self
+            .weighted
+            .iter_mut()
+            .zip(self.weighted_terms.iter_mut())
+            .zip(&r.weighted)
+        {
+            *acc += value;
+            terms.push(value);
         }
     }
 }
@@ -479,15 +488,12 @@ impl<'a> SpectrumAccumulator<'a> {
         self.total
             .weighted
             .iter()
-            .map(|&(s, s2)| {
+            .zip(&self.total.weighted_terms)
+            .map(|(&s, terms)| {
                 let mean = s / m;
                 WeightedMean {
                     mean,
-                    stderr: if self.realizations > 1 {
-                        ((s2 / m - mean * mean).max(0.0) / (m - 1.0)).sqrt()
-                    } else {
-                        f64::NAN
-                    },
+                    stderr: crate::spread::standard_error_about(terms, mean),
                     realizations: self.realizations,
                 }
             })
