@@ -56,20 +56,24 @@ pub fn compute(config: &ReportConfig, progress: &dyn Progress) -> Result<Report>
             let edges_seconds = start.elapsed().as_secs_f64();
             let estimators = super::estimators::compute(&config.estimators, config.seed)?;
             let estimators_seconds = start.elapsed().as_secs_f64();
+            let coverage = super::coverage::compute(&config.coverage, config.seed)?;
+            let coverage_seconds = start.elapsed().as_secs_f64();
             let run = run_comparison(&config.ambient, &Silent)?;
             let seconds = [
                 study_seconds,
                 edges_seconds,
                 estimators_seconds,
+                coverage_seconds,
                 start.elapsed().as_secs_f64(),
             ];
-            Ok((study, edges, estimators, run, seconds))
+            Ok((study, edges, estimators, coverage, run, seconds))
         },
     );
     let (closure, closure_seconds) = closure;
     let closure = closure?;
-    let (study, edges, estimators, run, seconds) = others?;
-    let [study_seconds, edges_seconds, estimators_seconds, ambient_seconds] = seconds;
+    let (study, edges, estimators, coverage, run, seconds) = others?;
+    let [study_seconds, edges_seconds, estimators_seconds, coverage_seconds, ambient_seconds] =
+        seconds;
     let extras = extras(&study)?;
     let timings = vec![
         Timing {
@@ -94,9 +98,15 @@ pub fn compute(config: &ReportConfig, progress: &dyn Progress) -> Result<Report>
             seconds: estimators_seconds - edges_seconds,
         },
         Timing {
-            stage: "ambient-occlusion renders (after the estimators, alongside the closure table)"
+            stage: "the budgets' coverage: estimated routes against exact truths (after the \
+                    estimators, alongside the closure table)"
                 .into(),
-            seconds: ambient_seconds - estimators_seconds,
+            seconds: coverage_seconds - estimators_seconds,
+        },
+        Timing {
+            stage: "ambient-occlusion renders (after the coverage, alongside the closure table)"
+                .into(),
+            seconds: ambient_seconds - coverage_seconds,
         },
     ];
     let crossovers = crossovers(&study);
@@ -127,6 +137,7 @@ pub fn compute(config: &ReportConfig, progress: &dyn Progress) -> Result<Report>
     checks.extend(closure_checks(&closure));
     checks.extend(edge_checks(&edges));
     checks.extend(estimator_checks(&estimators));
+    checks.push(coverage_check(&coverage));
     checks.extend(ambient_checks(&ambient));
     Ok(Report {
         config: config.clone(),
@@ -138,6 +149,7 @@ pub fn compute(config: &ReportConfig, progress: &dyn Progress) -> Result<Report>
         illustration,
         edges,
         estimators,
+        coverage,
         ambient,
         checks,
         timings,
@@ -490,6 +502,24 @@ fn estimator_checks(section: &super::EstimatorsSection) -> Vec<Check> {
              {worst:.2}"
         ),
     }]
+}
+
+/// The coverage check: at most [`MAX_MISS_FRACTION`](super::coverage::MAX_MISS_FRACTION) of
+/// the estimates miss their exact truth at 99%.
+fn coverage_check(section: &super::CoverageSection) -> Check {
+    Check {
+        what: "the budgets' coverage: estimated predictions against exact truths at 99%".into(),
+        pass: section.miss_fraction <= super::coverage::MAX_MISS_FRACTION,
+        detail: format!(
+            "{} of {} outside their 99% interval ({:.1}%, at most {:.0}% allowed); median \
+             half-width {:.1}% of the value",
+            section.misses,
+            section.rows.len(),
+            100.0 * section.miss_fraction,
+            100.0 * super::coverage::MAX_MISS_FRACTION,
+            100.0 * section.median_relative_width
+        ),
+    }
 }
 
 /// A prediction against its Monte Carlo run: they agree when their difference is within the

@@ -9,12 +9,14 @@
 //! prediction against its measurement.
 
 pub mod compute;
+pub mod coverage;
 pub mod estimators;
 pub mod model;
 #[cfg(feature = "plot")]
 mod write;
 
 pub use compute::compute;
+pub use coverage::{CoverageCase, CoverageConfig, CoverageRow, CoverageSection};
 pub use estimators::{EstimatorRow, EstimatorsConfig, EstimatorsSection};
 pub use model::{
     AmbientSection, Check, ClosureConfig, ClosureRow, ClosureTable, Crossover, EdgesConfig,

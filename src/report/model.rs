@@ -129,6 +129,8 @@ pub struct ReportConfig {
     pub edges: EdgesConfig,
     /// The estimator as used: strata and nets shifted and as used, on a seam.
     pub estimators: super::EstimatorsConfig,
+    /// The budgets' coverage: estimated routes against exact truths.
+    pub coverage: super::CoverageConfig,
     /// The ambient-occlusion renders.
     #[serde(skip)]
     pub ambient: ComparisonConfig,
@@ -169,6 +171,7 @@ impl ReportConfig {
         self.closure.predict.budget = budget;
         self.edges.predict.budget = budget;
         self.estimators.predict.budget = budget;
+        self.coverage.predict.budget = budget;
     }
 
     /// The full run with `seed`: N = 16 … 4096, spectra at 4096.
@@ -198,6 +201,7 @@ impl ReportConfig {
             closure: ClosureConfig::full(),
             edges: EdgesConfig::standard(),
             estimators: super::EstimatorsConfig::standard(),
+            coverage: super::CoverageConfig::standard(),
             ambient: ComparisonConfig {
                 render: RenderParams {
                     seed,
@@ -243,6 +247,10 @@ impl ReportConfig {
                 trials: 2000,
                 predict: quick_predictions,
                 ..super::EstimatorsConfig::standard()
+            },
+            coverage: super::CoverageConfig {
+                ns: vec![64, 256],
+                ..super::CoverageConfig::standard()
             },
             edges: EdgesConfig {
                 samplers: vec![SamplerKind::Jitter, SamplerKind::LatinHypercube],
@@ -417,6 +425,8 @@ pub struct Report {
     pub edges: EdgesSection,
     /// The estimator as used: strata and nets shifted and as used, on a seam.
     pub estimators: super::EstimatorsSection,
+    /// The budgets' coverage: estimated routes against exact truths.
+    pub coverage: super::CoverageSection,
     /// The rendering experiment.
     pub ambient: AmbientSection,
     /// Every cross-check.
