@@ -38,3 +38,46 @@ fn atlas_fills_every_section_and_says_why_a_fit_is_missing() {
         assert!(md.contains(name), "{name}");
     }
 }
+
+/// The atlas as used: each sampler's predictions and Monte Carlo are for its own estimator
+/// (jitter's strata as drawn, by the cell form), the theoretical rate is left to the shifted
+/// estimator, and a sampler whose estimator has no route (Halton's permuted digits as drawn) is
+/// measured alone, with the reason.
+#[test]
+fn atlas_as_used_predicts_each_sampler_under_its_own_randomization() {
+    use specvar::predict::Form;
+    use specvar::randomization::{Randomization, RandomizationChoice};
+    let config = AtlasConfig {
+        samplers: vec![SamplerKind::Jitter, SamplerKind::Halton],
+        n: 64,
+        realizations: 8,
+        alpha_n: 256,
+        trials: 2000,
+        randomization: RandomizationChoice::Native,
+        ..AtlasConfig::quick(5)
+    };
+    let atlas = compute_atlas(&config, &Silent).unwrap();
+    let jitter = &atlas.entries[0];
+    for r in &jitter.rows {
+        assert_eq!(r.randomization, Randomization::None);
+        let p = r.predicted.as_ref().unwrap();
+        assert_eq!(p.route.form, Form::Cells);
+        assert_eq!(p.randomization, Randomization::None);
+        assert!(r.agrees().unwrap(), "{r:?}");
+        assert_eq!(r.rate, None);
+    }
+    let halton = &atlas.entries[1];
+    for r in &halton.rows {
+        assert!(r.predicted.is_none() && r.z.is_none() && r.agrees().is_none());
+        assert!(
+            r.unpredicted.as_deref().unwrap().contains("halton"),
+            "{r:?}"
+        );
+        assert!(r.measured.variance > 0.0);
+    }
+    let md = atlas_markdown(&atlas);
+    assert!(
+        md.contains("no route") && md.contains("as-used estimator"),
+        "{md}"
+    );
+}

@@ -7,18 +7,17 @@ mod write;
 
 pub use write::{atlas_markdown, write_atlas};
 
-use crate::crosscheck::beside_monte_carlo;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::integrand::{Integrand, IntegrandSpec};
 use crate::metrics::{
     discrepancy_means, distance_summary, effective_nyquist, pair_correlation, DiscrepancyKind,
     Distances, Mean, Pcf, PcfParams,
 };
-use crate::montecarlo::{McParams, McResult, Z_99};
+use crate::montecarlo::{empirical_variances, McParams, McResult, Z_99};
 use crate::pointset::PointSet;
-use crate::predict::{PredictParams, Prediction};
+use crate::predict::{predict_many, PredictParams, Prediction, Problem};
 use crate::progress::{Progress, Silent};
-use crate::randomization::Randomization;
+use crate::randomization::{Randomization, RandomizationChoice};
 use crate::rate::{fit_alpha, theory_rate, AlphaFit};
 use crate::sampler::{Sampler, SamplerKind};
 use crate::spectrum::{estimate_with_progress, PatternSource, SpectrumEstimate, SpectrumParams};
@@ -41,6 +40,10 @@ pub struct AtlasConfig {
     pub trials: usize,
     /// Seed of every stream.
     pub seed: u64,
+    /// The estimator of the predictions and Monte Carlo: each sampler under the shift (the
+    /// talk's homogenized estimator, the default), as it is used (`Native`), or under one
+    /// randomization for all.
+    pub randomization: RandomizationChoice,
     /// Where costly patterns are cached.
     #[serde(skip)]
     pub cache: Option<std::path::PathBuf>,
@@ -59,6 +62,7 @@ impl AtlasConfig {
             alpha_n: 4096,
             trials: 20_000,
             seed,
+            randomization: RandomizationChoice::Given(Randomization::Shift),
             cache: None,
             budget: crate::budget::Budget::default(),
         }
@@ -102,14 +106,20 @@ pub const ALPHA_BAND: f64 = 0.3;
 pub struct AtlasRow {
     /// The integrand.
     pub integrand: String,
-    /// The default prediction.
-    pub predicted: Prediction,
+    /// The default prediction, or `None` where the estimator has no route (a sampler used as
+    /// drawn whose law no route reads, such as Halton's digit permutations).
+    pub predicted: Option<Prediction>,
+    /// Why there is no prediction.
+    pub unpredicted: Option<String>,
     /// Monte Carlo.
     pub measured: McResult,
     /// The gap beyond the prediction's bounds, in combined standard errors.
-    pub z: f64,
+    pub z: Option<f64>,
+    /// The estimator: how each pattern was randomized.
+    pub randomization: Randomization,
     /// The asymptotic rate from `α` (known, else fitted) and the integrand's decay, with
-    /// whether a `log N` factor multiplies it.
+    /// whether a `log N` factor multiplies it: for the shifted estimator, whose variance the
+    /// spectrum's low-frequency law decides.
     pub rate: Option<(f64, bool)>,
 }
 
@@ -273,11 +283,12 @@ fn rows(
     fs: &[Box<dyn Integrand>],
 ) -> Result<Vec<AtlasRow>> {
     let f_refs: Vec<&dyn Integrand> = fs.iter().map(|f| f.as_ref()).collect();
+    let randomization = config.randomization.resolve(kind.native_randomization());
     let mut mc = McParams::pooled(
         kind,
         config.trials,
         config.seed ^ ATLAS_MC_STREAM,
-        Randomization::Shift,
+        randomization,
     );
     mc.budget = config.budget;
     let params = PredictParams {
@@ -285,14 +296,29 @@ fn rows(
         budget: config.budget,
         ..PredictParams::default()
     };
-    let results = beside_monte_carlo(sampler, &f_refs, n, &mc, &params, ("", &Silent))?;
+    let measured = empirical_variances(sampler, &f_refs, n, &mc, &Silent)?;
+    let problems = f_refs
+        .iter()
+        .map(|f| Problem::new(sampler, *f, n).map(|p| p.with_randomization(randomization)))
+        .collect::<Result<Vec<_>>>()?;
+    // An estimator without a route is measured alone, with the reason.
+    let (predictions, unpredicted) = match predict_many(&problems, &params, &Silent) {
+        Ok(p) => (p.into_iter().map(Some).collect(), None),
+        Err(e @ Error::OutsideValidity { .. }) => (vec![None; f_refs.len()], Some(e.to_string())),
+        Err(e) => return Err(e),
+    };
     Ok(f_refs
         .iter()
-        .zip(results)
-        .map(|(f, (measured, predicted))| AtlasRow {
+        .zip(measured)
+        .zip(predictions)
+        .map(|((f, measured), predicted)| AtlasRow {
             integrand: f.label(),
-            z: predicted.z_beyond_bounds(&measured),
-            rate: alpha.map(|a| theory_rate(a, f.decay_exponent(), 2)),
+            z: predicted.as_ref().map(|p| p.z_beyond_bounds(&measured)),
+            randomization,
+            rate: alpha
+                .filter(|_| randomization == Randomization::Shift)
+                .map(|a| theory_rate(a, f.decay_exponent(), 2)),
+            unpredicted: unpredicted.clone(),
             predicted,
             measured,
         })
@@ -304,8 +330,8 @@ const ATLAS_MC_STREAM: u64 = 0xA71A_5000_0000_0001;
 const ATLAS_PREDICT_STREAM: u64 = 0xA71A_5000_0000_0002;
 
 impl AtlasRow {
-    /// Whether the prediction agrees with Monte Carlo at 99%.
-    pub fn agrees(&self) -> bool {
-        self.z.abs() <= Z_99
+    /// Whether the prediction agrees with Monte Carlo at 99% (`None` without a prediction).
+    pub fn agrees(&self) -> Option<bool> {
+        self.z.map(|z| z.abs() <= Z_99)
     }
 }

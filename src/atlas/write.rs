@@ -177,13 +177,15 @@ pub fn atlas_markdown(atlas: &Atlas) -> String {
          (the spectrum below 0.1 up to it; the hexagonal lattice's is {:.3}), the pair \
          correlation function, the squared discrepancies, and the default prediction of the \
          variance on the disk and the Gaussian of the talk beside Monte Carlo ({} evaluations, \
-         99% intervals). The rate is the asymptotic one from α and the integrand's decay. \
-         Seed {}.\n",
+         99% intervals), both for the {} estimator ({}). The rate is the asymptotic one from α \
+         and the integrand's decay, for the shifted estimator. Seed {}.\n",
         c.n,
         c.realizations,
         c.alpha_n,
         hexagonal_nyquist(),
         c.trials,
+        c.randomization.estimator(),
+        c.randomization.per_trial(),
         c.seed
     );
     md.push_str("![points](points.svg)\n\n![spectra](spectra.svg)\n\n");
@@ -212,13 +214,19 @@ pub fn atlas_markdown(atlas: &Atlas) -> String {
         for r in &e.rows {
             let _ = write!(
                 md,
-                " {:.4e} | {:.4e} [{:.3e}, {:.3e}] | {:+.2}{} |",
-                r.predicted.variance,
+                " {} | {:.4e} [{:.3e}, {:.3e}] | {}{} |",
+                r.predicted
+                    .as_ref()
+                    .map_or("no route".into(), |p| format!("{:.4e}", p.variance)),
                 r.measured.variance,
                 r.measured.ci_low,
                 r.measured.ci_high,
-                r.z,
-                if r.agrees() { "" } else { " **miss**" }
+                r.z.map_or("—".into(), |z| format!("{z:+.2}")),
+                if r.agrees() == Some(false) {
+                    " **miss**"
+                } else {
+                    ""
+                }
             );
         }
         md.push('\n');
@@ -266,16 +274,23 @@ fn entry_markdown(e: &AtlasEntry) -> String {
         );
     }
     for r in &e.rows {
+        let predicted = match (&r.predicted, r.z) {
+            (Some(p), Some(z)) => {
+                format!("predicted {:.4e} ({}), z = {z:+.2}", p.variance, p.route)
+            }
+            _ => format!(
+                "no prediction ({})",
+                r.unpredicted.as_deref().unwrap_or("no route")
+            ),
+        };
         let _ = writeln!(
             md,
-            "- {}: predicted {:.4e} ({}), Monte Carlo {:.4e} [{:.4e}, {:.4e}], z = {:+.2}; rate {}",
+            "- {} ({}): {predicted}; Monte Carlo {:.4e} [{:.4e}, {:.4e}]; rate {}",
             r.integrand,
-            r.predicted.variance,
-            r.predicted.route,
+            r.randomization.estimator(),
             r.measured.variance,
             r.measured.ci_low,
             r.measured.ci_high,
-            r.z,
             rate_text(r.rate)
         );
     }
