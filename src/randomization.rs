@@ -230,6 +230,16 @@ impl UnitTransform {
         }
     }
 
+    /// Coordinate `axis` of one point, `c`, so transformed.
+    #[inline]
+    pub fn coordinate(&self, axis: usize, c: f64) -> f64 {
+        match self {
+            UnitTransform::Shift(shift) => wrap(c + shift[axis]),
+            UnitTransform::Digital(mask) => xor_digits(c, mask[axis]),
+            UnitTransform::Identity => c,
+        }
+    }
+
     /// `base` so transformed, as a new set.
     pub fn apply(&self, base: &PointSet) -> PointSet {
         let mut coords = vec![0.0; base.coords().len()];

@@ -270,3 +270,61 @@ fn bad_render_requests_are_errors() {
     };
     assert!(pixel_power(&frame, 0.5, &params, &specvar::progress::Silent).is_err());
 }
+
+/// Rendered as a renderer uses the samplers (jitter's strata and Owen-scrambled Sobol' as
+/// drawn, the unscrambled net under a digital shift per pixel): the measured MSE, averaged over
+/// independent renders, agrees with the mean of each pixel's own prediction for that estimator,
+/// which differs from the shifted estimator's.
+#[test]
+fn renders_as_used_match_the_per_pixel_prediction() {
+    use specvar::randomization::{Randomization, RandomizationChoice};
+    let frame = Frame::new(Scene::cornell_box(), 10, 10).unwrap();
+    let reference = render_reference(&frame, 1 << 14, 0.5, 4, &specvar::progress::Silent).unwrap();
+    let grid = PixelPowerParams::default();
+    let cases: [(Box<dyn Sampler>, Randomization); 3] = [
+        (Box::new(Jitter::new(2).unwrap()), Randomization::None),
+        (SamplerKind::Sobol.build(2).unwrap(), Randomization::None),
+        (
+            SamplerKind::SobolNet.build(2).unwrap(),
+            Randomization::DigitalShift,
+        ),
+    ];
+    for (sampler, expected) in cases {
+        let n = 16;
+        let predicted =
+            predict_mse_per_pixel(&frame, sampler.as_ref(), expected, n, 0.5, &grid, 7).unwrap();
+        assert_eq!(predicted.randomization, expected);
+        let mses: Vec<f64> = (0..40)
+            .map(|seed| {
+                let params = RenderParams {
+                    rays: n,
+                    seed,
+                    randomization: RandomizationChoice::Native,
+                    ..Default::default()
+                };
+                let r = render_ao(
+                    &frame,
+                    sampler.as_ref(),
+                    &params,
+                    &specvar::progress::Silent,
+                )
+                .unwrap();
+                assert_eq!(r.randomization, expected);
+                measure_mse(&r, &reference).unwrap().mse
+            })
+            .collect();
+        let s = mses.len() as f64;
+        let mean = mses.iter().sum::<f64>() / s;
+        let se = (mses.iter().map(|m| (m - mean).powi(2)).sum::<f64>() / (s - 1.0) / s).sqrt();
+        let allowed = Z_999 * se.hypot(predicted.budget.spectrum_noise)
+            + predicted.budget.quadrature
+            + predicted.budget.truncation
+            + predicted.budget.model;
+        assert!(
+            (mean - predicted.variance).abs() < allowed,
+            "{}: measured {mean:e} ± {se:e}, predicted {:e}",
+            sampler.name(),
+            predicted.variance
+        );
+    }
+}

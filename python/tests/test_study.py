@@ -61,3 +61,21 @@ def test_bad_studies_are_value_errors():
         specvar.study(["jitter"], ["disk"], [64], trials=100)
     with pytest.raises(ValueError):
         specvar.study(["nosuch"], ["disk"], [16, 64], trials=100)
+
+
+def test_a_study_stops_at_the_floor_of_the_arithmetic():
+    study = specvar.study(
+        ["korobov", "jitter"],
+        ["gaussian"],
+        ns=[16, 49, 121, 361, 1024],
+        trials=400,
+        seed=3,
+        reference={"n": 256, "kmax": 32, "realizations": 8, "costly_realizations": 2},
+    )
+    korobov, jitter = study.rows
+    assert korobov.floor_n == 361
+    assert korobov.predicted_rate.points == 3
+    assert jitter.floor_n is None
+    # Exact values that bend carry an interval.
+    lo, hi = jitter.predicted_rate.ci
+    assert hi - lo > 0.01

@@ -282,6 +282,10 @@ impl Integrand for GridIntegrand {
     fn dimension(&self) -> usize {
         2
     }
+    fn dyadic_level(&self) -> Option<u32> {
+        (self.width == self.height && self.width.is_power_of_two())
+            .then(|| self.width.trailing_zeros())
+    }
     fn eval(&self, x: &[f64]) -> f64 {
         let cell = |v: f64, m: usize| ((v * m as f64).max(0.0) as usize).min(m - 1);
         self.values[cell(x[1], self.height) * self.width + cell(x[0], self.width)]

@@ -98,6 +98,12 @@ pub trait Integrand: Send + Sync {
         let _ = (grid, t);
         None
     }
+    /// The level `a` at which the integrand is constant on every cell of the dyadic grid with
+    /// `2^a` cells per axis (a tabulated grid of power-of-two sides), if it is: its Walsh
+    /// coefficients beyond that level vanish, so a Walsh sum through it is exact.
+    fn dyadic_level(&self) -> Option<u32> {
+        None
+    }
     /// `f̂(ω)` over the whole space, in closed form (the polar form's transform).
     fn fourier(&self, omega: &[f64]) -> Complex64;
     /// The relative difference between the full-space energy `∫_{R^d} f²` and the torus's

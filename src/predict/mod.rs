@@ -623,6 +623,16 @@ pub fn predict(problem: &Problem<'_>, params: &PredictParams) -> Result<Predicti
     predict_with(problem, params, &Silent)
 }
 
+/// Whether `problem`'s estimator has a prediction route at all (before any work): `Ok` where
+/// one applies, else the error [`predict`] would return, which says why and what to do instead
+/// (Halton's permuted digits used as drawn, for one, have no route; Monte Carlo measures them).
+///
+/// # Errors
+/// The estimator's [`Error::OutsideValidity`].
+pub fn check_route(problem: &Problem<'_>) -> Result<()> {
+    route::check_estimator(problem)
+}
+
 /// Predicts the variance of the homogenized estimator, reporting the spectrum estimate's
 /// progress to `progress`.
 ///

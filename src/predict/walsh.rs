@@ -184,7 +184,12 @@ pub(crate) fn digital_shift_variance(
              most {MAX_AXES})"
         )));
     }
-    let level = walsh_level(n, d, patterns.len());
+    // An integrand constant on dyadic cells has no Walsh coefficient beyond their level.
+    let level = f
+        .dyadic_level()
+        .map_or(walsh_level(n, d, patterns.len()), |a| {
+            walsh_level(n, d, patterns.len()).min(a.max(1))
+        });
     let side = 1usize << level;
     let cells = 1usize << (level as usize * d);
     budget.check(

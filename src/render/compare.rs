@@ -2,8 +2,8 @@
 //! and a side-by-side strip of the images.
 
 use super::{
-    measure_mse, predict_mse, render_ao, Frame, MseEstimate, PixelPowerParams, Reference,
-    RenderParams,
+    measure_mse, predict_mse, predict_mse_per_pixel, render_ao, Frame, MseEstimate,
+    PixelPowerParams, Reference, RenderParams,
 };
 use crate::error::{Error, Result};
 use crate::plot::{image_strip, StripPanel};
@@ -104,15 +104,45 @@ pub fn compare(
             progress.begin(&stage, frame.height() as u64);
             let rendering = render_ao(frame, sampler.as_ref(), params, progress)?;
             progress.end();
-            progress.begin(&format!("spectrum of {kind} at N = {}", params.rays), 0);
-            let predicted = predict_mse(
-                sampler.as_ref(),
-                power,
-                params.rays,
-                spectrum_realizations,
-                params.seed.wrapping_add(1),
-            )?;
-            progress.end();
+            let randomization = rendering.randomization;
+            let shifted_law = kind.facts().randomness.why_shifted_variance(randomization);
+            let predicted = match shifted_law {
+                // Where the estimator has the shifted one's variance, the pixels' mean power
+                // carries the whole image.
+                Some(why) => {
+                    progress.begin(&format!("spectrum of {kind} at N = {}", params.rays), 0);
+                    let p = predict_mse(
+                        sampler.as_ref(),
+                        power,
+                        params.rays,
+                        spectrum_realizations,
+                        params.seed.wrapping_add(1),
+                    );
+                    progress.end();
+                    Prediction {
+                        randomization,
+                        reason: format!("{kind} {}: {why}", randomization.estimator()),
+                        ..p?
+                    }
+                }
+                None => {
+                    progress.begin(
+                        &format!("{kind} pixel by pixel, {}", randomization.estimator()),
+                        0,
+                    );
+                    let p = predict_mse_per_pixel(
+                        frame,
+                        sampler.as_ref(),
+                        randomization,
+                        params.rays,
+                        params.max_distance,
+                        &config.pixel_power,
+                        params.seed.wrapping_add(1),
+                    );
+                    progress.end();
+                    p?
+                }
+            };
             Ok(ComparisonRow {
                 sampler: kind,
                 rays: params.rays,

@@ -12,6 +12,11 @@
 //! visibility `V_p` and the sampler's expected spectrum `P_S` at N, and so the image's MSE is
 //! `(1/N) Σ_{k≠0} A(k) P_S(k)` with `A` the mean over pixels of `|V̂_p|²` ([`pixel_power`]):
 //! one rasterization of the pixels' visibilities serves every sampler.
+//!
+//! A renderer uses strata and nets as drawn, or under a digital shift
+//! ([`RenderParams::randomization`]); their pixels' variances keep cross terms between
+//! frequencies that no mean power carries, so the image's MSE is then the mean of each pixel's
+//! own prediction for that estimator ([`predict_mse_per_pixel`]).
 
 pub mod ao;
 mod compare;
@@ -24,11 +29,14 @@ pub use compare::{
     talk_mse, talk_ratio, write_comparison, Comparison, ComparisonConfig, ComparisonRow, TALK_MSE,
 };
 pub use image::{AoImage, Reference, ReferenceKey};
-pub use mse::{measure_mse, pixel_power, predict_mse, MseEstimate, PixelPowerParams};
+pub use mse::{
+    measure_mse, pixel_power, predict_mse, predict_mse_per_pixel, MseEstimate, PixelPowerParams,
+};
 
 use crate::error::{invalid, Result};
-use crate::pointset::{wrap, PointSet};
+use crate::pointset::PointSet;
 use crate::progress::Progress;
+use crate::randomization::{Randomization, RandomizationChoice, UnitTransform};
 use crate::rng::{realization_rng, Stream};
 use crate::sampler::{uniform, uniform_index, Sampler};
 use ao::ShadingPoint;
@@ -110,6 +118,9 @@ pub struct RenderParams {
     /// hash `h` of the seed and `p`, under its own shift; each pixel has its own pattern when
     /// the image has at most `P` pixels. Costly samplers (CCVT) need the pool.
     pub patterns: usize,
+    /// How each pixel randomizes its pattern: under its own shift (the default, the talk's
+    /// homogenized estimator), as the sampler is used (`Native`), or one randomization for all.
+    pub randomization: RandomizationChoice,
 }
 
 impl Default for RenderParams {
@@ -119,6 +130,7 @@ impl Default for RenderParams {
             max_distance: 0.5,
             seed: 0,
             patterns: 1024,
+            randomization: RandomizationChoice::Given(Randomization::Shift),
         }
     }
 }
@@ -160,6 +172,8 @@ pub struct Rendering {
     pub image: AoImage,
     /// Pattern index per pixel.
     pub pattern: Vec<u32>,
+    /// How each pixel's pattern was randomized.
+    pub randomization: Randomization,
 }
 
 /// The pattern of pixel `p` in a pool of `pool` patterns for an image of `pixels` pixels.
@@ -211,14 +225,20 @@ pub fn render_ao(
     let pattern: Vec<u32> = (0..pixels)
         .map(|p| pattern_of(params.seed, p, pool, pixels) as u32)
         .collect();
+    let randomization = params.randomization.resolve(
+        sampler
+            .kind()
+            .map_or(Randomization::Shift, |k| k.native_randomization()),
+    );
     let values = per_row(frame, progress, |p| {
         frame.point(p).map_or(1.0, |point| {
-            shifted_estimate(
+            let transform = randomization.draw(2, params.seed, p as u64);
+            randomized_estimate(
                 frame.scene(),
                 point,
                 &patterns[pattern[p] as usize],
-                params,
-                p,
+                params.max_distance,
+                &transform,
             )
         })
     });
@@ -231,25 +251,25 @@ pub fn render_ao(
             values,
         },
         pattern,
+        randomization,
     })
 }
 
-/// The mean visibility over `pattern` shifted by pixel `p`'s homogenizing shift.
-fn shifted_estimate(
+/// The mean visibility over `pattern` randomized by the pixel's own `transform` (its shift, its
+/// digital shift, or none).
+fn randomized_estimate(
     scene: &Scene,
     point: &ShadingPoint,
     pattern: &PointSet,
-    params: &RenderParams,
-    p: usize,
+    max_distance: f64,
+    transform: &UnitTransform,
 ) -> f64 {
-    let mut rng = realization_rng(params.seed, p as u64, Stream::Shift);
-    let shift = [uniform(&mut rng), uniform(&mut rng)];
-    let near = point.near(scene, params.max_distance);
+    let near = point.near(scene, max_distance);
     let visible: f64 = pattern
         .points()
         .map(|u| {
-            let v = [wrap(u[0] + shift[0]), wrap(u[1] + shift[1])];
-            point.visibility_near(scene, near, &v, params.max_distance)
+            let v = [transform.coordinate(0, u[0]), transform.coordinate(1, u[1])];
+            point.visibility_near(scene, near, &v, max_distance)
         })
         .sum();
     visible / pattern.len() as f64

@@ -3,10 +3,16 @@
 
 use super::{Frame, Reference, Rendering};
 use crate::error::{invalid, Result};
-use crate::predict::{predict_on_patterns, LatticePower, PatternPlan, Prediction};
+use crate::predict::{
+    predict, predict_on_patterns, ErrorBudget, LatticePower, PatternPlan, PredictParams,
+    Prediction, Problem,
+};
 use crate::progress::Progress;
+use crate::randomization::Randomization;
+use crate::rng::{realization_rng, Stream};
 use crate::sampler::Sampler;
 use crate::spectrum::{Engine, Lattice, PatternSource, SpectrumParams};
+use rand::Rng;
 use rayon::prelude::*;
 
 /// A measured MSE with its standard error.
@@ -237,4 +243,100 @@ pub fn predict_mse(
     };
     let source = PatternSource::Sampler { sampler, n, seed };
     predict_on_patterns(power, source, &plan, &crate::progress::Silent)
+}
+
+/// The relative noise each pixel's estimated prediction aims at: the pixels draw independent
+/// patterns, so the image's mean averages their noise down by the square root of their count.
+const PIXEL_TARGET_NOISE: f64 = 0.2;
+/// The work one pixel's estimated prediction may spend, in seconds of one core.
+const PIXEL_WORK_SECONDS: f64 = 0.05;
+
+/// The image MSE predicted for `sampler` with `n` rays under `randomization` pixel by pixel:
+/// each visited pixel's visibility grid predicted as an integrand by its own default route for
+/// that estimator (the cell form for strata and nets as drawn, Owen's gains, the Walsh form for
+/// a digital shift), with its own seed, and the mean taken over the pixels (those whose primary
+/// ray leaves the scene with no variance). The noise is the pixels' independent noises combined,
+/// the bounds their mean. This is the route for estimators other than the shift, whose cross
+/// terms between frequencies do not vanish, so that no mean power over the pixels can carry them.
+///
+/// # Errors
+/// A sampler that cannot produce `n` points in 2D, invalid grid parameters, or a pixel whose
+/// estimator has no route.
+pub fn predict_mse_per_pixel(
+    frame: &Frame,
+    sampler: &dyn Sampler,
+    randomization: Randomization,
+    n: usize,
+    max_distance: f64,
+    grid: &PixelPowerParams,
+    seed: u64,
+) -> Result<Prediction> {
+    grid.check()?;
+    super::check_max_distance(max_distance)?;
+    let pixels: Vec<usize> = (0..frame.height())
+        .step_by(grid.stride)
+        .flat_map(|y| {
+            (0..frame.width())
+                .step_by(grid.stride)
+                .map(move |x| y * frame.width() + x)
+        })
+        .collect();
+    let params = PredictParams {
+        target_noise: PIXEL_TARGET_NOISE,
+        work_budget_seconds: PIXEL_WORK_SECONDS,
+        ..PredictParams::default()
+    };
+    let per_pixel: Vec<Option<Prediction>> = pixels
+        .par_iter()
+        .map(|&p| {
+            let Some(point) = frame.point(p) else {
+                return Ok(None);
+            };
+            let visibility = point.visibility_grid(frame.scene(), grid.resolution, max_distance)?;
+            let problem = Problem::new(sampler, &visibility, n)?.with_randomization(randomization);
+            let own = PredictParams {
+                seed: realization_rng(seed, p as u64, Stream::Trial).next_u64(),
+                ..params
+            };
+            predict(&problem, &own).map(Some)
+        })
+        .collect::<Result<_>>()?;
+    let count = pixels.len() as f64;
+    let predicted: Vec<&Prediction> = per_pixel.iter().flatten().collect();
+    let first = predicted
+        .first()
+        .ok_or_else(|| invalid("image", "no pixel sees the scene", "at least one"))?;
+    let mut budget = ErrorBudget::default();
+    let mut variance = 0.0;
+    for p in &predicted {
+        variance += p.variance;
+        budget.spectrum_noise += p.budget.spectrum_noise.powi(2);
+        budget.quadrature += p.budget.quadrature;
+        budget.truncation += p.budget.truncation;
+        budget.model += p.budget.model;
+    }
+    budget.spectrum_noise = budget.spectrum_noise.sqrt() / count;
+    budget.quadrature /= count;
+    budget.truncation /= count;
+    budget.model /= count;
+    Ok(Prediction {
+        variance: variance / count,
+        randomization,
+        route: first.route,
+        reason: format!(
+            "the mean over {} pixels ({} seeing the scene) of each pixel's own prediction for \
+             the {} estimator on its {}² visibility grid ({})",
+            pixels.len(),
+            predicted.len(),
+            randomization.estimator(),
+            grid.resolution,
+            first.route
+        ),
+        budget,
+        n,
+        dimension: 2,
+        dc_term: 0.0,
+        evaluations: predicted.iter().map(|p| p.evaluations).sum(),
+        alternatives: Vec::new(),
+    })
 }

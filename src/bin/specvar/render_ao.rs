@@ -1,6 +1,7 @@
 //! `specvar render-ao`: ambient occlusion rendered with every sampler (or one), the measured MSE
 //! and the MSE predicted from spectra.
 
+use specvar::randomization::{Randomization, RandomizationChoice};
 use specvar::render::{
     comparison_table, measured_ratio, run_comparison, samplers_for_rays, talk_ratio,
     write_comparison, ComparisonConfig,
@@ -53,6 +54,12 @@ pub struct Args {
     /// Seed.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
+    /// How each pixel randomizes its pattern, for the render and the prediction alike: shift
+    /// (the default: a random toroidal shift per pixel, the talk's homogenized estimator),
+    /// native (each sampler as a renderer uses it: strata and nets as drawn, fixed rules
+    /// shifted), digital-shift, or none.
+    #[arg(long, default_value_t = RandomizationChoice::Given(Randomization::Shift))]
+    pub randomization: RandomizationChoice,
     /// JSON output.
     #[arg(long)]
     pub json: bool,
@@ -96,6 +103,7 @@ impl Args {
         c.render.max_distance = self.max_distance.unwrap_or(c.render.max_distance);
         c.render.patterns = self.patterns.unwrap_or(c.render.patterns);
         c.render.seed = self.seed;
+        c.render.randomization = self.randomization;
         c.pixel_power.resolution = self.grid.unwrap_or(c.pixel_power.resolution);
         c.pixel_power.kmax = self.kmax.unwrap_or(c.pixel_power.kmax);
         c.pixel_power.stride = self.stride.unwrap_or(c.pixel_power.stride);
@@ -111,12 +119,35 @@ struct Row {
     mse_stderr: f64,
     predicted_mse: f64,
     predicted_stderr: f64,
+    randomization: Randomization,
+    route: String,
 }
 
 /// Renders, measures, predicts, writes the images and prints the table.
 pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
-    let config = args.config(ctx);
+    let mut config = args.config(ctx);
     specvar::output::check_output_dir(&args.out)?;
+    // Every sampler: those whose estimator has a route (Halton as drawn has none).
+    let mut unrouted = Vec::new();
+    if let Samplers::All = args.sampler {
+        let disk = specvar::integrand::Ball::new(0.25, vec![0.5, 0.5], 1.0)?;
+        config.samplers.retain(|&kind| {
+            let routed = kind.build(2).and_then(|s| {
+                let n = kind.nearest_count(config.render.rays, 2);
+                let r = config
+                    .render
+                    .randomization
+                    .resolve(kind.native_randomization());
+                specvar::predict::check_route(
+                    &specvar::predict::Problem::new(s.as_ref(), &disk, n)?.with_randomization(r),
+                )
+            });
+            if routed.is_err() {
+                unrouted.push(kind.name());
+            }
+            routed.is_ok()
+        });
+    }
     let run = run_comparison(&config, &super::bars::Bars::default())?;
     specvar::output::write_dir(&args.out, |dir| {
         write_comparison(dir, &run.rows, &run.reference)
@@ -132,6 +163,8 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
                 mse_stderr: r.measured.stderr,
                 predicted_mse: r.predicted.variance,
                 predicted_stderr: r.predicted.budget.spectrum_noise,
+                randomization: r.predicted.randomization,
+                route: r.predicted.route.to_string(),
             })
             .collect();
         match rows.as_slice() {
@@ -152,7 +185,19 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
         config.render.rays,
         config.reference_rays
     )?;
+    outln!(
+        "estimator: {} ({})",
+        config.render.randomization.estimator(),
+        config.render.randomization.per_trial()
+    )?;
     outln!("prediction: {}", run.power_label)?;
+    if !unrouted.is_empty() {
+        outln!(
+            "left out, their estimator having no prediction route (measure them with `specvar \
+             mc`): {}",
+            unrouted.join(", ")
+        )?;
+    }
     out!("{}", comparison_table(&run.rows))?;
     let (random, jitter) = (SamplerKind::Random, SamplerKind::Jitter);
     if let (Some(r), Some(talk)) = (
