@@ -141,17 +141,7 @@ fn the_walsh_form_agrees_with_monte_carlo_of_digital_shifts() {
             ),
         )
         .unwrap();
-        let z = p.z_beyond_bounds(&mc);
-        assert!(
-            z.abs() < z_family,
-            "{d}D N = {n} {}: predicted {:.4e} ± {:.1e}, measured {:.4e} [{:.4e}, {:.4e}]",
-            f.label(),
-            p.variance,
-            p.budget.spectrum_noise,
-            mc.variance,
-            mc.ci_low,
-            mc.ci_high
-        );
+        common::assert_agrees(&p, &mc, z_family, &format!("{d}D N = {n} {}", f.label()));
     }
 }
 

@@ -329,20 +329,7 @@ fn a_study_as_used_predicts_and_measures_each_sampler_under_its_own_randomizatio
 #[test]
 fn a_fixed_rule_has_no_theoretical_rate() {
     use specvar::progress::Silent;
-    let config = StudyConfig {
-        samplers: vec![SamplerKind::Korobov, SamplerKind::Jitter],
-        integrands: vec!["gaussian".parse().unwrap()],
-        ns: vec![16, 64, 256],
-        trials: 400,
-        seed: 2,
-        reference: ReferenceSpectrum {
-            n: 256,
-            kmax: 32,
-            realizations: 8,
-            costly_realizations: 2,
-        },
-        ..StudyConfig::in_dimension(2)
-    };
+    let config = lattice_and_jitter(vec![16, 64, 256], 2);
     let study = run_study(&config, &Silent).unwrap();
     let (korobov, jitter) = (&study.rows[0], &study.rows[1]);
     assert_eq!(korobov.alpha_source, AlphaSource::NoPowerLaw);
@@ -360,20 +347,7 @@ fn a_fixed_rule_has_no_theoretical_rate() {
 fn a_study_stops_at_the_floor_of_the_arithmetic_and_exact_slopes_carry_their_bend() {
     use specvar::progress::Silent;
     use specvar::rate::FLOOR_FRACTION;
-    let config = StudyConfig {
-        samplers: vec![SamplerKind::Korobov, SamplerKind::Jitter],
-        integrands: vec!["gaussian".parse().unwrap()],
-        ns: vec![16, 49, 121, 361, 1024],
-        trials: 400,
-        seed: 3,
-        reference: ReferenceSpectrum {
-            n: 256,
-            kmax: 32,
-            realizations: 8,
-            costly_realizations: 2,
-        },
-        ..StudyConfig::in_dimension(2)
-    };
+    let config = lattice_and_jitter(vec![16, 49, 121, 361, 1024], 3);
     let study = run_study(&config, &Silent).unwrap();
     let (korobov, jitter) = (&study.rows[0], &study.rows[1]);
     let floor = korobov.floor_n.expect("the lattice reaches the floor");
@@ -405,4 +379,22 @@ fn a_study_stops_at_the_floor_of_the_arithmetic_and_exact_slopes_carry_their_ben
     };
     let refused = run_study(&late, &Silent).unwrap_err().to_string();
     assert!(refused.contains("floor of double precision"), "{refused}");
+}
+
+/// A short study of Korobov's lattice and jitter on the Gaussian at `ns`.
+fn lattice_and_jitter(ns: Vec<usize>, seed: u64) -> StudyConfig {
+    StudyConfig {
+        samplers: vec![SamplerKind::Korobov, SamplerKind::Jitter],
+        integrands: vec!["gaussian".parse().unwrap()],
+        ns,
+        trials: 400,
+        seed,
+        reference: ReferenceSpectrum {
+            n: 256,
+            kmax: 32,
+            realizations: 8,
+            costly_realizations: 2,
+        },
+        ..StudyConfig::in_dimension(2)
+    }
 }

@@ -171,26 +171,11 @@ fn measured_mse_matches_the_closed_form_prediction() {
         let predicted = predict_from_power(&power, &SpectrumSource::Closed(closed), n)
             .unwrap()
             .variance;
-        let mses: Vec<f64> = (0..40)
-            .map(|seed| {
-                let params = RenderParams {
-                    rays: n,
-                    seed,
-                    ..Default::default()
-                };
-                let r = render_ao(
-                    &frame,
-                    sampler.as_ref(),
-                    &params,
-                    &specvar::progress::Silent,
-                )
-                .unwrap();
-                measure_mse(&r, &reference).unwrap().mse
-            })
-            .collect();
-        let s = mses.len() as f64;
-        let mean = mses.iter().sum::<f64>() / s;
-        let se = (mses.iter().map(|m| (m - mean).powi(2)).sum::<f64>() / (s - 1.0) / s).sqrt();
+        let (mean, se) = mean_mse(&frame, sampler.as_ref(), &reference, |seed| RenderParams {
+            rays: n,
+            seed,
+            ..Default::default()
+        });
         assert!(
             (mean - predicted).abs() < Z_999 * se,
             "{}: measured {mean:e} ± {se:e}, predicted {predicted:e}",
@@ -294,28 +279,23 @@ fn renders_as_used_match_the_per_pixel_prediction() {
         let predicted =
             predict_mse_per_pixel(&frame, sampler.as_ref(), expected, n, 0.5, &grid, 7).unwrap();
         assert_eq!(predicted.randomization, expected);
-        let mses: Vec<f64> = (0..40)
-            .map(|seed| {
-                let params = RenderParams {
-                    rays: n,
-                    seed,
-                    randomization: RandomizationChoice::Native,
-                    ..Default::default()
-                };
-                let r = render_ao(
-                    &frame,
-                    sampler.as_ref(),
-                    &params,
-                    &specvar::progress::Silent,
-                )
-                .unwrap();
-                assert_eq!(r.randomization, expected);
-                measure_mse(&r, &reference).unwrap().mse
-            })
-            .collect();
-        let s = mses.len() as f64;
-        let mean = mses.iter().sum::<f64>() / s;
-        let se = (mses.iter().map(|m| (m - mean).powi(2)).sum::<f64>() / (s - 1.0) / s).sqrt();
+        let native = RenderParams {
+            rays: n,
+            randomization: RandomizationChoice::Native,
+            ..Default::default()
+        };
+        let r = render_ao(
+            &frame,
+            sampler.as_ref(),
+            &native,
+            &specvar::progress::Silent,
+        )
+        .unwrap();
+        assert_eq!(r.randomization, expected);
+        let (mean, se) = mean_mse(&frame, sampler.as_ref(), &reference, |seed| RenderParams {
+            seed,
+            ..native
+        });
         let allowed = Z_999 * se.hypot(predicted.budget.spectrum_noise)
             + predicted.budget.quadrature
             + predicted.budget.truncation
@@ -327,4 +307,24 @@ fn renders_as_used_match_the_per_pixel_prediction() {
             predicted.variance
         );
     }
+}
+
+/// The measured MSE averaged over 40 independent renders (`params(seed)` for seeds 0 to 39), and
+/// its standard error from their spread.
+fn mean_mse(
+    frame: &Frame,
+    sampler: &dyn Sampler,
+    reference: &Reference,
+    params: impl Fn(u64) -> RenderParams,
+) -> (f64, f64) {
+    let mses: Vec<f64> = (0..40)
+        .map(|seed| {
+            let r = render_ao(frame, sampler, &params(seed), &specvar::progress::Silent).unwrap();
+            measure_mse(&r, reference).unwrap().mse
+        })
+        .collect();
+    let s = mses.len() as f64;
+    let mean = mses.iter().sum::<f64>() / s;
+    let se = (mses.iter().map(|m| (m - mean).powi(2)).sum::<f64>() / (s - 1.0) / s).sqrt();
+    (mean, se)
 }

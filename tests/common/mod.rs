@@ -148,3 +148,23 @@ pub fn inverse_normal_tail(p: f64) -> f64 {
     }
     (lo + hi) / 2.0
 }
+
+/// Asserts that prediction `p` and Monte Carlo run `mc` of the same estimator agree: their gap
+/// beyond the prediction's bounds is below `z_limit` combined standard errors.
+pub fn assert_agrees(
+    p: &specvar::predict::Prediction,
+    mc: &specvar::montecarlo::McResult,
+    z_limit: f64,
+    what: &str,
+) {
+    let z = p.z_beyond_bounds(mc);
+    assert!(
+        z.abs() < z_limit,
+        "{what}: predicted {:.4e} ± {:.1e}, measured {:.4e} [{:.4e}, {:.4e}], z = {z:.2}",
+        p.variance,
+        p.budget.spectrum_noise,
+        mc.variance,
+        mc.ci_low,
+        mc.ci_high
+    );
+}
