@@ -33,7 +33,9 @@
 //! Owen-scrambled nets as drawn are uniform inside known cells, so their variance is a sum over
 //! cells in space: the per-stratum form for jitter, closed pair sums for Latin hypercube and
 //! multi-jitter, and Owen's gains times the integrand's variance at each dyadic level for
-//! scrambled Sobol' (the *cell form*). A fixed net under a random digital shift is a sum over
+//! scrambled Sobol' (the *cell form*); the same gains averaged over random shifts give
+//! scrambled Sobol' under the toroidal shift without truncating anything. A fixed net under a
+//! random digital shift is a sum over
 //! Walsh frequencies (the *Walsh form*), and a fixed pattern under the toroidal shift is
 //! `(1/N²) Σ_{i,j} a_f(x_i − x_j) − I²` over its pairs. Every prediction names its estimator
 //! (`docs/theory.md`, "The estimator").
