@@ -594,6 +594,21 @@ fn scrambled_sobol_under_a_shift_is_its_gains_averaged_over_shifts() {
         .unwrap()
         .with_randomization(Randomization::Shift);
     let p = predict(&problem, &PredictParams::default()).unwrap();
+    // Predicted together (rate studies, the report's tables), the same route and value.
+    let edge = Polygon::edge(30.0, 0.4, 1.0).unwrap();
+    let together = specvar::predict::predict_many(
+        &[
+            problem,
+            Problem::new(sampler.as_ref(), &edge, 64)
+                .unwrap()
+                .with_randomization(Randomization::Shift),
+        ],
+        &PredictParams::default(),
+        &specvar::progress::Silent,
+    )
+    .unwrap();
+    assert_eq!(together[0].variance, p.variance);
+    assert_eq!(together[1].route.form, Form::Cells);
     let spectral = PredictParams {
         spectrum: SpectrumChoice::Estimated,
         ..Default::default()

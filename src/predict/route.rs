@@ -882,6 +882,9 @@ pub(crate) fn predict_routed_many(
         || uses_cells(first)
         || uses_walsh(first)
         || kind.is_some_and(|k| k.is_deterministic())
+        || problems
+            .iter()
+            .any(|p| shifted_scrambled_net(p, params).is_some())
         || params.form == FormChoice::Polar
         || params.spectrum == SpectrumChoice::Closed
     {
