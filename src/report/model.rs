@@ -249,7 +249,7 @@ impl ReportConfig {
                 ..super::EstimatorsConfig::standard()
             },
             coverage: super::CoverageConfig {
-                ns: vec![64, 256],
+                ns: vec![64],
                 ..super::CoverageConfig::standard()
             },
             edges: EdgesConfig {
