@@ -238,3 +238,14 @@ pub(crate) fn shift_phase(omega: &[f64], centre: &[f64]) -> Complex64 {
     let phase: f64 = omega.iter().zip(centre).map(|(w, c)| w * c).sum();
     Complex64::from_polar(1.0, -2.0 * PI * phase)
 }
+
+/// The interval `[lo, hi) + t` of one axis (inside `[0, 2)` for `lo, hi, t` in `[0, 1]`) taken
+/// modulo 1: the part before the face and the part past it moved back by 1, either of them
+/// possibly empty (`a ≥ b`).
+pub(crate) fn wrapped_interval(lo: f64, hi: f64, t: f64) -> [(f64, f64); 2] {
+    let (x, y) = (lo + t, hi + t);
+    [
+        (x.min(1.0), y.min(1.0)),
+        ((x - 1.0).max(0.0), (y - 1.0).max(0.0)),
+    ]
+}

@@ -4,7 +4,7 @@
 
 use crate::budget::{Budget, Needs, COEFFICIENT_SECONDS};
 use crate::error::{Error, Result};
-use crate::integrand::Integrand;
+use crate::integrand::{wrapped_interval, Integrand};
 use crate::quadrature::CompensatedSum;
 use rayon::prelude::*;
 
@@ -80,12 +80,7 @@ fn wrapped_box_mass(f: &dyn Integrand, lo: &[f64], hi: &[f64], t: &[f64]) -> f64
     // Piece `p`: on axis `l`, bit `l` of `p` picks the part past the face (moved back by 1).
     for p in 0..1u32 << d {
         for l in 0..d {
-            let (x, y) = (lo[l] + t[l], hi[l] + t[l]);
-            (a[l], b[l]) = if p >> l & 1 == 0 {
-                (x.min(1.0), y.min(1.0))
-            } else {
-                ((x - 1.0).max(0.0), (y - 1.0).max(0.0))
-            };
+            (a[l], b[l]) = wrapped_interval(lo[l], hi[l], t[l])[(p >> l & 1) as usize];
         }
         total += mass(&a[..d], &b[..d]);
     }

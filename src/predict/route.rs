@@ -232,10 +232,7 @@ fn shifted_scrambled_net<'a>(
                 && problem.randomization == Randomization::Shift
                 && problem.kind() == Some(SamplerKind::Sobol)
                 && d <= 3
-                && problem
-                    .integrand
-                    .box_moments(&vec![0.0; d], &vec![1.0; d])
-                    .is_some() =>
+                && super::cell_moments::check_box_moments(problem.integrand).is_ok() =>
         {
             Some(sampler)
         }

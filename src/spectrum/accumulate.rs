@@ -166,9 +166,8 @@ struct Moments {
     sum: Vec<f64>,
     sum_sq: Vec<f64>,
     ring: Vec<(f64, f64)>,
-    weighted: Vec<f64>,
-    /// Each weight vector's sum per realization, in order: its spread and tails give the
-    /// standard error.
+    /// Each weight vector's sum per realization, in order: their mean, and from their spread
+    /// and tails its standard error.
     weighted_terms: Vec<Vec<f64>>,
 }
 
@@ -178,7 +177,6 @@ impl Moments {
             sum: super::written_zeros(len),
             sum_sq: super::written_zeros(len),
             ring: vec![(0.0, 0.0); rings],
-            weighted: vec![0.0; weights],
             weighted_terms: vec![Vec::new(); weights],
         }
     }
@@ -200,13 +198,7 @@ impl Moments {
                 acc.1 += mean * mean;
             }
         }
-        for ((acc, terms), &value) in self
-            .weighted
-            .iter_mut()
-            .zip(self.weighted_terms.iter_mut())
-            .zip(&r.weighted)
-        {
-            *acc += value;
+        for (terms, &value) in self.weighted_terms.iter_mut().zip(&r.weighted) {
             terms.push(value);
         }
     }
@@ -486,11 +478,11 @@ impl<'a> SpectrumAccumulator<'a> {
     pub fn weighted(&self) -> Vec<WeightedMean> {
         let m = self.realizations as f64;
         self.total
-            .weighted
+            .weighted_terms
             .iter()
-            .zip(&self.total.weighted_terms)
-            .map(|(&s, terms)| {
-                let mean = s / m;
+            .map(|terms| {
+                // Summed in realization order, as the terms arrived.
+                let mean = terms.iter().sum::<f64>() / m;
                 WeightedMean {
                     mean,
                     stderr: crate::spread::standard_error_about(terms, mean),
