@@ -97,6 +97,20 @@ pub enum Error {
         /// What to lower (or how to raise the budget).
         advice: String,
     },
+    /// A target error that no admitted N up to the limit reaches.
+    #[error("{sampler} does not reach an RMSE of {target:.4e} within {limit}: the largest N it allows is {largest_n}, where the predicted RMSE is {rmse:.4e}")]
+    Unreachable {
+        /// The sampler.
+        sampler: String,
+        /// The target RMSE.
+        target: f64,
+        /// What limits N, in words.
+        limit: String,
+        /// The largest N the limit allows.
+        largest_n: usize,
+        /// The predicted RMSE there.
+        rmse: f64,
+    },
     /// The system refused memory that the budget allowed (an allocation failed).
     #[error("{what} could not allocate {needed}: the system has less memory free than the budget allows; lower the size or --budget-memory")]
     OutOfMemory {

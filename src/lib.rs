@@ -107,6 +107,7 @@ pub mod io;
 pub mod metrics;
 pub mod montecarlo;
 pub mod output;
+pub mod plan;
 pub mod plot;
 pub mod pointset;
 pub mod predict;

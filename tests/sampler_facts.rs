@@ -178,6 +178,10 @@ fn facts_are_consistent_with_the_samplers() {
             let sampler = kind.build(d).unwrap();
             assert_eq!(sampler.kind(), Some(kind));
             assert_eq!(sampler.name(), f.name);
+            // The balanced counts are counts the sampler draws.
+            for n in (1..=130).filter(|&n| f.balanced_counts.admits(n, d)) {
+                assert!(f.count.admits(n, d), "{kind} in {d}D: balanced N = {n}");
+            }
             // The count rule admits exactly what the sampler draws, on small counts.
             for n in 1..=130 {
                 assert_eq!(
@@ -195,4 +199,33 @@ fn facts_are_consistent_with_the_samplers() {
         let same = sampler.sample(n, 1, 0).unwrap() == sampler.sample(n, 2, 3).unwrap();
         assert_eq!(same, kind.is_deterministic(), "{kind}");
     }
+}
+
+/// Every count rule's steps up and down agree with a walk over the counts it admits.
+#[test]
+fn count_rule_steps_match_a_walk() {
+    let rules = [
+        CountRule::Any,
+        CountRule::Strata,
+        CountRule::Fibonacci,
+        CountRule::PrimeSquare,
+        CountRule::PowerOfTwo,
+    ];
+    for rule in rules {
+        for d in 1..=3 {
+            for n in 1..=3000 {
+                let up = (n..).find(|&c| rule.admits(c, d));
+                let down = (1..n).rev().find(|&c| rule.admits(c, d));
+                assert_eq!(rule.at_least(n, d), up, "{rule:?} d = {d}: at least {n}");
+                assert_eq!(rule.below(n, d), down, "{rule:?} d = {d}: below {n}");
+                let nearest = rule.nearest(n, d);
+                assert!(rule.admits(nearest, d), "{rule:?} d = {d}: nearest {n}");
+            }
+        }
+    }
+    // Far up the ladders, without walking there.
+    assert_eq!(CountRule::PowerOfTwo.at_least((1 << 40) + 1, 2), Some(1 << 41));
+    assert_eq!(CountRule::Strata.at_least(1_000_001, 3), Some(101 * 101 * 101));
+    assert_eq!(CountRule::PrimeSquare.below(1_000_000, 2), Some(997 * 997));
+    assert_eq!(CountRule::PowerOfTwo.at_least(usize::MAX, 2), None);
 }

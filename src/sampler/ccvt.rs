@@ -35,6 +35,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     description: "capacity-constrained Voronoi tessellation (Balzer et al. 2009)",
     dimensions: 1..=3,
     count: CountRule::Any,
+    balanced_counts: CountRule::Any,
     randomness: Randomness::Relaxed,
     native_randomization: Randomization::None,
     cells: CellRule::None,

@@ -15,6 +15,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     description: "correlated multi-jittered (Kensler 2013): jittered and N-rooks",
     dimensions: 2..=2,
     count: CountRule::Any,
+    balanced_counts: CountRule::Strata,
     randomness: Randomness::Stratified,
     native_randomization: Randomization::None,
     cells: CellRule::Rows,

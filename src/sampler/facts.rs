@@ -20,6 +20,11 @@ pub struct SamplerFacts {
     pub dimensions: RangeInclusive<usize>,
     /// The rule N must follow.
     pub count: CountRule,
+    /// The counts at which its patterns are complete (a net's powers of two, a grid's strata),
+    /// where the variance follows the sampler's rate; between them it may be worse (the first
+    /// N points of a net that is not yet complete). A planner looks for N among these. Equal
+    /// to `count` where every admitted N is as good as its neighbours.
+    pub balanced_counts: CountRule,
     /// What is random in a pattern as drawn.
     pub randomness: Randomness,
     /// The randomization the sampler is used with in practice (by renderers and
@@ -67,6 +72,8 @@ pub enum CountRule {
     Fibonacci,
     /// `N = p²` for a prime `p` (an orthogonal array of strength 2 on `p` levels).
     PrimeSquare,
+    /// `N = 2^m` (the complete nets of a base-2 sequence).
+    PowerOfTwo,
 }
 
 impl CountRule {
@@ -79,35 +86,64 @@ impl CountRule {
             CountRule::PrimeSquare => {
                 super::perfect_root(n, 2).is_some_and(|p| is_prime(p) && p + 1 >= d)
             }
+            CountRule::PowerOfTwo => n.is_power_of_two(),
+        }
+    }
+
+    /// The least admitted count `≥ n` (`None` beyond the range of `usize`).
+    pub fn at_least(self, n: usize, d: usize) -> Option<usize> {
+        let n = n.max(1);
+        match self {
+            CountRule::Any => Some(n),
+            CountRule::PowerOfTwo => n.checked_next_power_of_two(),
+            CountRule::Strata if d != 2 => {
+                let root = integer_root(n, d);
+                let m = if checked_power(root, d) == Some(n) { root } else { root + 1 };
+                checked_power(m, d)
+            }
+            CountRule::PrimeSquare => {
+                let least = d.saturating_sub(1).max(2);
+                let root = n.isqrt();
+                let from = if root * root == n { root } else { root + 1 };
+                (from.max(least)..)
+                    .take_while(|p| p.checked_mul(*p).is_some())
+                    .find(|&p| is_prime(p))
+                    .map(|p| p * p)
+            }
+            // Strata in 2D (a × b, b < a ≤ 2b, every few counts) and Fibonacci numbers (a
+            // geometric ladder): the next admitted count is a short walk away.
+            CountRule::Strata | CountRule::Fibonacci => (n..).find(|&c| self.admits(c, d)),
+        }
+    }
+
+    /// The greatest admitted count `< n` (`None` when there is none).
+    pub fn below(self, n: usize, d: usize) -> Option<usize> {
+        if n <= 1 {
+            return None;
+        }
+        match self {
+            CountRule::Any => Some(n - 1),
+            CountRule::PowerOfTwo => Some(1 << (usize::BITS - 1 - (n - 1).leading_zeros())),
+            CountRule::Strata if d != 2 => {
+                checked_power(integer_root(n - 1, d), d).filter(|&c| c >= 1)
+            }
+            CountRule::PrimeSquare => {
+                let least = d.saturating_sub(1).max(2);
+                (least..=(n - 1).isqrt()).rev().find(|&p| is_prime(p)).map(|p| p * p)
+            }
+            CountRule::Strata | CountRule::Fibonacci => (1..n).rev().find(|&c| self.admits(c, d)),
         }
     }
 
     /// The admitted count nearest `n` (the smaller on ties), at least 1.
     pub fn nearest(self, n: usize, d: usize) -> usize {
         let n = n.max(1);
-        if self == CountRule::PrimeSquare {
-            return nearest_prime_square(n, d);
+        match (self.below(n.saturating_add(1), d), self.at_least(n, d)) {
+            (Some(b), Some(a)) if n - b <= a - n => b,
+            (_, Some(a)) => a,
+            (Some(b), None) => b,
+            (None, None) => 1,
         }
-        (0..n)
-            .flat_map(|step| [n - step, n + step])
-            .find(|&c| c >= 1 && self.admits(c, d))
-            .unwrap_or(1)
-    }
-}
-
-/// The square of a prime `p ≥ max(2, d − 1)` nearest `n` (the smaller on ties): primes are
-/// searched around `√n`, not counts around `n`, whose gaps grow like `√n`.
-fn nearest_prime_square(n: usize, d: usize) -> usize {
-    let least = d.saturating_sub(1).max(2);
-    let root = n.isqrt();
-    let below = (least..=root).rev().find(|&p| is_prime(p));
-    let above = (root.max(least)..).find(|&p| is_prime(p) && p.saturating_mul(p) >= n);
-    let square = |p: usize| p.saturating_mul(p);
-    match (below.map(square), above.map(square)) {
-        (Some(b), Some(a)) if n - b <= a - n => b,
-        (_, Some(a)) => a,
-        (Some(b), None) => b,
-        (None, None) => square(least),
     }
 }
 
@@ -118,8 +154,24 @@ impl fmt::Display for CountRule {
             CountRule::Strata => "N = m^d; 2D: or a×b, b<a≤2b",
             CountRule::Fibonacci => "N = F_m: 1, 2, 3, 5, 8, 13, 21, …",
             CountRule::PrimeSquare => "N = p² for a prime p: 4, 9, 25, 49, 121, …",
+            CountRule::PowerOfTwo => "N = 2^m: 1, 2, 4, 8, 16, …",
         })
     }
+}
+
+/// `⌊n^{1/d}⌋`, exactly (the floating-point root corrected by one either way).
+fn integer_root(n: usize, d: usize) -> usize {
+    let guess = (n as f64).powf(1.0 / d as f64).round() as usize;
+    let fits = |m: usize| checked_power(m, d).is_some_and(|p| p <= n);
+    (guess.saturating_sub(1)..=guess + 1)
+        .rev()
+        .find(|&m| fits(m))
+        .unwrap_or(0)
+}
+
+/// `m^d`, or `None` on overflow.
+fn checked_power(m: usize, d: usize) -> Option<usize> {
+    m.checked_pow(u32::try_from(d).ok()?)
 }
 
 /// Whether `p` is prime (trial division: the counts are squares of small numbers).

@@ -19,6 +19,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
                   strata",
     dimensions: 1..=crate::pointset::MAX_DIMENSION,
     count: CountRule::Strata,
+    balanced_counts: CountRule::Strata,
     randomness: Randomness::Stratified,
     native_randomization: Randomization::None,
     cells: CellRule::None,

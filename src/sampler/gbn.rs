@@ -32,6 +32,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
         "Gaussian blue noise (after Ahmed et al. 2022): descent of a Gaussian-kernel energy",
     dimensions: 1..=3,
     count: CountRule::Any,
+    balanced_counts: CountRule::Any,
     randomness: Randomness::Relaxed,
     native_randomization: Randomization::None,
     cells: CellRule::None,

@@ -15,6 +15,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     description: "Halton with random digit permutations",
     dimensions: 1..=crate::pointset::MAX_DIMENSION,
     count: CountRule::Any,
+    balanced_counts: CountRule::Any,
     randomness: Randomness::PermutedDigits,
     native_randomization: Randomization::None,
     cells: CellRule::None,

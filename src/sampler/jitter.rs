@@ -17,6 +17,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     description: "jittered: one uniform point in each of m^d strata",
     dimensions: 1..=crate::pointset::MAX_DIMENSION,
     count: CountRule::Strata,
+    balanced_counts: CountRule::Strata,
     randomness: Randomness::Stratified,
     native_randomization: Randomization::None,
     cells: CellRule::Strata,

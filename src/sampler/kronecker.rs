@@ -16,6 +16,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
         "Kronecker sequence frac(i alpha), alpha from x^(d+1) = x + 1 (R_d); deterministic",
     dimensions: 1..=crate::pointset::MAX_DIMENSION,
     count: CountRule::Any,
+    balanced_counts: CountRule::Any,
     randomness: Randomness::Deterministic,
     native_randomization: Randomization::Shift,
     cells: CellRule::None,

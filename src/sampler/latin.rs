@@ -16,6 +16,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     description: "Latin hypercube (N-rooks): one point per row per axis",
     dimensions: 1..=crate::pointset::MAX_DIMENSION,
     count: CountRule::Any,
+    balanced_counts: CountRule::Any,
     randomness: Randomness::Stratified,
     native_randomization: Randomization::None,
     cells: CellRule::Rows,

@@ -16,6 +16,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     description: "multi-jittered (Chiu et al. 1994): jittered and N-rooks, independent shuffles",
     dimensions: 2..=2,
     count: CountRule::Any,
+    balanced_counts: CountRule::Strata,
     randomness: Randomness::Stratified,
     native_randomization: Randomization::None,
     cells: CellRule::Rows,

@@ -22,6 +22,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
                   2019): p × p strata in every 2D projection, N strata on every axis",
     dimensions: 2..=MAX_DIMENSION,
     count: CountRule::PrimeSquare,
+    balanced_counts: CountRule::PrimeSquare,
     randomness: Randomness::Stratified,
     native_randomization: Randomization::None,
     cells: CellRule::Rows,

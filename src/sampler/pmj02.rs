@@ -16,6 +16,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
         "progressive multi-jittered (0,2) (Christensen et al. 2018): every 2^m prefix a net",
     dimensions: 2..=2,
     count: CountRule::Any,
+    balanced_counts: CountRule::PowerOfTwo,
     randomness: Randomness::ScrambledNet,
     native_randomization: Randomization::None,
     cells: CellRule::Dyadic,

@@ -16,6 +16,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     description: "white noise: independent uniform points",
     dimensions: 1..=crate::pointset::MAX_DIMENSION,
     count: CountRule::Any,
+    balanced_counts: CountRule::Any,
     randomness: Randomness::Independent,
     native_randomization: Randomization::None,
     cells: CellRule::Whole,

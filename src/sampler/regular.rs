@@ -15,6 +15,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     description: "regular grid at cell centres (j + 1/2)/m; deterministic",
     dimensions: 1..=crate::pointset::MAX_DIMENSION,
     count: CountRule::Strata,
+    balanced_counts: CountRule::Strata,
     randomness: Randomness::Deterministic,
     native_randomization: Randomization::Shift,
     cells: CellRule::None,

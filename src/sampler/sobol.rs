@@ -15,6 +15,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     description: "Sobol (Joe-Kuo directions) with Owen scrambling",
     dimensions: 1..=crate::pointset::MAX_DIMENSION,
     count: CountRule::Any,
+    balanced_counts: CountRule::PowerOfTwo,
     randomness: Randomness::ScrambledNet,
     native_randomization: Randomization::None,
     cells: CellRule::Dyadic,

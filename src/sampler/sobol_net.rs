@@ -15,6 +15,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     description: "Sobol (Joe-Kuo directions) unscrambled, under a random digital shift",
     dimensions: 1..=crate::pointset::MAX_DIMENSION,
     count: CountRule::Any,
+    balanced_counts: CountRule::PowerOfTwo,
     randomness: Randomness::Deterministic,
     native_randomization: Randomization::DigitalShift,
     cells: CellRule::None,

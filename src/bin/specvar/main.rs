@@ -26,6 +26,7 @@ mod bias;
 mod mc;
 mod metrics;
 mod patterns;
+mod plan;
 mod predict;
 mod problem;
 mod rates;
@@ -93,8 +94,12 @@ enum Command {
     Sample(sample::Args),
     /// Power spectrum of a sampler or of point sets from a file: lattice or radial.
     Spectrum(spectrum::Args),
-    /// Predict the variance of the homogenized estimator from spectra.
+    /// Predict the variance of a sampler's estimator (as it is used, or randomized as asked)
+    /// from spectra, cells or Walsh sums.
     Predict(predict::Args),
+    /// How many samples: for each sampler, the smallest N whose predicted RMSE reaches a
+    /// target.
+    Plan(plan::Args),
     /// Bias of a fixed (not homogenized) pattern, from its spectrum and directly.
     Bias(bias::Args),
     /// Reproduce the talk's table with predictions, Monte Carlo, plots and report.md.
@@ -135,6 +140,7 @@ fn main() -> ExitCode {
         Some(Command::Sample(a)) => sample::run(&a, &ctx),
         Some(Command::Spectrum(a)) => spectrum::run(&a, &ctx),
         Some(Command::Predict(a)) => predict::run(&a, &ctx),
+        Some(Command::Plan(a)) => plan::run(&a, &ctx),
         Some(Command::Bias(a)) => bias::run(&a, &ctx),
         Some(Command::Report(a)) => report::run(&a, &ctx),
         Some(Command::Mc(a)) => mc::run(&a, &ctx),

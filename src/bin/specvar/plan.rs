@@ -1,0 +1,121 @@
+//! `specvar plan`: for each sampler, the smallest N whose predicted RMSE reaches a target.
+
+use specvar::integrand::IntegrandSpec;
+use specvar::plan::{default_samplers, plan_many, Plan, PlanParams, Target};
+use specvar::predict::PredictParams;
+use specvar::randomization::RandomizationChoice;
+use specvar::sampler::{Sampler, SamplerKind};
+use specvar::Result;
+
+/// Arguments of `specvar plan`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    // The forms are the library's own list, so that the help names every one it accepts.
+    #[arg(long, short = 'f', default_value = "disk", help = format!("Integrand: {}", specvar::integrand::INTEGRAND_FORMS))]
+    pub integrand: IntegrandSpec,
+    /// The target root-mean-square error (with --relative: relative to the integral).
+    #[arg(long)]
+    pub rmse: f64,
+    /// Read --rmse as relative to the magnitude of the integral.
+    #[arg(long)]
+    pub relative: bool,
+    /// Comma-separated samplers (default: random, jitter, cmj and sobol in 2D; random,
+    /// jitter and sobol otherwise).
+    #[arg(long, value_delimiter = ',')]
+    pub samplers: Option<Vec<SamplerKind>>,
+    /// Dimension (1 to 3).
+    #[arg(short = 'd', default_value_t = 2)]
+    pub dimension: usize,
+    /// The estimator: native (the default: each sampler as it is used), shift, digital-shift,
+    /// or none.
+    #[arg(long, default_value = "native")]
+    pub randomization: RandomizationChoice,
+    /// The largest N to consider (default: 2^20 in 1D and 2D, 2^18 in 3D).
+    #[arg(long)]
+    pub max_n: Option<usize>,
+    /// Seed of the predictions' estimated spectra and occupancies.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// JSON output: a list of {"sampler", "n", "rmse", "budget", "route", …}.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Plans and prints.
+pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
+    let target = if args.relative {
+        Target::RelativeRmse(args.rmse)
+    } else {
+        Target::Rmse(args.rmse)
+    };
+    let base = PlanParams::new(target);
+    let params = PlanParams {
+        randomization: args.randomization,
+        max_n: args.max_n,
+        predict: PredictParams {
+            seed: args.seed,
+            budget: ctx.budget,
+            ..base.predict
+        },
+        ..base
+    };
+    let f = args.integrand.build(args.dimension)?;
+    let kinds = match &args.samplers {
+        Some(kinds) => kinds.clone(),
+        None => default_samplers(args.dimension),
+    };
+    let samplers = kinds
+        .iter()
+        .map(|&k| ctx.sampler(k, args.dimension))
+        .collect::<Result<Vec<Box<dyn Sampler>>>>()?;
+    let refs: Vec<&dyn Sampler> = samplers.iter().map(|s| s.as_ref()).collect();
+    let plans = plan_many(&refs, f.as_ref(), &params, &super::bars::Bars::default())?;
+    if args.json {
+        outln!("{}", super::to_json(&plans)?)?;
+    } else {
+        print_text(&f.label(), target, &plans)?;
+    }
+    Ok(())
+}
+
+fn print_text(integrand: &str, target: Target, plans: &[Plan]) -> Result<()> {
+    let absolute = plans.first().map_or(0.0, |p| p.target);
+    outln!("plan for {target} (RMSE {absolute:.4e}) on {integrand}")?;
+    outln!(
+        "{:<10} {:<13} {:>8} {:>11} {:>25} {:>20} {:>7}",
+        "sampler",
+        "estimator",
+        "N",
+        "RMSE",
+        "99% budget",
+        "below: N, RMSE",
+        "rate"
+    )?;
+    for p in plans {
+        let below = p
+            .below
+            .map_or("-".to_string(), |b| format!("{}, {:.3e}", b.n, b.rmse));
+        let rate = p.rate.map_or("-".to_string(), |r| format!("{r:.2}"));
+        outln!(
+            "{:<10} {:<13} {:>8} {:>11.4e} [{:>10.4e}, {:>10.4e}] {:>20} {:>7}",
+            p.sampler,
+            p.randomization.estimator(),
+            p.n,
+            p.rmse,
+            p.rmse_interval.0,
+            p.rmse_interval.1,
+            below,
+            rate
+        )?;
+    }
+    for p in plans {
+        outln!(
+            "{}: {} predictions, N among {}; {}",
+            p.sampler,
+            p.predictions,
+            p.counts,
+            p.route
+        )?;
+    }
+    Ok(())
+}
