@@ -61,6 +61,8 @@
 //! - [`predict`]: the one call [`predict::predict`] that chooses a valid route; the polar and
 //!   lattice forms with the DC term; exact sums in space for lattices; the pair-correlation
 //!   route; bias of fixed patterns.
+//! - [`plan`]: how many samples: for each sampler, the smallest of its balanced counts whose
+//!   predicted RMSE reaches a target, found along the predictions' own rate.
 //! - [`anisotropy`]: the variance of an edge against its angle, and its rates against N.
 //! - [`atlas`]: every 2D sampler on one page.
 //! - [`montecarlo`]: empirical variance with 99% intervals, pools for costly samplers.

@@ -18,7 +18,7 @@
 use crate::error::{invalid, Error, Result};
 use crate::integrand::Integrand;
 use crate::montecarlo::Z_99;
-use crate::predict::{predict_with, PredictParams, Prediction, Problem, Route};
+use crate::predict::{predict_with, Form, PredictParams, Prediction, Problem};
 use crate::progress::Progress;
 use crate::randomization::{Randomization, RandomizationChoice};
 use crate::sampler::{CountRule, Sampler, SamplerKind};
@@ -27,9 +27,14 @@ use std::fmt;
 
 /// The first count the search predicts at (or the balanced count just above it).
 const FIRST_N: usize = 64;
-/// Predictions one sampler's search may make. Extrapolation and interpolation along the rate
-/// settle in about six; bisection, which the search falls back on, halves `log N` each time.
-const MAX_PREDICTIONS: usize = 40;
+/// Predictions one sampler's search may make. On a variance smooth in N, extrapolation and
+/// a straddled interpolation settle in six to ten; where it is not (strata of different
+/// shapes on a rough integrand), more predictions only trade one count near the crossing for
+/// another, and the search returns the smallest count found to reach the target.
+const MAX_PREDICTIONS: usize = 12;
+/// How far the first extrapolation, along [`ASSUMED_RATE`], may go before a second
+/// prediction measures the rate: a factor of four in N.
+const FIRST_STEP: f64 = 4.0;
 /// The relative gap between the answer and the largest count known to miss the target at
 /// which the search stops on a dense ladder (any N): N to 1%, and so the RMSE to about 1% or
 /// better at every rate up to `N^{-2}` in variance, within the predictions' own noise.
@@ -41,6 +46,10 @@ const ASSUMED_RATE: f64 = -1.0;
 /// (a prediction at the floor of the arithmetic, two noisy values close together) would jump
 /// too far or not at all.
 const RATE_RANGE: (f64, f64) = (-4.0, -0.25);
+/// How far from the planned N a prediction may lie to enter the reported rate: a factor of
+/// four either way (farther ones may sit at the floor of the arithmetic, or before the
+/// asymptotic regime).
+const RATE_SPAN: f64 = 4.0;
 /// The largest factor one extrapolation may move N by.
 const MAX_STEP: f64 = 1024.0;
 /// The work one prediction may spend on an estimated spectrum or occupancy, in seconds of one
@@ -174,8 +183,10 @@ pub struct Plan {
     pub budget: f64,
     /// The target RMSE (absolute).
     pub target: f64,
-    /// The route of the prediction at N.
-    pub route: Route,
+    /// The form of the prediction at N.
+    pub form: Form,
+    /// Its route, in words.
+    pub route: String,
     /// Why that route.
     pub reason: String,
     /// The estimator planned for.
@@ -185,8 +196,8 @@ pub struct Plan {
     /// The largest candidate below N that was predicted, which misses the target: the next
     /// balanced count down, or one within [`COUNT_RESOLUTION`] of N on a dense ladder.
     pub below: Option<CountRmse>,
-    /// The rate `r` of `Var ∝ N^r` fitted to the predictions the search made (least squares
-    /// in `log N`, `log Var`), where they span at least a factor of two in N.
+    /// The rate `r` of `Var ∝ N^r` near N, fitted to the search's predictions within a factor
+    /// of four of N (least squares in `log N`, `log Var`), where they span a factor of two.
     pub rate: Option<f64>,
     /// Predictions made.
     pub predictions: usize,
@@ -247,13 +258,23 @@ pub fn plan(
             below,
             rate,
             probes,
-        } => Ok(describe(kind.name(), target, counts, (hit, below), rate, probes)),
+        } => Ok(describe(
+            kind.name(),
+            target,
+            counts,
+            (hit, below),
+            rate,
+            probes,
+        )),
         Outcome::Short { largest, limit } => Err(Error::Unreachable {
             sampler: kind.name().to_string(),
             target,
             limit: match limit {
-                Limit::MaxN => format!("N ≤ {max_n} (raise the largest N)"),
+                Limit::MaxN => {
+                    format!("N ≤ {max_n} (raise the largest N: --max-n, max_n in Python)")
+                }
                 Limit::Budget => "the budget (raise --budget-memory or --budget-seconds)".into(),
+                Limit::Predictions => format!("{MAX_PREDICTIONS} predictions"),
             },
             largest_n: largest.n,
             rmse: largest.variance.max(0.0).sqrt(),
@@ -298,7 +319,8 @@ fn describe(
         rmse_interval: (low, high),
         budget: (high - low) / 2.0,
         target,
-        route: p.route,
+        form: p.route.form,
+        route: p.route.to_string(),
         reason: p.reason,
         randomization: p.randomization,
         counts,
@@ -322,14 +344,13 @@ struct Ladder {
 impl Ladder {
     /// The least candidate `≥ n`, if one is at most `max_n`.
     fn at_least(&self, n: usize) -> Option<usize> {
-        self.counts
-            .at_least(n, self.d)
-            .filter(|&c| c <= self.max_n)
+        self.counts.at_least(n, self.d).filter(|&c| c <= self.max_n)
     }
 
     /// The greatest candidate `≤ n`.
     fn at_most(&self, n: usize) -> Option<usize> {
-        self.counts.below(n.min(self.max_n).saturating_add(1), self.d)
+        self.counts
+            .below(n.min(self.max_n).saturating_add(1), self.d)
     }
 
     /// The candidate strictly between `lo` and `hi` nearest `x` on `side` (or the nearest
@@ -369,6 +390,8 @@ enum Limit {
     MaxN,
     /// The memory or work budget of a prediction.
     Budget,
+    /// The number of predictions a search may make.
+    Predictions,
 }
 
 /// How a search ended.
@@ -391,16 +414,22 @@ fn is_budget_error(e: &Error) -> bool {
     matches!(e, Error::TooLarge { .. } | Error::OutOfMemory { .. })
 }
 
-/// The rate `r` of `Var ∝ N^r` fitted to the predictions made (least squares in `log N`,
-/// `log Var`), where they span a factor of two in N and every variance is positive.
-fn fitted_rate<T>(made: &[Probe<T>]) -> Option<f64> {
-    let lo = made.iter().map(|p| p.n).min()?;
-    let hi = made.iter().map(|p| p.n).max()?;
-    if hi < 2 * lo || made.iter().any(|p| p.variance <= 0.0) {
+/// The rate `r` of `Var ∝ N^r` near `n`: fitted to the positive predictions within a factor
+/// of [`RATE_SPAN`] of it (least squares in `log N`, `log Var`), where they span at least a
+/// factor of two.
+fn fitted_rate<T>(made: &[Probe<T>], n: usize) -> Option<f64> {
+    let near: Vec<&Probe<T>> = made
+        .iter()
+        .filter(|p| p.variance > 0.0)
+        .filter(|p| (p.n as f64 / n as f64).ln().abs() <= RATE_SPAN.ln())
+        .collect();
+    let lo = near.iter().map(|p| p.n).min()?;
+    let hi = near.iter().map(|p| p.n).max()?;
+    if hi < 2 * lo {
         return None;
     }
-    let x: Vec<f64> = made.iter().map(|p| (p.n as f64).ln()).collect();
-    let y: Vec<f64> = made.iter().map(|p| p.variance.ln()).collect();
+    let x: Vec<f64> = near.iter().map(|p| (p.n as f64).ln()).collect();
+    let y: Vec<f64> = near.iter().map(|p| p.variance.ln()).collect();
     crate::rate::weighted_line(&x, &y, None)
         .ok()
         .map(|fit| fit.slope)
@@ -452,16 +481,18 @@ fn search<T>(
         if !pending.is_empty() {
             continue;
         }
-        let rate = made
+        let measured = made
             .len()
             .checked_sub(2)
-            .and_then(|i| local_rate(&made[i], &made[i + 1]))
-            .unwrap_or(ASSUMED_RATE)
-            .clamp(RATE_RANGE.0, RATE_RANGE.1);
+            .and_then(|i| local_rate(&made[i], &made[i + 1]));
+        let (rate, max_step) = match measured {
+            Some(r) => (r.clamp(RATE_RANGE.0, RATE_RANGE.1), MAX_STEP),
+            None => (ASSUMED_RATE, FIRST_STEP),
+        };
         let ceiling = refused.as_ref().map_or(usize::MAX, |(n, _)| *n);
         let step = match bracket(&made, target) {
             (Some(m), Some(h)) => between(ladder, m, h, target),
-            (Some(m), None) => upward(ladder, m, target, rate, ceiling),
+            (Some(m), None) => upward(ladder, m, target, (rate, max_step), ceiling),
             (None, Some(h)) => downward(ladder, h, target, rate),
             // Only refusals so far: halve log N below the smallest refused.
             (None, None) => match ladder.counts.below(ceiling, ladder.d) {
@@ -481,6 +512,8 @@ fn search<T>(
     }
     let limit = if refused.is_some() {
         Limit::Budget
+    } else if made.len() >= MAX_PREDICTIONS {
+        Limit::Predictions
     } else {
         Limit::MaxN
     };
@@ -510,9 +543,9 @@ fn conclude<T>(
     refused: Option<(usize, Error)>,
     limit: Limit,
 ) -> Result<Outcome<T>> {
-    let rate = fitted_rate(&made);
     let probes = made.len();
     let (miss, hit) = bracket(&made, target);
+    let rate = hit.and_then(|h| fitted_rate(&made, h.n));
     let (miss, hit) = (miss.map(|p| p.n), hit.map(|p| p.n));
     let mut take = |n: Option<usize>| {
         n.and_then(|n| made.iter().position(|p| p.n == n))
@@ -579,13 +612,21 @@ fn between<T>(ladder: &Ladder, miss: &Probe<T>, hit: &Probe<T>, target: f64) -> 
 
 /// Every prediction so far misses: extrapolate up along the local rate, below the smallest N
 /// the budget refused (`ceiling`), bisecting toward it when the extrapolation passes it.
-fn upward<T>(ladder: &Ladder, miss: &Probe<T>, target: f64, rate: f64, ceiling: usize) -> Step {
+fn upward<T>(
+    ladder: &Ladder,
+    miss: &Probe<T>,
+    target: f64,
+    (rate, max_step): (f64, f64),
+    ceiling: usize,
+) -> Step {
     let refused = ceiling < usize::MAX;
     if refused && (ceiling as f64) <= miss.n as f64 * (1.0 + COUNT_RESOLUTION) {
         return Step::Done;
     }
     let cap = ladder.max_n.min(ceiling.saturating_sub(1));
-    let factor = (target / miss.variance).powf(1.0 / rate).clamp(2.0, MAX_STEP);
+    let factor = (target / miss.variance)
+        .powf(1.0 / rate)
+        .clamp(2.0, max_step);
     let wanted = (miss.n as f64 * factor).min(cap as f64) as usize;
     let wanted = if refused && wanted >= geometric_mean(miss.n, ceiling) {
         geometric_mean(miss.n, ceiling)

@@ -224,8 +224,14 @@ fn count_rule_steps_match_a_walk() {
         }
     }
     // Far up the ladders, without walking there.
-    assert_eq!(CountRule::PowerOfTwo.at_least((1 << 40) + 1, 2), Some(1 << 41));
-    assert_eq!(CountRule::Strata.at_least(1_000_001, 3), Some(101 * 101 * 101));
+    assert_eq!(
+        CountRule::PowerOfTwo.at_least((1 << 40) + 1, 2),
+        Some(1 << 41)
+    );
+    assert_eq!(
+        CountRule::Strata.at_least(1_000_001, 3),
+        Some(101 * 101 * 101)
+    );
     assert_eq!(CountRule::PrimeSquare.below(1_000_000, 2), Some(997 * 997));
     assert_eq!(CountRule::PowerOfTwo.at_least(usize::MAX, 2), None);
 }

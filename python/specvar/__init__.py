@@ -34,6 +34,7 @@ __all__ = [
     "ErrorBudget",
     "Integrand",
     "McResult",
+    "Plan",
     "Prediction",
     "RadialSpectrum",
     "Route",
@@ -46,6 +47,7 @@ __all__ = [
     "integrand",
     "monte_carlo",
     "periodogram",
+    "plan",
     "predict",
     "read_points",
     "sample",
@@ -134,12 +136,15 @@ def _points(points: Optional[Any]) -> Optional[np.ndarray]:
 
 @dataclass(frozen=True)
 class SamplerInfo:
-    """A sampler's facts: name, dimensions, the N it can draw, its known exponent α."""
+    """A sampler's facts: name, dimensions, the N it can draw (``count_rule``) and those at
+    which its patterns are complete (``balanced_counts``: ``any``, ``strata``,
+    ``power_of_two``, ``prime_square``, ``fibonacci``), its known exponent α."""
 
     name: str
     description: str
     dimensions: tuple
     count_rule: str
+    balanced_counts: str
     deterministic: bool
     isotropic: bool
     known_alpha: Optional[float]
@@ -437,6 +442,62 @@ def monte_carlo(
     if callable(integrand) and integral is None:
         raw = {**raw, "bias": None, "bias_stderr": None}
     return _build(McResult, raw)
+
+
+@dataclass(frozen=True)
+class Plan:
+    """One sampler's plan: the smallest N among its balanced counts (``counts``: powers of two
+    for nets, strata for jitter, …) whose predicted RMSE reaches the target, the prediction
+    there (its RMSE, the interval of its 99% error budget, its route), and the largest count
+    below N that was predicted (``below``: ``{"n", "rmse"}``), which misses the target."""
+
+    sampler: str
+    n: int
+    rmse: float
+    rmse_interval: tuple
+    budget: float
+    target: float
+    form: str
+    route: str
+    reason: str
+    randomization: str
+    counts: str
+    below: Optional[dict]
+    rate: Optional[float]
+    predictions: int
+
+
+@_counts_checked
+def plan(
+    integrand: Union[str, np.ndarray],
+    rmse: float,
+    relative: bool = False,
+    samplers: Optional[Sequence[str]] = None,
+    dimension: int = 2,
+    randomization: RandomizationName = "native",
+    max_n: Optional[int] = None,
+    seed: int = 0,
+    cache: bool = True,
+) -> list[Plan]:
+    """How many samples: for each of ``samplers`` (default: random, jitter, cmj and sobol in
+    2D), the smallest N whose predicted RMSE on ``integrand`` (a specification or cell values,
+    as :func:`predict` takes them) is at most ``rmse`` (relative to ``|∫f|`` with
+    ``relative=True``), for the estimator each sampler is used with (``randomization``). The
+    search follows the predictions' own rate, a handful of predictions per sampler. Raises
+    ``ValueError`` for a target that is not positive and finite, or one that no N up to
+    ``max_n`` (default 2^20 in 2D) reaches, naming that N and its RMSE."""
+    raw = _specvar.plan(
+        _integrand(integrand),
+        float(rmse),
+        relative,
+        None if samplers is None else list(samplers),
+        dimension,
+        randomization,
+        max_n,
+        seed,
+        cache,
+    )
+    return [_build(Plan, r, rmse_interval=tuple(r["rmse_interval"])) for r in raw]
 
 
 @dataclass(frozen=True)

@@ -50,6 +50,17 @@ def predict(
     cells: Optional[str] = None,
     cache: bool = True,
 ) -> dict[str, Any]: ...
+def plan(
+    integrand: Union[str, np.ndarray],
+    rmse: float,
+    relative: bool = False,
+    samplers: Optional[list[str]] = None,
+    dimension: int = 2,
+    randomization: str = "native",
+    max_n: Optional[int] = None,
+    seed: int = 0,
+    cache: bool = True,
+) -> list[dict[str, Any]]: ...
 def monte_carlo(
     integrand: Union[str, np.ndarray, Callable[[np.ndarray], np.ndarray]],
     sampler: Optional[str] = None,

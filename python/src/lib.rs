@@ -179,6 +179,7 @@ fn samplers(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
         row.set_item("description", s.description)?;
         row.set_item("dimensions", (s.min_dimension, s.max_dimension))?;
         row.set_item("count_rule", s.count_rule)?;
+        row.set_item("balanced_counts", to_py(py, &s.balanced_counts)?)?;
         row.set_item("deterministic", s.deterministic)?;
         row.set_item("isotropic", s.isotropic)?;
         row.set_item("known_alpha", s.known_alpha)?;
@@ -358,6 +359,63 @@ fn predict<'py>(
         })
         .or_value_error()?;
     to_py(py, &prediction)
+}
+
+/// For each sampler, the smallest balanced N whose predicted RMSE on `integrand` reaches
+/// `rmse` (relative to the integral's magnitude with `relative`), with the prediction there.
+#[pyfunction]
+#[pyo3(signature = (integrand, rmse, relative=false, samplers=None, dimension=2, randomization="native", max_n=None, seed=0, cache=true))]
+#[allow(clippy::too_many_arguments)]
+fn plan<'py>(
+    py: Python<'py>,
+    integrand: Bound<'py, PyAny>,
+    rmse: f64,
+    relative: bool,
+    samplers: Option<Vec<String>>,
+    dimension: usize,
+    randomization: &str,
+    max_n: Option<usize>,
+    seed: u64,
+    cache: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    use specvar::plan::{default_samplers, plan_many, PlanParams, Target};
+    let f = required_integrand(&integrand, dimension)?;
+    let target = if relative {
+        Target::RelativeRmse(rmse)
+    } else {
+        Target::Rmse(rmse)
+    };
+    let kinds: Vec<SamplerKind> = match samplers {
+        Some(names) => names
+            .iter()
+            .map(|n| n.parse())
+            .collect::<specvar::Result<_>>()
+            .or_value_error()?,
+        None => default_samplers(dimension),
+    };
+    let built = kinds
+        .iter()
+        .map(|k| build_sampler(k.name(), dimension, cache))
+        .collect::<specvar::Result<Vec<_>>>()
+        .or_value_error()?;
+    let base = PlanParams::new(target);
+    let params = PlanParams {
+        randomization: randomization.parse().or_value_error()?,
+        max_n,
+        predict: PredictParams {
+            seed,
+            budget: budget(),
+            ..base.predict
+        },
+        ..base
+    };
+    let plans = py
+        .detach(|| {
+            let refs: Vec<&dyn Sampler> = built.iter().map(|s| s.as_ref()).collect();
+            plan_many(&refs, f.as_ref(), &params, &specvar::progress::Silent)
+        })
+        .or_value_error()?;
+    to_py(py, &plans)
 }
 
 /// Monte Carlo of the estimator with a 99% interval, on a built-in integrand (a specification
@@ -598,6 +656,7 @@ fn _specvar(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(spectrum, m)?)?;
     m.add_function(wrap_pyfunction!(predict, m)?)?;
     m.add_function(wrap_pyfunction!(monte_carlo, m)?)?;
+    m.add_function(wrap_pyfunction!(plan, m)?)?;
     m.add_function(wrap_pyfunction!(integrand_facts, m)?)?;
     m.add_function(wrap_pyfunction!(evaluate, m)?)?;
     m.add_function(wrap_pyfunction!(read_points, m)?)?;

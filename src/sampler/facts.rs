@@ -98,7 +98,11 @@ impl CountRule {
             CountRule::PowerOfTwo => n.checked_next_power_of_two(),
             CountRule::Strata if d != 2 => {
                 let root = integer_root(n, d);
-                let m = if checked_power(root, d) == Some(n) { root } else { root + 1 };
+                let m = if checked_power(root, d) == Some(n) {
+                    root
+                } else {
+                    root + 1
+                };
                 checked_power(m, d)
             }
             CountRule::PrimeSquare => {
@@ -129,7 +133,10 @@ impl CountRule {
             }
             CountRule::PrimeSquare => {
                 let least = d.saturating_sub(1).max(2);
-                (least..=(n - 1).isqrt()).rev().find(|&p| is_prime(p)).map(|p| p * p)
+                (least..=(n - 1).isqrt())
+                    .rev()
+                    .find(|&p| is_prime(p))
+                    .map(|p| p * p)
             }
             CountRule::Strata | CountRule::Fibonacci => (1..n).rev().find(|&c| self.admits(c, d)),
         }

@@ -349,6 +349,7 @@ impl SamplerKind {
             min_dimension: *f.dimensions.start(),
             max_dimension: *f.dimensions.end(),
             count_rule: f.count.to_string(),
+            balanced_counts: f.balanced_counts,
             randomness: f.randomness,
             native_randomization: f.native_randomization,
             cells: f.cells,
@@ -483,6 +484,8 @@ pub struct SamplerSummary {
     pub max_dimension: usize,
     /// The rule N must follow, in words.
     pub count_rule: String,
+    /// The counts at which its patterns are complete, where a plan looks for N.
+    pub balanced_counts: CountRule,
     /// What is random in a pattern as drawn.
     pub randomness: Randomness,
     /// The randomization it is used with in practice.

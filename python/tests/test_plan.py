@@ -1,0 +1,56 @@
+"""`plan`: the counts it picks, the same as the command line's, checked by Monte Carlo."""
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+import specvar
+
+
+def soft_shadow(m=64):
+    """A penumbra across a line at 30° over a gradient whose opposite faces differ (a seam)."""
+    y, x = (np.mgrid[0:m, 0:m] + 0.5) / m
+    t = np.clip((x * math.cos(math.pi / 6) + y * math.sin(math.pi / 6) - 0.6) / 0.15 + 0.5, 0, 1)
+    return 0.1 + 0.6 * t * t * (3 - 2 * t) + 0.3 * x
+
+
+def test_each_planned_count_reaches_the_target_by_monte_carlo():
+    values = soft_shadow()
+    integral = float(values.mean())
+    plans = specvar.plan(values, rmse=0.01, relative=True)
+    assert [p.sampler for p in plans] == ["random", "jitter", "cmj", "sobol"]
+    for p in plans:
+        assert p.target == pytest.approx(0.01 * integral)
+        assert p.rmse <= p.target and p.rmse_interval[0] <= p.rmse <= p.rmse_interval[1]
+        assert p.below is not None and p.below["n"] < p.n and p.below["rmse"] > p.target
+        mc = specvar.monte_carlo(values, sampler=p.sampler, n=p.n, trials=800, seed=3)
+        # The 99% intervals of the measurement and of the prediction meet.
+        assert math.sqrt(mc.ci_low) <= p.rmse_interval[1], p
+        assert math.sqrt(mc.ci_high) >= p.rmse_interval[0], p
+
+
+def test_sobol_is_planned_on_powers_of_two():
+    (p,) = specvar.plan("edge:theta=30", rmse=2e-3, samplers=["sobol"])
+    assert p.n & (p.n - 1) == 0 and p.counts == "power_of_two"
+    assert p.below["n"] == p.n // 2
+
+
+def test_the_same_plan_as_the_command_line(cli):
+    ours = specvar.plan("edge:theta=30", rmse=0.02, relative=True, samplers=["jitter", "sobol"])
+    done = cli("plan", "-f", "edge:theta=30", "--rmse", "0.02", "--relative",
+               "--samplers", "jitter,sobol", "--json")
+    theirs = json.loads(done.stdout)
+    assert [(p.sampler, p.n, p.rmse) for p in ours] == [(t["sampler"], t["n"], t["rmse"]) for t in theirs]
+
+
+@pytest.mark.parametrize("bad", [0.0, -0.01, float("nan"), float("inf")])
+def test_bad_targets_raise(bad):
+    with pytest.raises(ValueError, match="target"):
+        specvar.plan("disk", rmse=bad)
+
+
+def test_an_unreachable_target_names_the_largest_n():
+    with pytest.raises(ValueError, match="largest N it allows is 4096"):
+        specvar.plan("edge:theta=30", rmse=1e-4, samplers=["random"], max_n=4096)

@@ -1,0 +1,145 @@
+//! `plan`: the counts it picks, checked by Monte Carlo of the same estimator at the planned N
+//! and at the count just below it.
+
+mod common;
+
+use specvar::integrand::{GridIntegrand, Integrand, IntegrandSpec};
+use specvar::montecarlo::{empirical_variance, McParams, McResult};
+use specvar::plan::{default_samplers, plan, Plan, PlanParams, Target};
+use specvar::progress::Silent;
+use specvar::sampler::{CountRule, SamplerKind};
+use specvar::Error;
+
+/// Monte Carlo trials per count: the measured RMSE's relative standard error is about
+/// `1/√(2·TRIALS)`, 2.5%, so its 99% interval is about ±7%.
+const TRIALS: usize = 800;
+/// How far the measured RMSE at the planned N may be from the target where the candidates are
+/// dense (random, strata): the issue's ±25%.
+const TARGET_BAND: f64 = 0.25;
+
+/// A pixel's soft shadow: a penumbra of width 0.15 across a line at 30°, over a gradient that
+/// makes the values at opposite faces differ (the seam an unshifted estimator never sees).
+fn soft_shadow() -> GridIntegrand {
+    let m = 128;
+    let (c, s) = (30f64.to_radians().cos(), 30f64.to_radians().sin());
+    let values = (0..m * m)
+        .map(|i| {
+            let (x, y) = (
+                ((i % m) as f64 + 0.5) / m as f64,
+                ((i / m) as f64 + 0.5) / m as f64,
+            );
+            let t = ((x * c + y * s - 0.6) / 0.15 + 0.5).clamp(0.0, 1.0);
+            0.1 + 0.6 * t * t * (3.0 - 2.0 * t) + 0.3 * x
+        })
+        .collect();
+    GridIntegrand::new(m, m, values).unwrap()
+}
+
+fn edge() -> Box<dyn Integrand> {
+    "edge:theta=30"
+        .parse::<IntegrandSpec>()
+        .unwrap()
+        .build(2)
+        .unwrap()
+}
+
+fn measured(kind: SamplerKind, f: &dyn Integrand, plan: &Plan, n: usize) -> McResult {
+    let sampler = kind.build(2).unwrap();
+    let params = McParams::pooled(kind, TRIALS, 7, plan.randomization);
+    empirical_variance(sampler.as_ref(), f, n, &params).unwrap()
+}
+
+/// Plans each default sampler and measures the planned count and the one below it.
+fn check_plans(name: &str, f: &dyn Integrand, relative: f64) {
+    let params = PlanParams::new(Target::RelativeRmse(relative));
+    for kind in default_samplers(2) {
+        let sampler = kind.build(2).unwrap();
+        let p = plan(sampler.as_ref(), f, &params, &Silent).unwrap();
+        let case = format!("{name}, {kind} at N = {}", p.n);
+        let target = relative * f.integral().abs();
+        assert!(p.rmse <= target, "{case}: predicted {:.4e}", p.rmse);
+        let mc = measured(kind, f, &p, p.n);
+        let rmse = mc.variance.sqrt();
+        let (lo, hi) = (mc.ci_low.sqrt(), mc.ci_high.sqrt());
+        // The prediction at N is right: the measurement's 99% interval meets the budget's.
+        assert!(
+            lo <= p.rmse_interval.1 && p.rmse_interval.0 <= hi,
+            "{case}: predicted {:.4e} [{:.4e}, {:.4e}], measured {rmse:.4e} [{lo:.4e}, {hi:.4e}]",
+            p.rmse,
+            p.rmse_interval.0,
+            p.rmse_interval.1
+        );
+        // The planned N reaches the target, within the band.
+        assert!(rmse <= target * (1.0 + TARGET_BAND), "{case}: {rmse:.4e}");
+        if kind.facts().balanced_counts != CountRule::PowerOfTwo {
+            assert!(rmse >= target * (1.0 - TARGET_BAND), "{case}: {rmse:.4e}");
+        }
+        // The count below misses it: N is the smallest (up to the candidates' spacing).
+        let below = p.below.expect("a count below that misses");
+        assert!(below.rmse > target, "{case}");
+        let below_rmse = measured(kind, f, &p, below.n).variance.sqrt();
+        assert!(
+            below_rmse >= target * (1.0 - TARGET_BAND),
+            "{case}: at N = {} measured {below_rmse:.4e}",
+            below.n
+        );
+    }
+}
+
+#[test]
+fn planned_counts_reach_the_target_on_an_edge_with_a_seam() {
+    check_plans("edge at 30°", edge().as_ref(), 0.02);
+}
+
+#[test]
+fn planned_counts_reach_the_target_on_a_soft_shadow() {
+    check_plans("soft shadow", &soft_shadow(), 0.005);
+}
+
+#[test]
+fn sobol_counts_are_powers_of_two_and_jitter_counts_are_strata() {
+    let f = edge();
+    let params = PlanParams::new(Target::Rmse(2e-3));
+    for (kind, rule) in [
+        (SamplerKind::Sobol, CountRule::PowerOfTwo),
+        (SamplerKind::Jitter, CountRule::Strata),
+        (SamplerKind::OrthogonalArray, CountRule::PrimeSquare),
+    ] {
+        let sampler = kind.build(2).unwrap();
+        let p = plan(sampler.as_ref(), f.as_ref(), &params, &Silent).unwrap();
+        assert!(rule.admits(p.n, 2), "{kind}: N = {}", p.n);
+        assert_eq!(p.counts, rule);
+    }
+}
+
+#[test]
+fn unreachable_targets_name_the_largest_n_and_its_rmse() {
+    let f = edge();
+    let random = SamplerKind::Random.build(2).unwrap();
+    let params = PlanParams {
+        max_n: Some(4096),
+        ..PlanParams::new(Target::Rmse(1e-4))
+    };
+    let e = plan(random.as_ref(), f.as_ref(), &params, &Silent).unwrap_err();
+    let Error::Unreachable {
+        largest_n, rmse, ..
+    } = &e
+    else {
+        panic!("{e}")
+    };
+    assert_eq!(*largest_n, 4096);
+    // Random points: RMSE = σ/√N exactly, σ² = ∫f² − I² = 1/4 for a half-plane.
+    assert!(common::close(*rmse, (0.25f64 / 4096.0).sqrt(), 1e-9), "{e}");
+    assert!(e.to_string().contains("4096"), "{e}");
+}
+
+#[test]
+fn bad_targets_are_refused() {
+    let f = edge();
+    let jitter = SamplerKind::Jitter.build(2).unwrap();
+    for bad in [0.0, -0.01, f64::NAN, f64::INFINITY] {
+        let params = PlanParams::new(Target::Rmse(bad));
+        let e = plan(jitter.as_ref(), f.as_ref(), &params, &Silent).unwrap_err();
+        assert!(matches!(e, Error::InvalidParameter { .. }), "{bad}: {e}");
+    }
+}
