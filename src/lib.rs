@@ -61,6 +61,8 @@
 //! - [`predict`]: the one call [`predict::predict`] that chooses a valid route; the polar and
 //!   lattice forms with the DC term; exact sums in space for lattices; the pair-correlation
 //!   route; bias of fixed patterns.
+//! - [`pixels`]: image-level predictions: every pixel of a stack of tabulated integrands
+//!   (`.npy`), its variance, and the image's MSE.
 //! - [`plan`]: how many samples: for each sampler, the smallest of its balanced counts whose
 //!   predicted RMSE reaches a target, found along the predictions' own rate.
 //! - [`anisotropy`]: the variance of an edge against its angle, and its rates against N.
@@ -108,7 +110,9 @@ pub mod integrand;
 pub mod io;
 pub mod metrics;
 pub mod montecarlo;
+pub mod npy;
 pub mod output;
+pub mod pixels;
 pub mod plan;
 pub mod plot;
 pub mod pointset;

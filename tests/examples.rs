@@ -65,10 +65,38 @@ fn fixtures(dir: &Path) {
     let pixels: Vec<u8> = (0..64 * 64)
         .map(|i| (((i % 64) * 4) ^ ((i / 64) * 3)) as u8)
         .collect();
+    std::fs::write(dir.join("pixels.npy"), pixel_stack_npy()).unwrap();
     let png = specvar::plot::gray_png(&pixels, 64, 64).unwrap();
     for name in ["my_image.png", "photo.png"] {
         std::fs::write(dir.join(name), &png).unwrap();
     }
+}
+
+/// A `.npy` stack of 2 × 3 pixels, each a 16 × 16 grid of an edge at its own angle, as
+/// `numpy.save` writes an `f8` array of shape `(2, 3, 16, 16)`.
+fn pixel_stack_npy() -> Vec<u8> {
+    let mut header =
+        "{'descr': '<f8', 'fortran_order': False, 'shape': (2, 3, 16, 16), }".to_string();
+    while (10 + header.len() + 1) % 64 != 0 {
+        header.push(' ');
+    }
+    header.push('\n');
+    let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
+    bytes.extend_from_slice(&(header.len() as u16).to_le_bytes());
+    bytes.extend_from_slice(header.as_bytes());
+    for p in 0..6 {
+        let angle = (10.0 + 15.0 * p as f64).to_radians();
+        for i in 0..256 {
+            let (x, y) = ((i % 16) as f64 / 16.0, (i / 16) as f64 / 16.0);
+            let v = if x * angle.cos() + y * angle.sin() > 0.5 {
+                1.0
+            } else {
+                0.2
+            };
+            bytes.extend_from_slice(&f64::to_le_bytes(v));
+        }
+    }
+    bytes
 }
 
 fn run(example: &Example, dir: &Path, cache: &PathBuf) {

@@ -102,6 +102,17 @@ impl GridIntegrand {
         })
     }
 
+    /// The function times `factor` (a grey level in `[0, 1]` to radiance, say), its label
+    /// saying so.
+    ///
+    /// # Errors
+    /// A factor that makes a value infinite or not a number.
+    pub fn scaled(self, factor: f64) -> Result<Self> {
+        let name = format!("{} × {factor}", self.name);
+        let values = self.values().iter().map(|v| v * factor).collect();
+        Ok(Self::new(self.width(), self.height(), values)?.with_name(name))
+    }
+
     /// The same function under another label (e.g. the file it came from).
     pub fn with_name(mut self, name: impl Into<String>) -> Self {
         self.name = name.into();

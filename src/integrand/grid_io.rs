@@ -10,6 +10,10 @@
 //!
 //! In both, the first row is the top of the picture: it becomes the cells at the largest `y`, so
 //! that an image keeps its orientation in the unit square (`y` up).
+//!
+//! **`.npy`:** a 2D array `values[y, x]` as NumPy saves it, in the Python package's convention
+//! for cell values: row 0 is the bottom row, `y ∈ [0, 1/height)` (an array from
+//! `specvar.tabulate` round-trips).
 
 use super::GridIntegrand;
 use crate::error::{Error, Result};
@@ -135,6 +139,8 @@ pub fn read_grid_file(path: &Path) -> Result<GridIntegrand> {
         .is_some_and(|e| e.eq_ignore_ascii_case("png"));
     let grid = if bytes.starts_with(b"\x89PNG\r\n\x1a\n") {
         read_grid_png(&bytes)?
+    } else if bytes.starts_with(crate::npy::MAGIC) {
+        grid_of_array(crate::npy::read_npy(&bytes)?)?
     } else if named_png {
         return Err(Error::format(
             path.display().to_string(),
@@ -155,6 +161,32 @@ pub fn read_grid_file(path: &Path) -> Result<GridIntegrand> {
     );
     let label = format!("grid({name}, {}×{})", grid.width(), grid.height());
     Ok(grid.with_name(label))
+}
+
+/// A 2D array `values[y, x]` (row 0 at `y = 0`) as a grid.
+///
+/// # Errors
+/// An array that is not 2D, or larger than [`MAX_GRID_CELLS`].
+pub fn grid_of_array(array: crate::npy::NpyArray) -> Result<GridIntegrand> {
+    let &[height, width] = array.shape.as_slice() else {
+        return Err(Error::format(
+            ".npy grid",
+            format!(
+                "shape {:?}: a grid is a 2D array values[y, x] (a stack of pixels is predicted \
+                 with predict --pixels)",
+                array.shape
+            ),
+        ));
+    };
+    if width * height > MAX_GRID_CELLS {
+        return Err(Error::TooLarge {
+            what: "a grid integrand".into(),
+            needed: format!("{} cells", width * height),
+            budget: format!("{MAX_GRID_CELLS} cells"),
+            advice: "downscale the array".into(),
+        });
+    }
+    GridIntegrand::new(width, height, array.values)
 }
 
 fn parse_error(line: usize, message: impl Into<String>) -> Error {

@@ -75,8 +75,11 @@ pub enum IntegrandSpec {
     },
     /// A function tabulated in a file (2D).
     Grid {
-        /// The text or PNG file.
+        /// The text, PNG or `.npy` file.
         path: PathBuf,
+        /// The factor every value is multiplied by (`a=`: a PNG's grey levels in `[0, 1]` to
+        /// radiance, say).
+        scale: f64,
     },
     /// A polygon of height 1 on these vertices (2D).
     Polygon {
@@ -111,7 +114,7 @@ pub enum IntegrandSpec {
 /// Every form [`parse_integrand`] accepts, in words: the one list the command line's help and
 /// the parser's errors both show.
 pub const INTEGRAND_FORMS: &str = "disk, ball or gaussian, with optional overrides such as \
-                                   disk:r=0.2,a=2, grid:FILE for a text or PNG grid, \
+                                   disk:r=0.2,a=2, grid:FILE for a text, PNG or .npy grid (grid:FILE,a=0.14 scales it), \
                                    polygon:x,y;x,y;x,y or polygon:@FILE, \
                                    edge:theta=30,offset=0.5, or agaussian:s1=0.05,s2=0.02,angle=30";
 
@@ -172,12 +175,33 @@ pub fn parse_integrand(text: &str) -> Result<IntegrandSpec> {
         "grid" | "image" if rest.trim().is_empty() => {
             Err(invalid("integrand", text, "grid:FILE with a file name"))
         }
-        "grid" | "image" => Ok(IntegrandSpec::Grid {
-            path: rest.trim().into(),
-        }),
+        "grid" | "image" => parse_grid(rest),
         "polygon" => parse_polygon(rest),
         other => Err(invalid("integrand", other, INTEGRAND_FORMS)),
     }
+}
+
+/// `FILE` or `FILE,a=SCALE`: a trailing `,a=` that parses as a number is the scale, anything
+/// else is part of the file name.
+fn parse_grid(rest: &str) -> Result<IntegrandSpec> {
+    let rest = rest.trim();
+    let (path, scale) = match rest.rsplit_once(",a=") {
+        Some((path, value)) if !path.is_empty() => match value.trim().parse::<f64>() {
+            Ok(a) if a.is_finite() && a != 0.0 => (path, a),
+            _ => {
+                return Err(invalid(
+                    "grid scale",
+                    crate::error::quoted(value),
+                    "a finite non-zero number, as in grid:FILE,a=0.14",
+                ))
+            }
+        },
+        _ => (rest, 1.0),
+    };
+    Ok(IntegrandSpec::Grid {
+        path: path.into(),
+        scale,
+    })
 }
 
 /// A key of the `name:key=value,…` grammar: its name, what it sets, and whether it takes a
@@ -391,11 +415,16 @@ impl IntegrandSpec {
             }
         };
         Ok(match self {
-            IntegrandSpec::Grid { path } => {
+            IntegrandSpec::Grid { path, scale } => {
                 if d != 2 {
                     return Err(invalid("dimension", d, "2 for a grid integrand"));
                 }
-                Box::new(read_grid_file(path)?)
+                let grid = read_grid_file(path)?;
+                if *scale == 1.0 {
+                    Box::new(grid)
+                } else {
+                    Box::new(grid.scaled(*scale)?)
+                }
             }
             IntegrandSpec::Polygon { .. }
             | IntegrandSpec::Edge { .. }
@@ -475,7 +504,10 @@ impl fmt::Display for IntegrandSpec {
                 height,
                 centre: c,
             } => write!(f, "gaussian:sigma={sigma},a={height}{}", centre(c)),
-            IntegrandSpec::Grid { path } => write!(f, "grid:{}", path.display()),
+            IntegrandSpec::Grid { path, scale } if *scale == 1.0 => {
+                write!(f, "grid:{}", path.display())
+            }
+            IntegrandSpec::Grid { path, scale } => write!(f, "grid:{},a={scale}", path.display()),
             IntegrandSpec::Polygon { vertices } => {
                 let list: Vec<String> = vertices
                     .iter()

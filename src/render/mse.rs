@@ -4,8 +4,7 @@
 use super::{Frame, Reference, Rendering};
 use crate::error::{invalid, Result};
 use crate::predict::{
-    predict, predict_on_patterns, ErrorBudget, LatticePower, PatternPlan, PredictParams,
-    Prediction, Problem,
+    predict, predict_on_patterns, LatticePower, PatternPlan, PredictParams, Prediction, Problem,
 };
 use crate::progress::Progress;
 use crate::randomization::Randomization;
@@ -301,26 +300,13 @@ pub fn predict_mse_per_pixel(
             predict(&problem, &own).map(Some)
         })
         .collect::<Result<_>>()?;
-    let count = pixels.len() as f64;
     let predicted: Vec<&Prediction> = per_pixel.iter().flatten().collect();
     let first = predicted
         .first()
         .ok_or_else(|| invalid("image", "no pixel sees the scene", "at least one"))?;
-    let mut budget = ErrorBudget::default();
-    let mut variance = 0.0;
-    for p in &predicted {
-        variance += p.variance;
-        budget.spectrum_noise += p.budget.spectrum_noise.powi(2);
-        budget.quadrature += p.budget.quadrature;
-        budget.truncation += p.budget.truncation;
-        budget.model += p.budget.model;
-    }
-    budget.spectrum_noise = budget.spectrum_noise.sqrt() / count;
-    budget.quadrature /= count;
-    budget.truncation /= count;
-    budget.model /= count;
+    let (variance, budget) = crate::pixels::mean_of(&predicted);
     Ok(Prediction {
-        variance: variance / count,
+        variance,
         randomization,
         route: first.route,
         reason: format!(

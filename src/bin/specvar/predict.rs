@@ -39,6 +39,15 @@ pub struct Args {
     /// independent points). The sets are then predicted as given, by the cell form.
     #[arg(long, requires = "input")]
     pub cells: Option<CellRule>,
+    /// Every pixel of an image instead of one integrand: a .npy array of per-pixel grids,
+    /// (pixels, height, width) or (rows, columns, height, width), or a directory of grid files
+    /// (one pixel each, in the order of their names). Prints the image's MSE; --json adds every
+    /// pixel's variance.
+    #[arg(long, conflicts_with = "input")]
+    pub pixels: Option<std::path::PathBuf>,
+    /// With --pixels: write the image of predicted variance as a grey PNG (255 at the largest).
+    #[arg(long, requires = "pixels")]
+    pub png: Option<std::path::PathBuf>,
     /// Seed.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
@@ -61,6 +70,9 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
         budget: ctx.budget,
         ..defaults
     };
+    if let Some(path) = &args.pixels {
+        return run_pixels(args, path, &params, ctx);
+    }
     let (source, f, n) = args.problem.build(ctx)?;
     let problem = match &source {
         Source::Sampler(_, sampler) => Problem::new(sampler.as_ref(), f.as_ref(), n)?,
@@ -78,6 +90,84 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
         )?;
     } else {
         print_text(&source.label(), &f.label(), &p)?;
+    }
+    Ok(())
+}
+
+/// Predicts every pixel of a stack and prints the image's MSE (and writes the PNG).
+fn run_pixels(
+    args: &Args,
+    path: &std::path::Path,
+    params: &PredictParams,
+    ctx: &super::Context,
+) -> Result<()> {
+    use specvar::pixels::{pixel_params, predict_pixels, PixelStack};
+    if args.problem.integrand.is_some() {
+        return Err(specvar::Error::InvalidParameter {
+            name: "integrand",
+            value: "given with --pixels".into(),
+            allowed: "one or the other: --pixels names every pixel's integrand".into(),
+        });
+    }
+    let (Some(kind), Some(n)) = (args.problem.sampler, args.problem.n) else {
+        return Err(specvar::Error::InvalidParameter {
+            name: "pixels",
+            value: path.display().to_string(),
+            allowed: "with --sampler and -n".into(),
+        });
+    };
+    let stack = PixelStack::read(path)?;
+    let sampler = ctx.sampler(kind, 2)?;
+    sampler.check_count(n)?;
+    let own = PredictParams {
+        target_noise: args
+            .target_noise
+            .unwrap_or(pixel_params(params).target_noise),
+        ..pixel_params(params)
+    };
+    let image = predict_pixels(
+        &stack,
+        sampler.as_ref(),
+        n,
+        args.problem.randomization,
+        &own,
+        &super::bars::Bars::default(),
+    )?;
+    if let Some(png) = &args.png {
+        specvar::output::write_atomic(png, &image.variance_png()?)?;
+    }
+    if args.json {
+        outln!("{}", super::to_json(&image)?)?;
+        return Ok(());
+    }
+    let b = &image.budget;
+    outln!(
+        "sampler      {kind} ({}), N = {n}, {} × {} pixels of {}",
+        image.randomization.estimator(),
+        image.columns,
+        image.rows,
+        path.display()
+    )?;
+    outln!(
+        "route        {} (first pixel; each takes its own default)",
+        image.route
+    )?;
+    outln!(
+        "image MSE    {:.6e} (spectrum noise ±{:.1e}, quadrature {:.1e}, truncation {:.1e}, model {:.1e})",
+        image.mse, b.spectrum_noise, b.quadrature, b.truncation, b.model
+    )?;
+    let largest = image
+        .pixels
+        .iter()
+        .enumerate()
+        .max_by(|a, b| a.1.variance.total_cmp(&b.1.variance));
+    if let Some((i, p)) = largest {
+        outln!(
+            "largest      {:.6e} at pixel {i} (row {}, column {})",
+            p.variance,
+            i / image.columns,
+            i % image.columns
+        )?;
     }
     Ok(())
 }

@@ -24,8 +24,8 @@ pub struct ProblemArgs {
     #[arg(long)]
     pub input: Option<PathBuf>,
     // The forms are the library's own list, so that the help names every one it accepts.
-    #[arg(long, short = 'f', default_value = "disk", help = format!("Integrand: {}", specvar::integrand::INTEGRAND_FORMS))]
-    pub integrand: IntegrandSpec,
+    #[arg(long, short = 'f', help = format!("Integrand: {} [default: disk]", specvar::integrand::INTEGRAND_FORMS))]
+    pub integrand: Option<IntegrandSpec>,
     /// Points per pattern (with --input: taken from the file).
     #[arg(short = 'n', required_unless_present = "input")]
     pub n: Option<usize>,
@@ -50,20 +50,29 @@ pub enum Source {
 }
 
 impl ProblemArgs {
+    /// The integrand named, or the disk.
+    pub fn integrand(&self) -> IntegrandSpec {
+        self.integrand.clone().unwrap_or(IntegrandSpec::Ball {
+            radius: 0.25,
+            height: 1.0,
+            centre: None,
+        })
+    }
+
     /// Builds the sampler or reads the file, and builds the integrand in its dimension.
     pub fn build(&self, ctx: &super::Context) -> Result<(Source, Box<dyn Integrand>, usize)> {
         match (&self.input, self.sampler) {
             (Some(path), _) => {
                 let sets = read_file(path)?;
                 let (d, n) = (sets[0].dimension(), sets[0].len());
-                let f = self.integrand.build(d)?;
+                let f = self.integrand().build(d)?;
                 Ok((Source::Sets(path.clone(), sets), f, n))
             }
             (None, Some(kind)) => {
                 let n = self.n.unwrap_or_default();
                 let sampler = ctx.sampler(kind, self.dimension)?;
                 sampler.check_count(n)?;
-                let f = self.integrand.build(self.dimension)?;
+                let f = self.integrand().build(self.dimension)?;
                 Ok((Source::Sampler(kind, sampler), f, n))
             }
             (None, None) => unreachable!("clap requires --sampler or --input"),
