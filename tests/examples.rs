@@ -77,7 +77,7 @@ fn fixtures(dir: &Path) {
 fn pixel_stack_npy() -> Vec<u8> {
     let mut header =
         "{'descr': '<f8', 'fortran_order': False, 'shape': (2, 3, 16, 16), }".to_string();
-    while (10 + header.len() + 1) % 64 != 0 {
+    while !(10 + header.len() + 1).is_multiple_of(64) {
         header.push(' ');
     }
     header.push('\n');

@@ -29,7 +29,7 @@ fn npy(shape: &[usize], values: &[f64]) -> Vec<u8> {
     };
     let header = format!("{{'descr': '<f8', 'fortran_order': False, 'shape': {tuple}, }}");
     let mut padded = header;
-    while (10 + padded.len() + 1) % 64 != 0 {
+    while !(10 + padded.len() + 1).is_multiple_of(64) {
         padded.push(' ');
     }
     padded.push('\n');
