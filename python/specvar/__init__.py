@@ -34,6 +34,7 @@ __all__ = [
     "ErrorBudget",
     "Integrand",
     "McResult",
+    "ImagePrediction",
     "Plan",
     "Prediction",
     "RadialSpectrum",
@@ -49,6 +50,7 @@ __all__ = [
     "periodogram",
     "plan",
     "predict",
+    "predict_image",
     "read_points",
     "sample",
     "samplers",
@@ -442,6 +444,47 @@ def monte_carlo(
     if callable(integrand) and integral is None:
         raw = {**raw, "bias": None, "bias_stderr": None}
     return _build(McResult, raw)
+
+
+@dataclass(frozen=True)
+class ImagePrediction:
+    """Every pixel's predicted variance (``variance[row, column]``, with the half-widths of
+    their 99% budgets) and the image's MSE, their mean, with its budget."""
+
+    n: int
+    randomization: str
+    mse: float
+    budget: ErrorBudget
+    variance: np.ndarray
+    half_width: np.ndarray
+    route: str
+
+
+@_counts_checked
+def predict_image(
+    pixels: Any,
+    sampler: str,
+    n: int,
+    randomization: RandomizationName = "native",
+    seed: int = 0,
+    cache: bool = True,
+) -> ImagePrediction:
+    """Predict every pixel of an image integrated with ``n`` points of ``sampler`` per pixel:
+    ``pixels`` holds each pixel's cell values ``values[y, x]`` (as :func:`predict` takes one),
+    shaped ``(pixels, h, w)`` or ``(rows, columns, h, w)``. Each pixel takes its own default
+    route and seed; the image's MSE is their mean."""
+    stack = np.ascontiguousarray(pixels, dtype=np.float64)
+    raw = _specvar.predict_image(stack, sampler, n, randomization, seed, cache)
+    shape = (raw["rows"], raw["columns"])
+    return ImagePrediction(
+        n=raw["n"],
+        randomization=raw["randomization"],
+        mse=raw["mse"],
+        budget=_build(ErrorBudget, raw["budget"]),
+        variance=np.array([p["variance"] for p in raw["pixels"]]).reshape(shape),
+        half_width=np.array([p["half_width"] for p in raw["pixels"]]).reshape(shape),
+        route=raw["route"],
+    )
 
 
 @dataclass(frozen=True)

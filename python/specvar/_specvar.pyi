@@ -50,6 +50,14 @@ def predict(
     cells: Optional[str] = None,
     cache: bool = True,
 ) -> dict[str, Any]: ...
+def predict_image(
+    pixels: np.ndarray,
+    sampler: str,
+    n: int,
+    randomization: str = "native",
+    seed: int = 0,
+    cache: bool = True,
+) -> dict[str, Any]: ...
 def plan(
     integrand: Union[str, np.ndarray],
     rmse: float,

@@ -418,6 +418,48 @@ fn plan<'py>(
     to_py(py, &plans)
 }
 
+/// Every pixel's predicted variance, and the image's MSE, for a stack of per-pixel cell values
+/// `(pixels, h, w)` or `(rows, columns, h, w)`, each `values[y, x]`.
+#[pyfunction]
+#[pyo3(signature = (pixels, sampler, n, randomization="native", seed=0, cache=true))]
+fn predict_image<'py>(
+    py: Python<'py>,
+    pixels: PyReadonlyArrayDyn<'py, f64>,
+    sampler: &str,
+    n: usize,
+    randomization: &str,
+    seed: u64,
+    cache: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    use specvar::pixels::{pixel_params, predict_pixels, PixelStack};
+    let array = specvar::npy::NpyArray {
+        shape: pixels.shape().to_vec(),
+        values: pixels.as_array().iter().copied().collect(),
+    };
+    let stack = PixelStack::from_array(array).or_value_error()?;
+    let s = build_sampler(sampler, 2, cache).or_value_error()?;
+    s.check_count(n).or_value_error()?;
+    let choice: RandomizationChoice = randomization.parse().or_value_error()?;
+    let params = pixel_params(&PredictParams {
+        seed,
+        budget: budget(),
+        ..Default::default()
+    });
+    let image = py
+        .detach(|| {
+            predict_pixels(
+                &stack,
+                s.as_ref(),
+                n,
+                choice,
+                &params,
+                &specvar::progress::Silent,
+            )
+        })
+        .or_value_error()?;
+    to_py(py, &image)
+}
+
 /// Monte Carlo of the estimator with a 99% interval, on a built-in integrand (a specification
 /// string or a 2D array of cell values) or a Python function `f(points (N, d)) -> values (N,)`.
 #[pyfunction]
@@ -657,6 +699,7 @@ fn _specvar(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(predict, m)?)?;
     m.add_function(wrap_pyfunction!(monte_carlo, m)?)?;
     m.add_function(wrap_pyfunction!(plan, m)?)?;
+    m.add_function(wrap_pyfunction!(predict_image, m)?)?;
     m.add_function(wrap_pyfunction!(integrand_facts, m)?)?;
     m.add_function(wrap_pyfunction!(evaluate, m)?)?;
     m.add_function(wrap_pyfunction!(read_points, m)?)?;

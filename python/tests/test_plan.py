@@ -54,3 +54,16 @@ def test_bad_targets_raise(bad):
 def test_an_unreachable_target_names_the_largest_n():
     with pytest.raises(ValueError, match="largest N it allows is 4096"):
         specvar.plan("edge:theta=30", rmse=1e-4, samplers=["random"], max_n=4096)
+
+
+def test_an_image_of_pixels_is_predicted_pixel_by_pixel():
+    stack = np.stack([np.stack([soft_shadow(32) * (1 + 0.1 * c + 0.2 * r) for c in range(3)]) for r in range(2)])
+    image = specvar.predict_image(stack, "jitter", 64)
+    assert image.variance.shape == (2, 3) and image.randomization == "none"
+    alone = specvar.predict(stack[1, 2], sampler="jitter", n=64)
+    assert image.variance[1, 2] == alone.variance
+    assert image.mse == pytest.approx(image.variance.mean(), rel=1e-14)
+    flat = specvar.predict_image(stack.reshape(6, 32, 32), "jitter", 64)
+    assert flat.variance.shape == (1, 6)
+    with pytest.raises(ValueError, match="shape"):
+        specvar.predict_image(stack[0, 0], "jitter", 64)
