@@ -61,30 +61,54 @@ pub(crate) fn cell_masses(f: &dyn Integrand, grid: &[usize], t: &[f64]) -> Vec<f
     mass
 }
 
-/// `∫ f` over the box `[lo, hi) + t` taken modulo 1: the pieces on either side of each face it
-/// crosses, each a box of the unit cube.
+/// `∫ f` over the box `[lo, hi) + t` taken modulo 1.
 fn wrapped_box_mass(f: &dyn Integrand, lo: &[f64], hi: &[f64], t: &[f64]) -> f64 {
+    wrapped_box_moments(f, lo, hi, t).0
+}
+
+/// `(∫ f, ∫ f²)` over the box `[lo, hi) + t` taken modulo 1: the pieces on either side of each
+/// face it crosses, each a box of the unit cube.
+fn wrapped_box_moments(f: &dyn Integrand, lo: &[f64], hi: &[f64], t: &[f64]) -> (f64, f64) {
     let d = lo.len();
-    let mass = |a: &[f64], b: &[f64]| {
+    let moments = |a: &[f64], b: &[f64]| {
         if a.iter().zip(b).any(|(x, y)| x >= y) {
-            0.0
+            (0.0, 0.0)
         } else {
-            f.box_moments(a, b).map_or(0.0, |m| m.0)
+            f.box_moments(a, b).unwrap_or((0.0, 0.0))
         }
     };
     if t.iter().all(|&s| s == 0.0) {
-        return mass(lo, hi);
+        return moments(lo, hi);
     }
-    let mut total = 0.0;
+    let (mut mass, mut square) = (0.0, 0.0);
     let (mut a, mut b) = ([0.0; 3], [0.0; 3]);
     // Piece `p`: on axis `l`, bit `l` of `p` picks the part past the face (moved back by 1).
     for p in 0..1u32 << d {
         for l in 0..d {
             (a[l], b[l]) = wrapped_interval(lo[l], hi[l], t[l])[(p >> l & 1) as usize];
         }
-        total += mass(&a[..d], &b[..d]);
+        let (m, q) = moments(&a[..d], &b[..d]);
+        mass += m;
+        square += q;
     }
-    total
+    (mass, square)
+}
+
+/// `(F_c, V_c)` of the integrand shifted by `t` on the torus, `f(x + t mod 1)`: its mean over
+/// cell `index` of `grid` and its variance inside the cell.
+pub(crate) fn shifted_cell_mean_and_variance(
+    f: &dyn Integrand,
+    grid: &[usize],
+    index: usize,
+    t: &[f64],
+) -> (f64, f64) {
+    let d = grid.len();
+    let (mut lo, mut hi) = ([0.0; 3], [0.0; 3]);
+    cell_box(index, grid, &mut lo[..d], &mut hi[..d]);
+    let cells: f64 = grid.iter().map(|&m| m as f64).product();
+    let (mass, square) = wrapped_box_moments(f, &lo[..d], &hi[..d], t);
+    let mean = mass * cells;
+    (mean, (square * cells - mean * mean).max(0.0))
 }
 
 /// `(F_c, V_c)`: the mean of `f` over cell `index` of `grid` and its variance inside the cell.

@@ -65,6 +65,12 @@ pub enum Occupancy {
         /// Patterns drawn.
         patterns: usize,
     },
+    /// Estimated from `patterns` patterns of the sampler, each under its own random shift of
+    /// the integrand (the shifted estimator of a sampler with cells).
+    EstimatedOverShifts {
+        /// Patterns drawn, each with one shift.
+        patterns: usize,
+    },
 }
 
 /// The cells of a prediction in space.
@@ -102,6 +108,12 @@ impl fmt::Display for CellOrigin {
             Occupancy::Estimated { patterns } => write!(
                 f,
                 "occupancy estimated from {patterns} patterns ({} cells)",
+                self.cells
+            ),
+            Occupancy::EstimatedOverShifts { patterns } => write!(
+                f,
+                "occupancy estimated from {patterns} patterns, each under a random shift ({} \
+                 cells)",
                 self.cells
             ),
         }

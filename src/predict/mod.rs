@@ -31,6 +31,7 @@ mod pair;
 mod polar;
 mod radial_table;
 mod route;
+mod shifted_cells;
 mod shifted_gains;
 mod space;
 mod walsh;

@@ -240,6 +240,36 @@ fn shifted_scrambled_net<'a>(
     }
 }
 
+/// A random sampler with cells and no closed-form spectrum (multi-jitter, CMJ, orthogonal
+/// arrays, PMJ02) under a random shift, on an integrand with moments over boxes of at most 3
+/// axes, by default: each pattern's cell form on the shifted integrand, averaged over patterns
+/// and shifts, predicts it without truncation (the estimated spectrum stays available as a
+/// check). Returns the sampler, its kind and its cells at N.
+fn shifted_cells<'a>(
+    problem: &Problem<'a>,
+    params: &PredictParams,
+) -> Option<(&'a dyn Sampler, SamplerKind, Vec<usize>)> {
+    let d = problem.integrand.dimension();
+    let defaults = params.spectrum == SpectrumChoice::Auto
+        && params.form == FormChoice::Auto
+        && params.kmax.is_none();
+    let Patterns::Sampler(sampler) = problem.patterns else {
+        return None;
+    };
+    let kind = problem.kind()?;
+    let facts = kind.facts();
+    let eligible = defaults
+        && problem.randomization == Randomization::Shift
+        && kind != SamplerKind::Sobol
+        && !kind.is_deterministic()
+        && !facts.randomness.is_stationary()
+        && sampler.closed_form(problem.n).is_none()
+        && d <= 3
+        && super::cell_moments::check_box_moments(problem.integrand).is_ok();
+    let grid = facts.cells.grid(problem.n, d).filter(|_| eligible)?;
+    Some((sampler, kind, grid))
+}
+
 /// Whether `problem` is fixed patterns under a digital shift (a deterministic sampler's, or
 /// given sets): the Walsh form predicts it.
 fn uses_walsh(problem: &Problem<'_>) -> bool {
@@ -272,6 +302,16 @@ pub(crate) fn predict_routed(
         return super::shifted_gains::predict_shifted_net(
             problem.integrand,
             sampler,
+            n,
+            params,
+            progress,
+        );
+    }
+    if let Some((sampler, kind, grid)) = shifted_cells(problem, params) {
+        return super::shifted_cells::predict_shifted_cells(
+            problem.integrand,
+            (sampler, kind),
+            &grid,
             n,
             params,
             progress,
@@ -879,9 +919,9 @@ pub(crate) fn predict_routed_many(
         || uses_cells(first)
         || uses_walsh(first)
         || kind.is_some_and(|k| k.is_deterministic())
-        || problems
-            .iter()
-            .any(|p| shifted_scrambled_net(p, params).is_some())
+        || problems.iter().any(|p| {
+            shifted_scrambled_net(p, params).is_some() || shifted_cells(p, params).is_some()
+        })
         || params.form == FormChoice::Polar
         || params.spectrum == SpectrumChoice::Closed
     {

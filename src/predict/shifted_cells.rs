@@ -1,0 +1,140 @@
+//! The randomly shifted estimator of a sampler with cells (multi-jitter, CMJ, orthogonal
+//! arrays, PMJ02): the cell form of each pattern on the shifted integrand, averaged over
+//! patterns and shifts.
+//!
+//! With `x_j` a pattern whose points are independent and uniform in their cells once the cells
+//! are known, and `t` an independent uniform shift, `μ = (1/N) Σ_j f(x_j + t mod 1)`. The
+//! sampler is unbiased (its points' mean density is uniform), so `E[μ | t] = I` for every `t`,
+//! and given the pattern's cells and `t` the error has the exact conditional second moment
+//!
+//! `(1/N²) Σ_j V_{c_j}(f_t) + (M_t − I)²`, `M_t = (1/N) Σ_j F_{c_j}(f_t)`,
+//!
+//! with `F_c(f_t)`, `V_c(f_t)` the mean and inner variance of the shifted integrand over cell
+//! `c` (a box wrapped across the faces: up to `2^d` boxes of the cube). The variance is the
+//! mean of these terms over independent (pattern, shift) pairs: unbiased, its standard error
+//! from their spread, nothing truncated. The lattice form of the same estimator counts the
+//! energy beyond its lattice as white, while these samplers' spectra along the axes are far
+//! below white (their projections are stratified), which overestimates integrands that jump
+//! across the faces, more so as N grows (`docs/theory.md`, "Strata under a shift").
+
+use super::cell_moments::{check_box_moments, shifted_cell_mean_and_variance, CELL_SECONDS};
+use super::cells::{cell_of, mean_to_target_noise, CellOrigin, Occupancy};
+use super::{ErrorBudget, Form, PredictParams, Prediction, Route, SpectrumOrigin};
+use crate::budget::Needs;
+use crate::error::{Error, Result};
+use crate::integrand::Integrand;
+use crate::pointset::PointSet;
+use crate::progress::Progress;
+use crate::quadrature::CompensatedSum;
+use crate::randomization::{toroidal_shift, Randomization};
+use crate::sampler::{Sampler, SamplerKind};
+
+/// (Pattern, shift) pairs the average starts with.
+const INITIAL_PAIRS: usize = 64;
+/// Pairs the average never exceeds.
+const MAX_PAIRS: usize = 1 << 16;
+
+/// One pair's exact conditional second moment of the error.
+fn pair_term(f: &dyn Integrand, pattern: &PointSet, grid: &[usize], t: &[f64]) -> f64 {
+    let nf = pattern.len() as f64;
+    let integral = f.integral();
+    let (mut deviation, mut within) = (CompensatedSum::default(), CompensatedSum::default());
+    for x in pattern.points() {
+        let (m, v) = shifted_cell_mean_and_variance(f, grid, cell_of(x, grid), t);
+        deviation.add(m - integral);
+        within.add(v);
+    }
+    let m = deviation.value() / nf;
+    within.value() / (nf * nf) + m * m
+}
+
+/// The randomly shifted variance of `sampler` (of kind `kind`, whose cells at `n` are `grid`)
+/// on `f`: the mean over independent patterns and shifts of each pair's exact conditional
+/// second moment, pairs added until the relative standard error reaches `params.target_noise`
+/// or the work budget ends.
+///
+/// # Errors
+/// An integrand without moments over boxes, a sampler error, or work beyond the budget.
+pub(crate) fn predict_shifted_cells(
+    f: &dyn Integrand,
+    (sampler, kind): (&dyn Sampler, SamplerKind),
+    grid: &[usize],
+    n: usize,
+    params: &PredictParams,
+    progress: &dyn Progress,
+) -> Result<Prediction> {
+    check_box_moments(f)?;
+    let d = f.dimension();
+    if grid.len() != d {
+        return Err(Error::Mismatch(format!(
+            "cells of dimension {} for an integrand of dimension {d}",
+            grid.len()
+        )));
+    }
+    // Each point's cell wrapped across the faces: up to 2^d boxes' moments.
+    let per_pair = n as f64 * (kind.cost_per_point_ns() * 1e-9 + CELL_SECONDS * (1u32 << d) as f64);
+    let affordable = (params.work_budget_seconds / per_pair) as usize;
+    let max = params
+        .realizations
+        .unwrap_or_else(|| affordable.clamp(INITIAL_PAIRS, MAX_PAIRS));
+    let initial = params.realizations.unwrap_or(INITIAL_PAIRS).min(max);
+    params.budget.check(
+        "the occupancy estimate under shifts",
+        Needs {
+            memory_bytes: 8.0 * max as f64 + 16.0 * n as f64 * d as f64,
+            work_seconds: initial as f64 * per_pair,
+        },
+        "lower N or the realizations",
+    )?;
+    let estimate = mean_to_target_noise(
+        "occupancy of the cells under shifts",
+        (initial.max(2), max.max(2)),
+        params.target_noise,
+        0.0,
+        |i| {
+            let pattern = sampler.sample(n, params.seed, i as u64)?;
+            let t = toroidal_shift(d, params.seed, i as u64);
+            Ok(pair_term(f, &pattern, grid, &t[..d]))
+        },
+        progress,
+    )?;
+    let strata = grid
+        .iter()
+        .map(|m| m.to_string())
+        .collect::<Vec<_>>()
+        .join(" × ");
+    let reason = format!(
+        "{}, randomly shifted: its points are independent and uniform in the cells of the \
+         {strata} grid once their cells are known, so each pattern under each shift has its \
+         error's exact second moment from the shifted integrand's cells (wrapped across the \
+         faces), and the variance is their mean over {} independent patterns and shifts \
+         (unbiased; the noise is its standard error; nothing is truncated, so jumps at the faces \
+         cost nothing extra)",
+        sampler.name(),
+        estimate.patterns
+    );
+    Ok(Prediction {
+        variance: estimate.variance,
+        randomization: Randomization::Shift,
+        route: Route {
+            form: Form::Cells,
+            spectrum: SpectrumOrigin::Cells(CellOrigin {
+                cells_per_axis: grid.iter().copied().max().unwrap_or(1),
+                cells: grid.iter().product(),
+                occupancy: Occupancy::EstimatedOverShifts {
+                    patterns: estimate.patterns,
+                },
+            }),
+        },
+        reason,
+        budget: ErrorBudget {
+            spectrum_noise: estimate.standard_error,
+            ..Default::default()
+        },
+        n,
+        dimension: d,
+        dc_term: 0.0,
+        evaluations: (estimate.patterns * n) as u64,
+        alternatives: Vec::new(),
+    })
+}
