@@ -262,9 +262,14 @@ fn every_sampler_gets_a_valid_route() {
         let sampler = kind.build(2).unwrap();
         let n = kind.nearest_count(64, 2);
         let p = predict_default(sampler.as_ref(), &f, n);
-        // Owen-scrambled Sobol' under the shift: its gains averaged over shifts, in space.
+        // Owen-scrambled Sobol' under the shift: its gains averaged over shifts, in space;
+        // the samplers with cells and no closed form: their cell form over patterns and shifts.
         let form = match kind {
-            SamplerKind::Sobol => Form::Cells,
+            SamplerKind::Sobol
+            | SamplerKind::MultiJitter
+            | SamplerKind::Cmj
+            | SamplerKind::OrthogonalArray
+            | SamplerKind::Pmj02 => Form::Cells,
             _ => Form::Lattice,
         };
         assert_eq!(p.route.form, form, "{kind}");
