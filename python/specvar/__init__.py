@@ -615,7 +615,7 @@ class Plan:
 
 @_counts_checked
 def plan(
-    integrand: Union[str, np.ndarray],
+    integrand: Union[str, np.ndarray, PythonIntegrand],
     rmse: float,
     relative: bool = False,
     samplers: Optional[Sequence[str]] = None,
@@ -627,11 +627,14 @@ def plan(
 ) -> list[Plan]:
     """How many samples: for each of ``samplers`` (default: random, jitter, cmj and sobol in
     2D), the smallest N whose predicted RMSE on ``integrand`` (a specification or cell values,
-    as :func:`predict` takes them) is at most ``rmse`` (relative to ``|∫f|`` with
+    as :func:`predict` takes them, or a function ``f(points) -> values``, tabulated first by
+    :func:`tabulate_adaptive` at resolution 256) is at most ``rmse`` (relative to ``|∫f|`` with
     ``relative=True``), for the estimator each sampler is used with (``randomization``). The
     search follows the predictions' own rate, a handful of predictions per sampler. Raises
     ``ValueError`` for a target that is not positive and finite, or one that no N up to
     ``max_n`` (default 2^20 in 2D) reaches, naming that N and its RMSE."""
+    if callable(integrand):
+        integrand = tabulate_adaptive(integrand, resolution=256).values
     raw = _specvar.plan(
         _integrand(integrand),
         float(rmse),

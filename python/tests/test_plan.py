@@ -67,3 +67,13 @@ def test_an_image_of_pixels_is_predicted_pixel_by_pixel():
     assert flat.variance.shape == (1, 6)
     with pytest.raises(ValueError, match="shape"):
         specvar.predict_image(stack[0, 0], "jitter", 64)
+
+
+def test_a_function_is_tabulated_adaptively_then_planned():
+    def visibility(points):
+        x, y = points[:, 0], points[:, 1]
+        return 0.8 * (np.hypot(x - 0.35, y - 0.4) >= 0.2)
+
+    ours = specvar.plan(visibility, rmse=0.01, relative=True, samplers=["jitter"])
+    tabulated = specvar.plan(specvar.tabulate(visibility, 256), rmse=0.01, relative=True, samplers=["jitter"])
+    assert [(p.n, p.rmse) for p in ours] == [(p.n, p.rmse) for p in tabulated]
