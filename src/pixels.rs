@@ -7,7 +7,7 @@
 use crate::error::{invalid, Error, Result};
 use crate::integrand::{grid_of_array, read_grid_file, GridIntegrand, Integrand};
 use crate::npy::{read_npy, NpyArray};
-use crate::predict::{predict_with, ErrorBudget, Form, PredictParams, Prediction, Problem};
+use crate::predict::{predict_with, ErrorBudget, Form, PredictParams, Prediction, Problem, Route};
 use crate::progress::{stage, Progress, Silent};
 use crate::randomization::{Randomization, RandomizationChoice};
 use crate::rng::{realization_rng, Stream};
@@ -174,9 +174,11 @@ pub struct ImagePrediction {
     pub mse: f64,
     /// Its budget (the pixels' noise in quadrature over the count, their bounds averaged).
     pub budget: ErrorBudget,
-    /// The route of the first pixel, in words (every pixel takes the default route for its
-    /// own integrand).
-    pub route: String,
+    /// The route of the first pixel (every pixel takes the default route for its own
+    /// integrand).
+    pub route: Route,
+    /// Integrand evaluations spent over all pixels.
+    pub evaluations: u64,
 }
 
 /// The mean of several predictions and its budget: the noise of independent estimates in
@@ -291,12 +293,34 @@ pub fn predict_pixels(
         budget,
         route: predictions
             .first()
-            .map(|p| p.route.to_string())
-            .unwrap_or_default(),
+            .map(|p| p.route)
+            .ok_or_else(|| invalid("pixel stack", 0, "at least one pixel"))?,
+        evaluations: predictions.iter().map(|p| p.evaluations).sum(),
     })
 }
 
 impl ImagePrediction {
+    /// The image's MSE as one prediction: its variance, budget and first pixel's route, and a
+    /// reason saying it is a mean over the pixels.
+    pub fn as_prediction(&self) -> Prediction {
+        Prediction {
+            variance: self.mse,
+            randomization: self.randomization,
+            route: self.route,
+            reason: format!(
+                "the mean over {} pixels of each pixel's own prediction (the first by the {})",
+                self.pixels.len(),
+                self.route
+            ),
+            budget: self.budget,
+            n: self.n,
+            dimension: 2,
+            dc_term: 0.0,
+            evaluations: self.evaluations,
+            alternatives: Vec::new(),
+        }
+    }
+
     /// The image of predicted variance as an 8-bit grey PNG, one pixel per pixel: grey level
     /// `255 · variance / largest variance` (black where a pixel's estimate is exact).
     ///

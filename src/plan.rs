@@ -18,6 +18,7 @@
 use crate::error::{invalid, Error, Result};
 use crate::integrand::Integrand;
 use crate::montecarlo::Z_99;
+use crate::pixels::{pixel_params, predict_pixels, PixelStack};
 use crate::predict::{predict_with, Form, PredictParams, Prediction, Problem};
 use crate::progress::Progress;
 use crate::randomization::{Randomization, RandomizationChoice};
@@ -234,6 +235,46 @@ pub fn plan(
     params: &PlanParams,
     progress: &dyn Progress,
 ) -> Result<Plan> {
+    let randomization = resolve(sampler, params)?.1;
+    plan_by(sampler, integrand.integral(), params, |n| {
+        let problem = Problem::new(sampler, integrand, n)?.with_randomization(randomization);
+        predict_with(&problem, &params.predict, progress)
+    })
+}
+
+/// Plans the number of samples per pixel for `sampler` on an image: the smallest balanced count
+/// whose predicted image RMSE, the root of the mean of the pixels' variances
+/// ([`crate::pixels::predict_pixels`]), reaches the target; a relative target is relative to
+/// the image's mean value. Each pixel's prediction has the parameters of
+/// [`crate::pixels::pixel_params`].
+///
+/// # Errors
+/// As [`plan`], and a pixel without a prediction route.
+pub fn plan_pixels(
+    sampler: &dyn Sampler,
+    stack: &PixelStack,
+    params: &PlanParams,
+    progress: &dyn Progress,
+) -> Result<Plan> {
+    let randomization = resolve(sampler, params)?.1;
+    let count = stack.pixels().len() as f64;
+    let mean = stack.pixels().iter().map(|f| f.integral()).sum::<f64>() / count;
+    let pixel = pixel_params(&params.predict);
+    plan_by(sampler, mean, params, |n| {
+        let image = predict_pixels(
+            stack,
+            sampler,
+            n,
+            RandomizationChoice::Given(randomization),
+            &pixel,
+            progress,
+        )?;
+        Ok(image.as_prediction())
+    })
+}
+
+/// The kind of `sampler` (its balanced counts are known) and the estimator `params` ask for.
+fn resolve(sampler: &dyn Sampler, params: &PlanParams) -> Result<(SamplerKind, Randomization)> {
     let kind = sampler.kind().ok_or_else(|| {
         invalid(
             "sampler",
@@ -241,18 +282,27 @@ pub fn plan(
             "one of specvar's samplers, whose balanced counts are known",
         )
     })?;
+    Ok((
+        kind,
+        params.randomization.resolve(kind.native_randomization()),
+    ))
+}
+
+/// The search of [`plan`] on the predictions of `predict_at`, for an integral of `integral`.
+fn plan_by(
+    sampler: &dyn Sampler,
+    integral: f64,
+    params: &PlanParams,
+    mut predict_at: impl FnMut(usize) -> Result<Prediction>,
+) -> Result<Plan> {
+    let kind = resolve(sampler, params)?.0;
     let d = sampler.dimension();
-    let target = params.target.rmse(integrand.integral())?;
+    let target = params.target.rmse(integral)?;
     let max_n = params.max_n.unwrap_or_else(|| default_max_n(d));
     let counts = kind.facts().balanced_counts;
-    let randomization = params.randomization.resolve(kind.native_randomization());
-    let predict_at = |n: usize| -> Result<(f64, Prediction)> {
-        let problem = Problem::new(sampler, integrand, n)?.with_randomization(randomization);
-        let p = predict_with(&problem, &params.predict, progress)?;
-        Ok((p.variance, p))
-    };
     let ladder = Ladder { counts, d, max_n };
-    match search(&ladder, target * target, predict_at)? {
+    let probe = |n: usize| predict_at(n).map(|p| (p.variance, p));
+    match search(&ladder, target * target, probe)? {
         Outcome::Reached {
             hit,
             below,

@@ -143,3 +143,45 @@ fn bad_targets_are_refused() {
         assert!(matches!(e, Error::InvalidParameter { .. }), "{bad}: {e}");
     }
 }
+
+/// An image of four soft shadows at different angles, planned for its RMSE and measured.
+#[test]
+fn an_image_is_planned_for_its_rmse_and_measured_pixel_by_pixel() {
+    use specvar::pixels::PixelStack;
+    use specvar::plan::plan_pixels;
+    let pixel = |angle: f64| {
+        let m = 32;
+        let (c, s) = (angle.to_radians().cos(), angle.to_radians().sin());
+        let values = (0..m * m)
+            .map(|i| {
+                let (x, y) = (
+                    ((i % m) as f64 + 0.5) / m as f64,
+                    ((i / m) as f64 + 0.5) / m as f64,
+                );
+                let t = ((x * c + y * s - 0.6) / 0.1 + 0.5).clamp(0.0, 1.0);
+                0.2 + 0.7 * t + 0.1 * x
+            })
+            .collect();
+        GridIntegrand::new(m, m, values).unwrap()
+    };
+    let stack = PixelStack::new(2, [10.0, 35.0, 60.0, 85.0].map(pixel).to_vec()).unwrap();
+    let params = PlanParams::new(Target::RelativeRmse(0.01));
+    for kind in [SamplerKind::Jitter, SamplerKind::Sobol] {
+        let sampler = kind.build(2).unwrap();
+        let p = plan_pixels(sampler.as_ref(), &stack, &params, &Silent).unwrap();
+        let mean_variance = stack
+            .pixels()
+            .iter()
+            .map(|f| measured(kind, f, &p, p.n).variance)
+            .sum::<f64>()
+            / 4.0;
+        let rmse = mean_variance.sqrt();
+        assert!(
+            (rmse / p.rmse - 1.0).abs() <= TARGET_BAND && rmse <= p.target * (1.0 + TARGET_BAND),
+            "{kind} at N = {}: predicted {:.4e}, measured {rmse:.4e}, target {:.4e}",
+            p.n,
+            p.rmse,
+            p.target
+        );
+    }
+}

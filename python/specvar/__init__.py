@@ -560,7 +560,7 @@ class ImagePrediction:
     budget: ErrorBudget
     variance: np.ndarray
     half_width: np.ndarray
-    route: str
+    route: Route
 
 
 @_counts_checked
@@ -586,7 +586,7 @@ def predict_image(
         budget=_build(ErrorBudget, raw["budget"]),
         variance=np.array([p["variance"] for p in raw["pixels"]]).reshape(shape),
         half_width=np.array([p["half_width"] for p in raw["pixels"]]).reshape(shape),
-        route=raw["route"],
+        route=_build(Route, raw["route"]),
     )
 
 
@@ -628,15 +628,20 @@ def plan(
     """How many samples: for each of ``samplers`` (default: random, jitter, cmj and sobol in
     2D), the smallest N whose predicted RMSE on ``integrand`` (a specification or cell values,
     as :func:`predict` takes them, or a function ``f(points) -> values``, tabulated first by
-    :func:`tabulate_adaptive` at resolution 256) is at most ``rmse`` (relative to ``|∫f|`` with
+    :func:`tabulate_adaptive` at resolution 256; or a stack of pixels' cell values shaped
+    ``(pixels, h, w)`` or ``(rows, columns, h, w)``, whose image RMSE, the root of the mean of
+    the pixels' variances, is planned) is at most ``rmse`` (relative to ``|∫f|`` with
     ``relative=True``), for the estimator each sampler is used with (``randomization``). The
     search follows the predictions' own rate, a handful of predictions per sampler. Raises
     ``ValueError`` for a target that is not positive and finite, or one that no N up to
     ``max_n`` (default 2^20 in 2D) reaches, naming that N and its RMSE."""
     if callable(integrand):
         integrand = tabulate_adaptive(integrand, resolution=256).values
+    spec, pixels = _integrand(integrand), None
+    if isinstance(spec, np.ndarray) and spec.ndim in (3, 4):
+        spec, pixels = None, np.ascontiguousarray(spec)
     raw = _specvar.plan(
-        _integrand(integrand),
+        spec,
         float(rmse),
         relative,
         None if samplers is None else list(samplers),
@@ -645,6 +650,7 @@ def plan(
         max_n,
         seed,
         cache,
+        pixels,
     )
     return [_build(Plan, r, rmse_interval=tuple(r["rmse_interval"])) for r in raw]
 

@@ -59,7 +59,7 @@ def predict_image(
     cache: bool = True,
 ) -> dict[str, Any]: ...
 def plan(
-    integrand: Union[str, np.ndarray],
+    integrand: Optional[Union[str, np.ndarray]],
     rmse: float,
     relative: bool = False,
     samplers: Optional[list[str]] = None,
@@ -68,6 +68,7 @@ def plan(
     max_n: Optional[int] = None,
     seed: int = 0,
     cache: bool = True,
+    pixels: Optional[np.ndarray] = None,
 ) -> list[dict[str, Any]]: ...
 def monte_carlo(
     integrand: Union[str, np.ndarray, Callable[[np.ndarray], np.ndarray]],

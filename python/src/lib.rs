@@ -362,13 +362,15 @@ fn predict<'py>(
 }
 
 /// For each sampler, the smallest balanced N whose predicted RMSE on `integrand` reaches
-/// `rmse` (relative to the integral's magnitude with `relative`), with the prediction there.
+/// `rmse` (relative to the integral's magnitude with `relative`), with the prediction there; or,
+/// for a stack of per-pixel cell values `(pixels, h, w)` or `(rows, columns, h, w)` in
+/// `pixels`, the image's RMSE.
 #[pyfunction]
-#[pyo3(signature = (integrand, rmse, relative=false, samplers=None, dimension=2, randomization="native", max_n=None, seed=0, cache=true))]
+#[pyo3(signature = (integrand, rmse, relative=false, samplers=None, dimension=2, randomization="native", max_n=None, seed=0, cache=true, pixels=None))]
 #[allow(clippy::too_many_arguments)]
 fn plan<'py>(
     py: Python<'py>,
-    integrand: Bound<'py, PyAny>,
+    integrand: Option<Bound<'py, PyAny>>,
     rmse: f64,
     relative: bool,
     samplers: Option<Vec<String>>,
@@ -377,9 +379,10 @@ fn plan<'py>(
     max_n: Option<usize>,
     seed: u64,
     cache: bool,
+    pixels: Option<PyReadonlyArrayDyn<'py, f64>>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    use specvar::plan::{default_samplers, plan_many, PlanParams, Target};
-    let f = required_integrand(&integrand, dimension)?;
+    use specvar::pixels::PixelStack;
+    use specvar::plan::{default_samplers, plan_many, plan_pixels, PlanParams, Target};
     let target = if relative {
         Target::RelativeRmse(rmse)
     } else {
@@ -409,12 +412,32 @@ fn plan<'py>(
         },
         ..base
     };
-    let plans = py
-        .detach(|| {
-            let refs: Vec<&dyn Sampler> = built.iter().map(|s| s.as_ref()).collect();
-            plan_many(&refs, f.as_ref(), &params, &specvar::progress::Silent)
-        })
-        .or_value_error()?;
+    let refs: Vec<&dyn Sampler> = built.iter().map(|s| s.as_ref()).collect();
+    let silent = specvar::progress::Silent;
+    let plans = match (integrand, pixels) {
+        (None, Some(stack)) => {
+            let stack = PixelStack::from_array(specvar::npy::NpyArray {
+                shape: stack.shape().to_vec(),
+                values: stack.as_array().iter().copied().collect(),
+            })
+            .or_value_error()?;
+            py.detach(|| {
+                refs.iter()
+                    .map(|s| plan_pixels(*s, &stack, &params, &silent))
+                    .collect::<specvar::Result<Vec<_>>>()
+            })
+        }
+        (Some(integrand), None) => {
+            let f = required_integrand(&integrand, dimension)?;
+            py.detach(|| plan_many(&refs, f.as_ref(), &params, &silent))
+        }
+        _ => {
+            return Err(PyValueError::new_err(
+                "give one of an integrand and a stack of pixels",
+            ))
+        }
+    }
+    .or_value_error()?;
     to_py(py, &plans)
 }
 

@@ -77,3 +77,11 @@ def test_a_function_is_tabulated_adaptively_then_planned():
     ours = specvar.plan(visibility, rmse=0.01, relative=True, samplers=["jitter"])
     tabulated = specvar.plan(specvar.tabulate(visibility, 256), rmse=0.01, relative=True, samplers=["jitter"])
     assert [(p.n, p.rmse) for p in ours] == [(p.n, p.rmse) for p in tabulated]
+
+
+def test_an_image_is_planned_for_its_rmse():
+    stack = np.stack([soft_shadow(32) * (1 + 0.2 * c) for c in range(4)])
+    (p,) = specvar.plan(stack, rmse=0.01, relative=True, samplers=["jitter"])
+    image = specvar.predict_image(stack, "jitter", p.n)
+    assert math.sqrt(image.mse) == pytest.approx(p.rmse, rel=1e-12)
+    assert p.rmse <= p.target == pytest.approx(0.01 * stack.mean())

@@ -1,7 +1,8 @@
 //! `specvar plan`: for each sampler, the smallest N whose predicted RMSE reaches a target.
 
 use specvar::integrand::IntegrandSpec;
-use specvar::plan::{default_samplers, plan_many, Plan, PlanParams, Target};
+use specvar::pixels::PixelStack;
+use specvar::plan::{default_samplers, plan_many, plan_pixels, Plan, PlanParams, Target};
 use specvar::predict::PredictParams;
 use specvar::randomization::RandomizationChoice;
 use specvar::sampler::{Sampler, SamplerKind};
@@ -11,8 +12,13 @@ use specvar::Result;
 #[derive(Debug, clap::Args)]
 pub struct Args {
     // The forms are the library's own list, so that the help names every one it accepts.
-    #[arg(long, short = 'f', default_value = "disk", help = format!("Integrand: {}", specvar::integrand::INTEGRAND_FORMS))]
-    pub integrand: IntegrandSpec,
+    #[arg(long, short = 'f', help = format!("Integrand: {} [default: disk]", specvar::integrand::INTEGRAND_FORMS))]
+    pub integrand: Option<IntegrandSpec>,
+    /// An image instead of one integrand: a .npy stack of per-pixel grids (as for predict
+    /// --pixels), planned for the image's RMSE (the root of the mean of the pixels' variances;
+    /// with --relative, relative to the image's mean).
+    #[arg(long, conflicts_with = "integrand")]
+    pub pixels: Option<std::path::PathBuf>,
     /// The target root-mean-square error (with --relative: relative to the integral).
     #[arg(long)]
     pub rmse: f64,
@@ -59,7 +65,6 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
         },
         ..base
     };
-    let f = args.integrand.build(args.dimension)?;
     let kinds = match &args.samplers {
         Some(kinds) => kinds.clone(),
         None => default_samplers(args.dimension),
@@ -69,11 +74,36 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
         .map(|&k| ctx.sampler(k, args.dimension))
         .collect::<Result<Vec<Box<dyn Sampler>>>>()?;
     let refs: Vec<&dyn Sampler> = samplers.iter().map(|s| s.as_ref()).collect();
-    let plans = plan_many(&refs, f.as_ref(), &params, &super::bars::Bars::default())?;
+    let bars = super::bars::Bars::default();
+    let (label, plans) = match &args.pixels {
+        Some(path) => {
+            let stack = PixelStack::read(path)?;
+            let plans = refs
+                .iter()
+                .map(|s| plan_pixels(*s, &stack, &params, &bars))
+                .collect::<Result<Vec<Plan>>>()?;
+            let label = format!(
+                "the {} × {} pixels of {}",
+                stack.columns(),
+                stack.rows(),
+                path.display()
+            );
+            (label, plans)
+        }
+        None => {
+            let spec = args.integrand.clone().unwrap_or(IntegrandSpec::Ball {
+                radius: 0.25,
+                height: 1.0,
+                centre: None,
+            });
+            let f = spec.build(args.dimension)?;
+            (f.label(), plan_many(&refs, f.as_ref(), &params, &bars)?)
+        }
+    };
     if args.json {
         outln!("{}", super::to_json(&plans)?)?;
     } else {
-        print_text(&f.label(), target, &plans)?;
+        print_text(&label, target, &plans)?;
     }
     Ok(())
 }
