@@ -108,6 +108,18 @@ def _integrand(integrand: Any) -> Any:
     return np.asarray(integrand, dtype=np.float64)
 
 
+def _check_tabulation_memory(resolution: int, arrays: int) -> None:
+    """Raises ``ValueError`` when ``arrays`` float64 arrays of ``resolution²`` entries would
+    need more memory than the budget (:func:`set_budget`) allows."""
+    memory_gib, _ = _specvar.set_budget(None, None)
+    needed = arrays * 8 * float(resolution) ** 2 / 2**30
+    if needed > memory_gib:
+        raise ValueError(
+            f"tabulating at resolution {resolution} would need {needed:.3g} GiB, above the budget "
+            f"of {memory_gib:.3g} GiB; lower the resolution, or raise the budget (set_budget)"
+        )
+
+
 def tabulate(f: PythonIntegrand, resolution: int = 256) -> np.ndarray:
     """A function of one's own on the unit square as cell values ``values[y, x]`` at the
     centres of a ``resolution × resolution`` grid: the piecewise-constant integrand that
@@ -118,14 +130,8 @@ def tabulate(f: PythonIntegrand, resolution: int = 256) -> np.ndarray:
     and values would need more memory than the budget (:func:`set_budget`) allows."""
     if isinstance(resolution, bool) or not isinstance(resolution, (int, np.integer)) or resolution < 1:
         raise ValueError(f"invalid resolution: {resolution!r} (a positive integer of cells per side)")
-    memory_gib, _ = _specvar.set_budget(None, None)
     # Three float64 arrays of resolution² entries: the two coordinates and the values.
-    needed = 3 * 8 * float(resolution) ** 2 / 2**30
-    if needed > memory_gib:
-        raise ValueError(
-            f"tabulating at resolution {resolution} would need {needed:.3g} GiB, above the budget "
-            f"of {memory_gib:.3g} GiB; lower the resolution, or raise the budget (set_budget)"
-        )
+    _check_tabulation_memory(resolution, 3)
     c = (np.arange(resolution) + 0.5) / resolution
     x, y = np.meshgrid(c, c, indexing="xy")
     values = np.asarray(f(np.column_stack([x.ravel(), y.ravel()])), dtype=np.float64)
@@ -174,13 +180,8 @@ def tabulate_adaptive(
         raise ValueError(f"invalid resolution: {resolution} (start · 2^L with start = {start})")
     if not (tolerance > 0 and math.isfinite(tolerance)):
         raise ValueError(f"invalid tolerance: {tolerance!r} (a positive number)")
-    memory_gib, _ = _specvar.set_budget(None, None)
-    needed = 4 * 8 * float(resolution) ** 2 / 2**30
-    if needed > memory_gib:
-        raise ValueError(
-            f"tabulating at resolution {resolution} would need {needed:.3g} GiB, above the budget "
-            f"of {memory_gib:.3g} GiB; lower the resolution, or raise the budget (set_budget)"
-        )
+    # The values, the gaps, the next level's children and its mask.
+    _check_tabulation_memory(resolution, 4)
 
     def evaluate(m: int, cells_y: np.ndarray, cells_x: np.ndarray) -> np.ndarray:
         points = np.column_stack([(cells_x + 0.5) / m, (cells_y + 0.5) / m])

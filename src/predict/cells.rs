@@ -291,6 +291,21 @@ pub fn occupancy_variance(
     Ok(estimate)
 }
 
+/// How many terms an estimate starts with and may reach: the ones `params.realizations` fixes,
+/// else `initial` first and as many as `params.work_budget_seconds` affords at `per_term`
+/// seconds each, within `[initial, most]`.
+pub(crate) fn terms_within_budget(
+    params: &super::PredictParams,
+    per_term: f64,
+    (initial, most): (usize, usize),
+) -> (usize, usize) {
+    let affordable = (params.work_budget_seconds / per_term.max(f64::MIN_POSITIVE)) as usize;
+    let max = params
+        .realizations
+        .unwrap_or_else(|| affordable.clamp(initial, most));
+    (params.realizations.unwrap_or(initial).min(max), max)
+}
+
 /// The mean of `term(0), term(1), …` and its standard error: `counts.0` terms first, then as
 /// many as the spread so far says the relative standard error `target_noise` of `offset` plus
 /// the mean needs, up to `counts.1`. Terms are computed in parallel and kept in index order, so
@@ -663,11 +678,7 @@ fn estimate_occupancy(
         }
     };
     let per_pattern = n as f64 * (cost_ns * 1e-9 + CELL_SECONDS);
-    let affordable = (params.work_budget_seconds / per_pattern) as usize;
-    let initial = params.realizations.unwrap_or(INITIAL_PATTERNS);
-    let max = params
-        .realizations
-        .unwrap_or_else(|| affordable.clamp(INITIAL_PATTERNS, MAX_PATTERNS));
+    let (initial, max) = terms_within_budget(params, per_pattern, (INITIAL_PATTERNS, MAX_PATTERNS));
     params.budget.check(
         "the occupancy estimate",
         Needs {

@@ -18,15 +18,16 @@
 //! across the faces, more so as N grows (`docs/theory.md`, "Strata under a shift").
 
 use super::cell_moments::{check_box_moments, shifted_cell_mean_and_variance, CELL_SECONDS};
-use super::cells::{cell_of, mean_to_target_noise, CellOrigin, Occupancy};
-use super::{ErrorBudget, Form, PredictParams, Prediction, Route, SpectrumOrigin};
+use super::cells::{cell_of, mean_to_target_noise, terms_within_budget, CellOrigin, Occupancy};
+use super::shifted_gains::shifted_prediction;
+use super::{PredictParams, Prediction};
 use crate::budget::Needs;
 use crate::error::{Error, Result};
 use crate::integrand::Integrand;
 use crate::pointset::PointSet;
 use crate::progress::Progress;
 use crate::quadrature::CompensatedSum;
-use crate::randomization::{toroidal_shift, Randomization};
+use crate::randomization::toroidal_shift;
 use crate::sampler::{Sampler, SamplerKind};
 
 /// (Pattern, shift) pairs the average starts with.
@@ -73,11 +74,7 @@ pub(crate) fn predict_shifted_cells(
     }
     // Each point's cell wrapped across the faces: up to 2^d boxes' moments.
     let per_pair = n as f64 * (kind.cost_per_point_ns() * 1e-9 + CELL_SECONDS * (1u32 << d) as f64);
-    let affordable = (params.work_budget_seconds / per_pair) as usize;
-    let max = params
-        .realizations
-        .unwrap_or_else(|| affordable.clamp(INITIAL_PAIRS, MAX_PAIRS));
-    let initial = params.realizations.unwrap_or(INITIAL_PAIRS).min(max);
+    let (initial, max) = terms_within_budget(params, per_pair, (INITIAL_PAIRS, MAX_PAIRS));
     params.budget.check(
         "the occupancy estimate under shifts",
         Needs {
@@ -113,28 +110,19 @@ pub(crate) fn predict_shifted_cells(
         sampler.name(),
         estimate.patterns
     );
-    Ok(Prediction {
-        variance: estimate.variance,
-        randomization: Randomization::Shift,
-        route: Route {
-            form: Form::Cells,
-            spectrum: SpectrumOrigin::Cells(CellOrigin {
-                cells_per_axis: grid.iter().copied().max().unwrap_or(1),
-                cells: grid.iter().product(),
-                occupancy: Occupancy::EstimatedOverShifts {
-                    patterns: estimate.patterns,
-                },
-            }),
+    let origin = CellOrigin {
+        cells_per_axis: grid.iter().copied().max().unwrap_or(1),
+        cells: grid.iter().product(),
+        occupancy: Occupancy::EstimatedOverShifts {
+            patterns: estimate.patterns,
         },
+    };
+    let evaluations = (estimate.patterns * n) as u64;
+    Ok(shifted_prediction(
+        &estimate,
+        origin,
         reason,
-        budget: ErrorBudget {
-            spectrum_noise: estimate.standard_error,
-            ..Default::default()
-        },
-        n,
-        dimension: d,
-        dc_term: 0.0,
-        evaluations: (estimate.patterns * n) as u64,
-        alternatives: Vec::new(),
-    })
+        (n, d),
+        evaluations,
+    ))
 }

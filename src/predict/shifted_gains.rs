@@ -17,7 +17,9 @@
 //! more so as N grows (`docs/theory.md`, "Scrambled nets under a shift").
 
 use super::cell_moments::{check_box_moments, CELL_SECONDS};
-use super::cells::{mean_to_target_noise, CellOrigin, Occupancy};
+use super::cells::{
+    mean_to_target_noise, terms_within_budget, CellOrigin, Occupancy, OccupancyEstimate,
+};
 use super::owen_gains::ScrambledNet;
 use super::{ErrorBudget, Form, PredictParams, Prediction, Route, SpectrumOrigin};
 use crate::error::Result;
@@ -49,12 +51,8 @@ pub(crate) fn predict_shifted_net(
     let d = f.dimension();
     let pattern = sampler.sample(n, params.seed, 0)?;
     let net = ScrambledNet::new(&pattern, d, &params.budget)?;
-    let per_shift = (net.cells as f64 * CELL_SECONDS).max(f64::MIN_POSITIVE);
-    let affordable = (params.work_budget_seconds / per_shift) as usize;
-    let max = params
-        .realizations
-        .unwrap_or_else(|| affordable.clamp(INITIAL_SHIFTS, MAX_SHIFTS));
-    let initial = params.realizations.unwrap_or(INITIAL_SHIFTS).min(max);
+    let per_shift = net.cells as f64 * CELL_SECONDS;
+    let (initial, max) = terms_within_budget(params, per_shift, (INITIAL_SHIFTS, MAX_SHIFTS));
     let estimate = mean_to_target_noise(
         "Owen's gains over shifts",
         (initial.max(2), max.max(2)),
@@ -75,21 +73,42 @@ pub(crate) fn predict_shifted_net(
         sampler.name(),
         estimate.patterns
     );
-    Ok(Prediction {
+    let origin = CellOrigin {
+        cells_per_axis: CellRule::Dyadic
+            .grid(n, d)
+            .and_then(|g| g.into_iter().max())
+            .unwrap_or(1),
+        cells: net.cells,
+        occupancy: Occupancy::GainsOverShifts {
+            shifts: estimate.patterns,
+        },
+    };
+    let evaluations = (net.cells * estimate.patterns) as u64;
+    Ok(shifted_prediction(
+        &estimate,
+        origin,
+        reason,
+        (n, d),
+        evaluations,
+    ))
+}
+
+/// The prediction of a randomly shifted estimator whose variance is `estimate`, a mean of exact
+/// conditional terms over shifts: the cell form, its noise the estimate's standard error and
+/// no other term.
+pub(super) fn shifted_prediction(
+    estimate: &OccupancyEstimate,
+    origin: CellOrigin,
+    reason: String,
+    (n, d): (usize, usize),
+    evaluations: u64,
+) -> Prediction {
+    Prediction {
         variance: estimate.variance,
         randomization: Randomization::Shift,
         route: Route {
             form: Form::Cells,
-            spectrum: SpectrumOrigin::Cells(CellOrigin {
-                cells_per_axis: CellRule::Dyadic
-                    .grid(n, d)
-                    .and_then(|g| g.into_iter().max())
-                    .unwrap_or(1),
-                cells: net.cells,
-                occupancy: Occupancy::GainsOverShifts {
-                    shifts: estimate.patterns,
-                },
-            }),
+            spectrum: SpectrumOrigin::Cells(origin),
         },
         reason,
         budget: ErrorBudget {
@@ -99,7 +118,7 @@ pub(crate) fn predict_shifted_net(
         n,
         dimension: d,
         dc_term: 0.0,
-        evaluations: (net.cells * estimate.patterns) as u64,
+        evaluations,
         alternatives: Vec::new(),
-    })
+    }
 }
