@@ -202,6 +202,12 @@ pub struct Plan {
     pub rate: Option<f64>,
     /// Predictions made.
     pub predictions: usize,
+    /// Whether N reaches the target. Only the rows of [`plan_many`] and [`plan_pixels_many`]
+    /// can be `false`: no count up to the limit reaches the target, and N is the largest count
+    /// predicted, with its RMSE.
+    pub reached: bool,
+    /// What kept the search from reaching the target, in words (`None` when it did).
+    pub limit: Option<String>,
 }
 
 /// Plans the number of samples for `sampler` on `integrand`: the smallest balanced count whose
@@ -235,6 +241,16 @@ pub fn plan(
     params: &PlanParams,
     progress: &dyn Progress,
 ) -> Result<Plan> {
+    reached(plan_row(sampler, integrand, params, progress)?)
+}
+
+/// [`plan`]'s row, reached or not.
+fn plan_row(
+    sampler: &dyn Sampler,
+    integrand: &dyn Integrand,
+    params: &PlanParams,
+    progress: &dyn Progress,
+) -> Result<Plan> {
     let randomization = resolve(sampler, params)?.1;
     plan_by(sampler, integrand.integral(), params, |n| {
         let problem = Problem::new(sampler, integrand, n)?.with_randomization(randomization);
@@ -251,6 +267,16 @@ pub fn plan(
 /// # Errors
 /// As [`plan`], and a pixel without a prediction route.
 pub fn plan_pixels(
+    sampler: &dyn Sampler,
+    stack: &PixelStack,
+    params: &PlanParams,
+    progress: &dyn Progress,
+) -> Result<Plan> {
+    reached(plan_pixels_row(sampler, stack, params, progress)?)
+}
+
+/// [`plan_pixels`]'s row, reached or not.
+fn plan_pixels_row(
     sampler: &dyn Sampler,
     stack: &PixelStack,
     params: &PlanParams,
@@ -316,39 +342,92 @@ fn plan_by(
             rate,
             probes,
         )),
-        Outcome::Short { largest, limit } => Err(Error::Unreachable {
-            sampler: kind.name().to_string(),
-            target,
-            limit: match limit {
+        Outcome::Short {
+            largest,
+            limit,
+            probes,
+        } => {
+            let limit = match limit {
                 Limit::MaxN => {
                     format!("N ≤ {max_n} (raise the largest N: --max-n, max_n in Python)")
                 }
                 Limit::Budget => "the budget (raise --budget-memory or --budget-seconds)".into(),
                 Limit::Predictions => format!("{MAX_PREDICTIONS} predictions"),
-            },
-            largest_n: largest.n,
-            rmse: largest.variance.max(0.0).sqrt(),
-        }),
+            };
+            Ok(Plan {
+                reached: false,
+                limit: Some(limit),
+                ..describe(kind.name(), target, counts, (largest, None), None, probes)
+            })
+        }
     }
 }
 
-/// Plans several samplers on one integrand ([`plan`] for each, in order).
+/// `plan` if it reaches its target, else the error that says how far it got.
+fn reached(plan: Plan) -> Result<Plan> {
+    if plan.reached {
+        Ok(plan)
+    } else {
+        Err(unreachable(&plan))
+    }
+}
+
+/// The error of a plan that does not reach its target.
+fn unreachable(plan: &Plan) -> Error {
+    Error::Unreachable {
+        sampler: plan.sampler.clone(),
+        target: plan.target,
+        limit: plan.limit.clone().unwrap_or_default(),
+        largest_n: plan.n,
+        rmse: plan.rmse,
+    }
+}
+
+/// `rows` if at least one reaches its target (or there are none), else the first one's error.
+fn some_reached(rows: Vec<Plan>) -> Result<Vec<Plan>> {
+    match rows.iter().any(|p| p.reached) || rows.is_empty() {
+        true => Ok(rows),
+        false => Err(unreachable(&rows[0])),
+    }
+}
+
+/// Plans several samplers on one integrand ([`plan`] for each, in order). A sampler that does
+/// not reach the target within the limit is a row with `reached: false` (its largest N and
+/// the RMSE there), so that the others still answer.
 ///
 /// # Errors
-/// The first sampler's error, as [`plan`].
+/// As [`plan`], except that a target out of reach is an error only when no sampler reaches it.
 pub fn plan_many(
     samplers: &[&dyn Sampler],
     integrand: &dyn Integrand,
     params: &PlanParams,
     progress: &dyn Progress,
 ) -> Result<Vec<Plan>> {
-    samplers
+    let rows = samplers
         .iter()
-        .map(|s| plan(*s, integrand, params, progress))
-        .collect()
+        .map(|s| plan_row(*s, integrand, params, progress))
+        .collect::<Result<Vec<Plan>>>()?;
+    some_reached(rows)
 }
 
-/// The plan of a search that reached the target at `hit`.
+/// Plans several samplers on an image ([`plan_pixels`] for each), rows as [`plan_many`]'s.
+///
+/// # Errors
+/// As [`plan_many`].
+pub fn plan_pixels_many(
+    samplers: &[&dyn Sampler],
+    stack: &PixelStack,
+    params: &PlanParams,
+    progress: &dyn Progress,
+) -> Result<Vec<Plan>> {
+    let rows = samplers
+        .iter()
+        .map(|s| plan_pixels_row(*s, stack, params, progress))
+        .collect::<Result<Vec<Plan>>>()?;
+    some_reached(rows)
+}
+
+/// The plan whose prediction at N is `hit`'s (reached unless the caller says otherwise).
 fn describe(
     sampler: &str,
     target: f64,
@@ -380,6 +459,8 @@ fn describe(
         }),
         rate,
         predictions: probes,
+        reached: true,
+        limit: None,
     }
 }
 
@@ -456,7 +537,11 @@ enum Outcome<T> {
         probes: usize,
     },
     /// No candidate up to the limit reaches the target; the largest one predicted.
-    Short { largest: Probe<T>, limit: Limit },
+    Short {
+        largest: Probe<T>,
+        limit: Limit,
+        probes: usize,
+    },
 }
 
 /// Whether `e` says a prediction at this N would exceed the budget (a smaller N may not).
@@ -609,7 +694,11 @@ fn conclude<T>(
             rate,
             probes,
         }),
-        (Some(largest), None) => Ok(Outcome::Short { largest, limit }),
+        (Some(largest), None) => Ok(Outcome::Short {
+            largest,
+            limit,
+            probes,
+        }),
         (None, None) => Err(refused.map_or_else(
             || invalid("plan", "no prediction", "a count the budget allows"),
             |(_, e)| e,
@@ -777,7 +866,7 @@ mod tests {
     #[test]
     fn a_target_beyond_the_largest_n_is_short_with_its_variance() {
         let (out, _) = run(CountRule::PowerOfTwo, 1.0, -1.0, 1e-9, 1 << 20);
-        let Outcome::Short { largest, limit } = out else {
+        let Outcome::Short { largest, limit, .. } = out else {
             panic!("reached")
         };
         assert_eq!((largest.n, limit), (1 << 20, Limit::MaxN));
@@ -804,7 +893,7 @@ mod tests {
             }
         })
         .unwrap();
-        let Outcome::Short { largest, limit } = out else {
+        let Outcome::Short { largest, limit, .. } = out else {
             panic!("reached")
         };
         assert_eq!(limit, Limit::Budget);

@@ -171,3 +171,38 @@ fn an_image_is_planned_for_its_rmse_and_measured_pixel_by_pixel() {
         );
     }
 }
+
+/// Several samplers: one out of reach is a row saying so, and the others still answer; all out
+/// of reach is the first one's error.
+#[test]
+fn a_sampler_out_of_reach_is_a_row_beside_those_that_reach() {
+    use specvar::plan::plan_many;
+    let f = edge();
+    let random = SamplerKind::Random.build(2).unwrap();
+    let jitter = SamplerKind::Jitter.build(2).unwrap();
+    let params = PlanParams {
+        max_n: Some(4096),
+        ..PlanParams::new(Target::Rmse(1e-3))
+    };
+    let rows = plan_many(
+        &[random.as_ref(), jitter.as_ref()],
+        f.as_ref(),
+        &params,
+        &Silent,
+    )
+    .unwrap();
+    assert!(!rows[0].reached && rows[0].n == 4096 && rows[0].limit.is_some());
+    assert!(rows[0].rmse > 1e-3);
+    assert!(rows[1].reached && rows[1].rmse <= 1e-3 && rows[1].limit.is_none());
+    let e = plan_many(&[random.as_ref()], f.as_ref(), &params, &Silent).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            Error::Unreachable {
+                largest_n: 4096,
+                ..
+            }
+        ),
+        "{e}"
+    );
+}

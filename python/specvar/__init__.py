@@ -612,6 +612,8 @@ class Plan:
     below: Optional[dict]
     rate: Optional[float]
     predictions: int
+    reached: bool = True
+    limit: Optional[str] = None
 
 
 @_counts_checked
@@ -633,9 +635,11 @@ def plan(
     ``(pixels, h, w)`` or ``(rows, columns, h, w)``, whose image RMSE, the root of the mean of
     the pixels' variances, is planned) is at most ``rmse`` (relative to ``|∫f|`` with
     ``relative=True``), for the estimator each sampler is used with (``randomization``). The
-    search follows the predictions' own rate, a handful of predictions per sampler. Raises
-    ``ValueError`` for a target that is not positive and finite, or one that no N up to
-    ``max_n`` (default 2^20 in 2D) reaches, naming that N and its RMSE."""
+    search follows the predictions' own rate, a handful of predictions per sampler. A sampler
+    that no N up to ``max_n`` (default 2^20 in 2D) brings to the target is a row with
+    ``reached=False``, its largest N and the RMSE there, and ``limit`` saying what stopped it.
+    Raises ``ValueError`` for a target that is not positive and finite, or one that no sampler
+    reaches, naming that N and its RMSE."""
     if callable(integrand):
         integrand = tabulate_adaptive(integrand, resolution=256).values
     spec, pixels = _integrand(integrand), None

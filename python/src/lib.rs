@@ -382,7 +382,7 @@ fn plan<'py>(
     pixels: Option<PyReadonlyArrayDyn<'py, f64>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     use specvar::pixels::PixelStack;
-    use specvar::plan::{default_samplers, plan_many, plan_pixels, PlanParams, Target};
+    use specvar::plan::{default_samplers, plan_many, plan_pixels_many, PlanParams, Target};
     let target = if relative {
         Target::RelativeRmse(rmse)
     } else {
@@ -421,11 +421,7 @@ fn plan<'py>(
                 values: stack.as_array().iter().copied().collect(),
             })
             .or_value_error()?;
-            py.detach(|| {
-                refs.iter()
-                    .map(|s| plan_pixels(*s, &stack, &params, &silent))
-                    .collect::<specvar::Result<Vec<_>>>()
-            })
+            py.detach(|| plan_pixels_many(&refs, &stack, &params, &silent))
         }
         (Some(integrand), None) => {
             let f = required_integrand(&integrand, dimension)?;

@@ -2,7 +2,7 @@
 
 use specvar::integrand::IntegrandSpec;
 use specvar::pixels::PixelStack;
-use specvar::plan::{default_samplers, plan_many, plan_pixels, Plan, PlanParams, Target};
+use specvar::plan::{default_samplers, plan_many, plan_pixels_many, Plan, PlanParams, Target};
 use specvar::predict::PredictParams;
 use specvar::randomization::RandomizationChoice;
 use specvar::sampler::{Sampler, SamplerKind};
@@ -78,10 +78,7 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
     let (label, plans) = match &args.pixels {
         Some(path) => {
             let stack = PixelStack::read(path)?;
-            let plans = refs
-                .iter()
-                .map(|s| plan_pixels(*s, &stack, &params, &bars))
-                .collect::<Result<Vec<Plan>>>()?;
+            let plans = plan_pixels_many(&refs, &stack, &params, &bars)?;
             let label = format!(
                 "the {} × {} pixels of {}",
                 stack.columns(),
@@ -122,9 +119,11 @@ fn print_text(integrand: &str, target: Target, plans: &[Plan]) -> Result<()> {
         "rate"
     )?;
     for p in plans {
-        let below = p
-            .below
-            .map_or("-".to_string(), |b| format!("{}, {:.3e}", b.n, b.rmse));
+        let below = match (p.reached, p.below) {
+            (false, _) => "not reached".to_string(),
+            (true, Some(b)) => format!("{}, {:.3e}", b.n, b.rmse),
+            (true, None) => "-".to_string(),
+        };
         let rate = p.rate.map_or("-".to_string(), |r| format!("{r:.2}"));
         outln!(
             "{:<10} {:<13} {:>8} {:>11.4e} [{:>10.4e}, {:>10.4e}] {:>20} {:>7}",
@@ -145,6 +144,13 @@ fn print_text(integrand: &str, target: Target, plans: &[Plan]) -> Result<()> {
             p.predictions,
             p.counts,
             p.route
+        )?;
+    }
+    for p in plans.iter().filter(|p| !p.reached) {
+        outln!(
+            "{} does not reach the target within {}: its N is the largest predicted",
+            p.sampler,
+            p.limit.as_deref().unwrap_or("the limit")
         )?;
     }
     Ok(())
