@@ -13,7 +13,13 @@
 //!
 //! Each prediction is for the estimator the sampler is used with (its native randomization,
 //! unless another is asked for) and carries its route and error budget; the plan reports them,
-//! with the RMSE's interval at the budget's 99% width.
+//! with the RMSE's interval at the budget's 99% width. A variance that is not monotone in N
+//! (strata of different shapes on an edge) makes "smallest" mean the smallest among the counts
+//! predicted near the crossing.
+//!
+//! [`plan_pixels`] plans an image: the samples per pixel whose image RMSE, the root of the mean
+//! of the pixels' variances, reaches the target. [`plan_many`] and [`plan_pixels_many`] plan
+//! several samplers, a sampler out of reach being a row that says so.
 
 use crate::error::{invalid, Error, Result};
 use crate::integrand::Integrand;
