@@ -166,7 +166,7 @@ pub fn read_grid_file(path: &Path) -> Result<GridIntegrand> {
 /// A 2D array `values[y, x]` (row 0 at `y = 0`) as a grid.
 ///
 /// # Errors
-/// An array that is not 2D, or larger than [`MAX_GRID_CELLS`].
+/// An array that is not 2D, or larger than the largest grid (`MAX_GRID_CELLS`, 2^26 cells).
 pub fn grid_of_array(array: crate::npy::NpyArray) -> Result<GridIntegrand> {
     let &[height, width] = array.shape.as_slice() else {
         return Err(Error::format(
