@@ -265,8 +265,13 @@ pub fn predict_pixels(
                         seed: realization_rng(params.seed, p as u64, Stream::Trial).next_u64(),
                         ..*params
                     };
-                    let prediction = predict_with(&problem, &own, &Silent).map_err(|e| {
-                        invalid("pixel", p, format!("a pixel with a prediction route: {e}"))
+                    // A pixel without a route is named; other errors (a budget, a sampler)
+                    // keep their kind, which callers such as a plan's search read.
+                    let prediction = predict_with(&problem, &own, &Silent).map_err(|e| match e {
+                        Error::OutsideValidity { .. } => {
+                            invalid("pixel", p, format!("a pixel with a prediction route: {e}"))
+                        }
+                        other => other,
                     });
                     progress.advance(1);
                     prediction

@@ -257,11 +257,16 @@ fn plan_row(
     params: &PlanParams,
     progress: &dyn Progress,
 ) -> Result<Plan> {
-    let randomization = resolve(sampler, params)?.1;
-    plan_by(sampler, integrand.integral(), params, |n| {
-        let problem = Problem::new(sampler, integrand, n)?.with_randomization(randomization);
-        predict_with(&problem, &params.predict, progress)
-    })
+    let (kind, randomization) = resolve(sampler, params)?;
+    plan_by(
+        (kind, sampler.dimension()),
+        integrand.integral(),
+        params,
+        |n| {
+            let problem = Problem::new(sampler, integrand, n)?.with_randomization(randomization);
+            predict_with(&problem, &params.predict, progress)
+        },
+    )
 }
 
 /// Plans the number of samples per pixel for `sampler` on an image: the smallest balanced count
@@ -288,11 +293,11 @@ fn plan_pixels_row(
     params: &PlanParams,
     progress: &dyn Progress,
 ) -> Result<Plan> {
-    let randomization = resolve(sampler, params)?.1;
+    let (kind, randomization) = resolve(sampler, params)?;
     let count = stack.pixels().len() as f64;
     let mean = stack.pixels().iter().map(|f| f.integral()).sum::<f64>() / count;
     let pixel = pixel_params(&params.predict);
-    plan_by(sampler, mean, params, |n| {
+    plan_by((kind, sampler.dimension()), mean, params, |n| {
         let image = predict_pixels(
             stack,
             sampler,
@@ -320,15 +325,14 @@ fn resolve(sampler: &dyn Sampler, params: &PlanParams) -> Result<(SamplerKind, R
     ))
 }
 
-/// The search of [`plan`] on the predictions of `predict_at`, for an integral of `integral`.
+/// The search of [`plan`] for a sampler of `kind` in dimension `d` on the predictions of
+/// `predict_at`, for an integral of `integral`.
 fn plan_by(
-    sampler: &dyn Sampler,
+    (kind, d): (SamplerKind, usize),
     integral: f64,
     params: &PlanParams,
     mut predict_at: impl FnMut(usize) -> Result<Prediction>,
 ) -> Result<Plan> {
-    let kind = resolve(sampler, params)?.0;
-    let d = sampler.dimension();
     let target = params.target.rmse(integral)?;
     let max_n = params.max_n.unwrap_or_else(|| default_max_n(d));
     let counts = kind.facts().balanced_counts;

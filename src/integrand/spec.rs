@@ -118,6 +118,18 @@ pub const INTEGRAND_FORMS: &str = "disk, ball or gaussian, with optional overrid
                                    polygon:x,y;x,y;x,y or polygon:@FILE, \
                                    edge:theta=30,offset=0.5, or agaussian:s1=0.05,s2=0.02,angle=30";
 
+/// The disk (`disk`: radius 0.25 at the centre, height 1), the integrand the command line uses
+/// when none is named.
+impl Default for IntegrandSpec {
+    fn default() -> Self {
+        IntegrandSpec::Ball {
+            radius: 0.25,
+            height: 1.0,
+            centre: None,
+        }
+    }
+}
+
 /// Parses an integrand specification.
 ///
 /// # Errors

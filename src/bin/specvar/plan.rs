@@ -88,11 +88,7 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
             (label, plans)
         }
         None => {
-            let spec = args.integrand.clone().unwrap_or(IntegrandSpec::Ball {
-                radius: 0.25,
-                height: 1.0,
-                centre: None,
-            });
+            let spec = args.integrand.clone().unwrap_or_default();
             let f = spec.build(args.dimension)?;
             (f.label(), plan_many(&refs, f.as_ref(), &params, &bars)?)
         }

@@ -119,11 +119,10 @@ fn run_pixels(
     let stack = PixelStack::read(path)?;
     let sampler = ctx.sampler(kind, 2)?;
     sampler.check_count(n)?;
+    let pixel = pixel_params(params);
     let own = PredictParams {
-        target_noise: args
-            .target_noise
-            .unwrap_or(pixel_params(params).target_noise),
-        ..pixel_params(params)
+        target_noise: args.target_noise.unwrap_or(pixel.target_noise),
+        ..pixel
     };
     let image = predict_pixels(
         &stack,

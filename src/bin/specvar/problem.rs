@@ -52,11 +52,7 @@ pub enum Source {
 impl ProblemArgs {
     /// The integrand named, or the disk.
     pub fn integrand(&self) -> IntegrandSpec {
-        self.integrand.clone().unwrap_or(IntegrandSpec::Ball {
-            radius: 0.25,
-            height: 1.0,
-            centre: None,
-        })
+        self.integrand.clone().unwrap_or_default()
     }
 
     /// Builds the sampler or reads the file, and builds the integrand in its dimension.
