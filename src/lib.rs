@@ -65,6 +65,8 @@
 //!   (`.npy`), its variance, and the image's MSE.
 //! - [`plan`]: how many samples: for each sampler, the smallest of its balanced counts whose
 //!   predicted RMSE reaches a target, found along the predictions' own rate.
+//! - [`pilot`]: the same from a pilot (a few renders at a small count) instead of the pixels'
+//!   integrands, carried to N by the sampler's predictions on discontinuities.
 //! - [`anisotropy`]: the variance of an edge against its angle, and its rates against N.
 //! - [`atlas`]: every 2D sampler on one page.
 //! - [`montecarlo`]: empirical variance with 99% intervals, pools for costly samplers.
@@ -112,6 +114,7 @@ pub mod metrics;
 pub mod montecarlo;
 pub mod npy;
 pub mod output;
+pub mod pilot;
 pub mod pixels;
 pub mod plan;
 pub mod plot;

@@ -311,7 +311,10 @@ fn plan_pixels_row(
 }
 
 /// The kind of `sampler` (its balanced counts are known) and the estimator `params` ask for.
-fn resolve(sampler: &dyn Sampler, params: &PlanParams) -> Result<(SamplerKind, Randomization)> {
+pub(crate) fn resolve(
+    sampler: &dyn Sampler,
+    params: &PlanParams,
+) -> Result<(SamplerKind, Randomization)> {
     let kind = sampler.kind().ok_or_else(|| {
         invalid(
             "sampler",
@@ -327,7 +330,7 @@ fn resolve(sampler: &dyn Sampler, params: &PlanParams) -> Result<(SamplerKind, R
 
 /// The search of [`plan`] for a sampler of `kind` in dimension `d` on the predictions of
 /// `predict_at`, for an integral of `integral`.
-fn plan_by(
+pub(crate) fn plan_by(
     (kind, d): (SamplerKind, usize),
     integral: f64,
     params: &PlanParams,
@@ -374,7 +377,7 @@ fn plan_by(
 }
 
 /// `plan` if it reaches its target, else the error that says how far it got.
-fn reached(plan: Plan) -> Result<Plan> {
+pub(crate) fn reached(plan: Plan) -> Result<Plan> {
     if plan.reached {
         Ok(plan)
     } else {

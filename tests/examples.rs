@@ -66,17 +66,20 @@ fn fixtures(dir: &Path) {
         .map(|i| (((i % 64) * 4) ^ ((i / 64) * 3)) as u8)
         .collect();
     std::fs::write(dir.join("pixels.npy"), pixel_stack_npy()).unwrap();
+    std::fs::write(dir.join("pilot.npy"), pilot_npy()).unwrap();
     let png = specvar::plot::gray_png(&pixels, 64, 64).unwrap();
     for name in ["my_image.png", "photo.png"] {
         std::fs::write(dir.join(name), &png).unwrap();
     }
 }
 
-/// A `.npy` stack of 2 × 3 pixels, each a 16 × 16 grid of an edge at its own angle, as
-/// `numpy.save` writes an `f8` array of shape `(2, 3, 16, 16)`.
-fn pixel_stack_npy() -> Vec<u8> {
-    let mut header =
-        "{'descr': '<f8', 'fortran_order': False, 'shape': (2, 3, 16, 16), }".to_string();
+/// The bytes `numpy.save` writes for an `f8` array of `shape` holding `values` in C order.
+fn npy(shape: &[usize], values: &[f64]) -> Vec<u8> {
+    let dims: Vec<String> = shape.iter().map(|d| d.to_string()).collect();
+    let mut header = format!(
+        "{{'descr': '<f8', 'fortran_order': False, 'shape': ({}), }}",
+        dims.join(", ")
+    );
     while !(10 + header.len() + 1).is_multiple_of(64) {
         header.push(' ');
     }
@@ -84,19 +87,48 @@ fn pixel_stack_npy() -> Vec<u8> {
     let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
     bytes.extend_from_slice(&(header.len() as u16).to_le_bytes());
     bytes.extend_from_slice(header.as_bytes());
-    for p in 0..6 {
-        let angle = (10.0 + 15.0 * p as f64).to_radians();
-        for i in 0..256 {
+    for v in values {
+        bytes.extend_from_slice(&v.to_le_bytes());
+    }
+    bytes
+}
+
+/// Pixel `p` of the fixtures' image: a 16 × 16 grid of an edge at its own angle.
+fn edge_pixel(p: usize) -> specvar::integrand::GridIntegrand {
+    let angle = (10.0 + 15.0 * p as f64).to_radians();
+    let values = (0..256)
+        .map(|i| {
             let (x, y) = ((i % 16) as f64 / 16.0, (i / 16) as f64 / 16.0);
-            let v = if x * angle.cos() + y * angle.sin() > 0.5 {
+            if x * angle.cos() + y * angle.sin() > 0.5 {
                 1.0
             } else {
                 0.2
-            };
-            bytes.extend_from_slice(&f64::to_le_bytes(v));
-        }
-    }
-    bytes
+            }
+        })
+        .collect();
+    specvar::integrand::GridIntegrand::new(16, 16, values).unwrap()
+}
+
+/// A `.npy` stack of 2 × 3 pixels ([`edge_pixel`]), shape `(2, 3, 16, 16)`.
+fn pixel_stack_npy() -> Vec<u8> {
+    let values: Vec<f64> = (0..6)
+        .flat_map(|p| edge_pixel(p).values().to_vec())
+        .collect();
+    npy(&[2, 3, 16, 16], &values)
+}
+
+/// A pilot: four renders of the stack's image at 16 jittered samples per pixel, shape
+/// `(4, 2, 3)`.
+fn pilot_npy() -> Vec<u8> {
+    use specvar::Sampler;
+    let jitter = specvar::sampler::Jitter::new(2).unwrap();
+    let values: Vec<f64> = (0..24)
+        .map(|i| {
+            let points = jitter.sample(16, 5, i as u64).unwrap();
+            specvar::montecarlo::estimate_integral(&edge_pixel(i % 6), &points)
+        })
+        .collect();
+    npy(&[4, 2, 3], &values)
 }
 
 fn run(example: &Example, dir: &Path, cache: &PathBuf) {

@@ -50,6 +50,8 @@ __all__ = [
     "monte_carlo",
     "periodogram",
     "plan",
+    "plan_pilot",
+    "PilotPlan",
     "predict",
     "predict_image",
     "read_points",
@@ -658,6 +660,54 @@ def plan(
         pixels,
     )
     return [_build(Plan, r, rmse_interval=tuple(r["rmse_interval"])) for r in raw]
+
+
+@dataclass(frozen=True)
+class PilotPlan(Plan):
+    """A plan from a pilot: a :class:`Plan`, and what the pilot measured (``pilot``: its
+    ``n``, ``renders``, ``pixels``, the image's ``mean``, its ``variance`` at ``n`` and that
+    variance's ``standard_error``)."""
+
+    pilot: Optional[dict] = None
+
+
+@_counts_checked
+def plan_pilot(
+    renders: Any,
+    n: int,
+    sampler: str,
+    rmse: float,
+    relative: bool = False,
+    randomization: RandomizationName = "native",
+    max_n: Optional[int] = None,
+    seed: int = 0,
+    cache: bool = True,
+) -> PilotPlan:
+    """How many samples per pixel, from a pilot instead of the pixels' integrands: ``renders``
+    (an array whose first axis is the render, ``(renders, h, w)`` or ``(renders, pixels)``; at
+    least two) of an image made with ``sampler`` at ``n`` samples per pixel. The image's
+    variance at ``n`` (the mean over pixels of each pixel's sample variance across the renders)
+    is carried to other counts by the sampler's own predictions on discontinuities in general
+    position (a disk and oblique edges), and the plan is the smallest balanced count whose
+    image RMSE reaches ``rmse`` (relative to the image's mean with ``relative=True``). Its
+    interval carries the pilot's noise and the spread of those discontinuities' rates; on an
+    image smoother than a discontinuity (or with edges along the axes, for nets) the plan is
+    conservative. Four renders of one pixel are too few to plan from (their variance spreads
+    like a χ² with 3 degrees of freedom); an image's pixels average that out.
+    Raises ``ValueError`` for fewer than two renders, renders that are all equal, a count
+    the sampler cannot produce, a sampler other than 2D, or a target out of reach."""
+    raw = _specvar.plan_pilot(
+        np.ascontiguousarray(renders, dtype=np.float64),
+        int(n),
+        sampler,
+        float(rmse),
+        relative,
+        randomization,
+        max_n,
+        seed,
+        cache,
+    )
+    return _build(PilotPlan, raw, rmse_interval=tuple(raw["rmse_interval"]))
 
 
 @dataclass(frozen=True)

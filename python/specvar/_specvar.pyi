@@ -70,6 +70,17 @@ def plan(
     cache: bool = True,
     pixels: Optional[np.ndarray] = None,
 ) -> list[dict[str, Any]]: ...
+def plan_pilot(
+    renders: np.ndarray,
+    n: int,
+    sampler: str,
+    rmse: float,
+    relative: bool = False,
+    randomization: str = "native",
+    max_n: Optional[int] = None,
+    seed: int = 0,
+    cache: bool = True,
+) -> dict[str, Any]: ...
 def monte_carlo(
     integrand: Union[str, np.ndarray, Callable[[np.ndarray], np.ndarray]],
     sampler: Optional[str] = None,

@@ -437,6 +437,61 @@ fn plan<'py>(
     to_py(py, &plans)
 }
 
+/// The samples per pixel for `sampler` from a pilot: `renders`, an array whose first axis is
+/// the render (`(renders, h, w)` or `(renders, pixels)`), made with that sampler at `n`
+/// samples per pixel; planned for the image's RMSE.
+#[pyfunction]
+#[pyo3(signature = (renders, n, sampler, rmse, relative=false, randomization="native", max_n=None, seed=0, cache=true))]
+#[allow(clippy::too_many_arguments)]
+fn plan_pilot<'py>(
+    py: Python<'py>,
+    renders: PyReadonlyArrayDyn<'py, f64>,
+    n: usize,
+    sampler: &str,
+    rmse: f64,
+    relative: bool,
+    randomization: &str,
+    max_n: Option<usize>,
+    seed: u64,
+    cache: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    use specvar::pilot::{plan_pilot, Pilot};
+    use specvar::plan::{PlanParams, Target};
+    let target = if relative {
+        Target::RelativeRmse(rmse)
+    } else {
+        Target::Rmse(rmse)
+    };
+    let pilot = Pilot::from_array(
+        n,
+        specvar::npy::NpyArray {
+            shape: renders.shape().to_vec(),
+            values: renders.as_array().iter().copied().collect(),
+        },
+    )
+    .or_value_error()?;
+    let built = build_sampler(sampler, 2, cache).or_value_error()?;
+    let base = PlanParams::new(target);
+    let params = PlanParams {
+        randomization: randomization.parse().or_value_error()?,
+        max_n,
+        predict: PredictParams {
+            seed,
+            budget: budget(),
+            ..base.predict
+        },
+        ..base
+    };
+    let silent = specvar::progress::Silent;
+    let plan = py
+        .detach(|| plan_pilot(built.as_ref(), &pilot, &params, &silent))
+        .or_value_error()?;
+    let variance = pilot.variance();
+    let out = to_py(py, &plan)?;
+    out.set_item("pilot", to_py(py, &variance)?)?;
+    Ok(out)
+}
+
 /// Every pixel's predicted variance, and the image's MSE, for a stack of per-pixel cell values
 /// `(pixels, h, w)` or `(rows, columns, h, w)`, each `values[y, x]`.
 #[pyfunction]
@@ -718,6 +773,7 @@ fn _specvar(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(predict, m)?)?;
     m.add_function(wrap_pyfunction!(monte_carlo, m)?)?;
     m.add_function(wrap_pyfunction!(plan, m)?)?;
+    m.add_function(wrap_pyfunction!(plan_pilot, m)?)?;
     m.add_function(wrap_pyfunction!(predict_image, m)?)?;
     m.add_function(wrap_pyfunction!(integrand_facts, m)?)?;
     m.add_function(wrap_pyfunction!(evaluate, m)?)?;

@@ -1,6 +1,7 @@
 //! `specvar plan`: for each sampler, the smallest N whose predicted RMSE reaches a target.
 
 use specvar::integrand::IntegrandSpec;
+use specvar::pilot::{plan_pilot, Pilot};
 use specvar::pixels::PixelStack;
 use specvar::plan::{default_samplers, plan_many, plan_pixels_many, Plan, PlanParams, Target};
 use specvar::predict::PredictParams;
@@ -19,6 +20,15 @@ pub struct Args {
     /// with --relative, relative to the image's mean).
     #[arg(long, conflicts_with = "integrand")]
     pub pixels: Option<std::path::PathBuf>,
+    /// A pilot instead of the pixels' integrands: a .npy array of renders of the image,
+    /// (renders, height, width) or (renders, pixels), made at --pilot-n samples per pixel with
+    /// the one sampler of --samplers; planned for the image's RMSE, the pilot's variance
+    /// carried to N by the sampler's predictions on discontinuities.
+    #[arg(long, conflicts_with_all = ["integrand", "pixels"], requires = "pilot_n")]
+    pub pilot: Option<std::path::PathBuf>,
+    /// The samples per pixel of the pilot's renders.
+    #[arg(long, requires = "pilot")]
+    pub pilot_n: Option<usize>,
     /// The target root-mean-square error (with --relative: relative to the integral).
     #[arg(long)]
     pub rmse: f64,
@@ -75,8 +85,31 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
         .collect::<Result<Vec<Box<dyn Sampler>>>>()?;
     let refs: Vec<&dyn Sampler> = samplers.iter().map(|s| s.as_ref()).collect();
     let bars = super::bars::Bars::default();
-    let (label, plans) = match &args.pixels {
-        Some(path) => {
+    let (label, plans) = match (&args.pixels, &args.pilot) {
+        (_, Some(path)) => {
+            let [sampler] = refs.as_slice() else {
+                return Err(specvar::Error::InvalidParameter {
+                    name: "samplers",
+                    value: refs.len().to_string(),
+                    allowed: "one sampler with --pilot (--samplers NAME): the one its renders \
+                              were made with"
+                        .into(),
+                });
+            };
+            let pilot = Pilot::read(path, args.pilot_n.unwrap_or_default())?;
+            let v = pilot.variance();
+            let label = format!(
+                "a pilot of {} renders of {} pixels at N = {} ({}; variance {:.4e} ± {:.2e})",
+                v.renders,
+                v.pixels,
+                v.n,
+                path.display(),
+                v.variance,
+                v.standard_error
+            );
+            (label, vec![plan_pilot(*sampler, &pilot, &params, &bars)?])
+        }
+        (Some(path), None) => {
             let stack = PixelStack::read(path)?;
             let plans = plan_pixels_many(&refs, &stack, &params, &bars)?;
             let label = format!(
@@ -87,7 +120,7 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
             );
             (label, plans)
         }
-        None => {
+        (None, None) => {
             let spec = args.integrand.clone().unwrap_or_default();
             let f = spec.build(args.dimension)?;
             (f.label(), plan_many(&refs, f.as_ref(), &params, &bars)?)

@@ -1,0 +1,114 @@
+//! Plans from a pilot (a few renders at 16 samples per pixel), checked by Monte Carlo of the
+//! image at the planned count.
+
+use specvar::integrand::{GridIntegrand, Integrand};
+use specvar::montecarlo::{empirical_variance, estimate_integral, McParams};
+use specvar::pilot::{plan_pilot, Pilot};
+use specvar::plan::{PlanParams, Target};
+use specvar::progress::Silent;
+use specvar::sampler::{CountRule, Sampler, SamplerKind};
+
+/// The pilot's renders and their sample count: the "at most 4 renders at 16 samples".
+const RENDERS: usize = 4;
+const PILOT_N: usize = 16;
+/// Pixels of the test image.
+const PIXELS: usize = 64;
+/// How far the measured image RMSE at the planned count may be from the target.
+const PILOT_BAND: f64 = 0.40;
+/// Monte Carlo trials per pixel: with 64 pixels the image variance's relative standard error
+/// is about `√(2/500)/8`, 0.8%; a skewed pixel (a net on a hard edge) needs the
+/// patterns for its interval.
+const TRIALS: usize = 500;
+
+/// A pixel's soft shadow on `m × m` cells: a penumbra of `width` across a line at `angle`
+/// degrees through `offset`, over a gradient.
+fn soft_shadow(m: usize, angle: f64, offset: f64, width: f64) -> GridIntegrand {
+    let (c, s) = (angle.to_radians().cos(), angle.to_radians().sin());
+    let values = (0..m * m)
+        .map(|i| {
+            let (x, y) = (
+                ((i % m) as f64 + 0.5) / m as f64,
+                ((i / m) as f64 + 0.5) / m as f64,
+            );
+            let t = ((x * c + y * s - offset) / width + 0.5).clamp(0.0, 1.0);
+            0.1 + 0.6 * t * t * (3.0 - 2.0 * t) + 0.3 * x
+        })
+        .collect();
+    GridIntegrand::new(m, m, values).unwrap()
+}
+
+/// An image: shadow edges over the light square, hard or slightly soft, whose angle and position
+/// change from pixel to pixel.
+fn image() -> Vec<GridIntegrand> {
+    (0..PIXELS)
+        .map(|p| {
+            let t = p as f64 / PIXELS as f64;
+            soft_shadow(
+                64,
+                10.0 + 157.0 * t,
+                0.3 + 0.5 * ((p * 7) % 11) as f64 / 11.0,
+                0.002 + 0.05 * ((p * 3) % 5) as f64 / 5.0,
+            )
+        })
+        .collect()
+}
+
+/// `RENDERS` renders of the image at `PILOT_N` samples per pixel, pilot `seed`.
+fn render(sampler: &dyn Sampler, image: &[GridIntegrand], seed: u64) -> Pilot {
+    let values = (0..RENDERS * image.len())
+        .map(|i| {
+            let points = sampler.sample(PILOT_N, seed, i as u64).unwrap();
+            estimate_integral(&image[i % image.len()], &points)
+        })
+        .collect();
+    Pilot::new(PILOT_N, RENDERS, values).unwrap()
+}
+
+#[test]
+fn a_pilot_of_four_renders_at_16_samples_plans_within_40_percent() {
+    let image = image();
+    let mean = image.iter().map(|f| f.integral()).sum::<f64>() / PIXELS as f64;
+    let target = 0.01 * mean;
+    let params = PlanParams::new(Target::Rmse(target));
+    for kind in [
+        SamplerKind::Random,
+        SamplerKind::Jitter,
+        SamplerKind::Cmj,
+        SamplerKind::Sobol,
+    ] {
+        let sampler = kind.build(2).unwrap();
+        for seed in 0..3 {
+            let pilot = render(sampler.as_ref(), &image, 100 + seed);
+            let p = plan_pilot(sampler.as_ref(), &pilot, &params, &Silent).unwrap();
+            let mc = McParams::pooled(kind, TRIALS, 5, p.randomization);
+            let runs: Vec<_> = image
+                .iter()
+                .map(|f| empirical_variance(sampler.as_ref(), f, p.n, &mc).unwrap())
+                .collect();
+            let mean_of = |v: &dyn Fn(&specvar::montecarlo::McResult) -> f64| {
+                (runs.iter().map(v).sum::<f64>() / PIXELS as f64).sqrt()
+            };
+            let rmse = mean_of(&|r| r.variance);
+            let (lo, hi) = (mean_of(&|r| r.ci_low), mean_of(&|r| r.ci_high));
+            let case = format!("{kind}, pilot {seed}: N = {}", p.n);
+            eprintln!(
+                "{case}: predicted {:.4e} [{:.4e}, {:.4e}], measured {rmse:.4e}, target {target:.4e} ({:+.0}%)",
+                p.rmse, p.rmse_interval.0, p.rmse_interval.1, 100.0 * (rmse / target - 1.0)
+            );
+            // The planned count reaches the target, within the band (from below only on a
+            // ladder of powers of two, whose steps are wider than the band).
+            assert!(rmse <= target * (1.0 + PILOT_BAND), "{case}: {rmse:.4e}");
+            if kind.facts().balanced_counts != CountRule::PowerOfTwo {
+                assert!(rmse >= target * (1.0 - PILOT_BAND), "{case}: {rmse:.4e}");
+            }
+            // The plan's interval meets the measurement's (each pixel's 99% bounds, averaged:
+            // wider than the image's own, so this errs towards passing only by their width).
+            assert!(
+                lo <= p.rmse_interval.1 && p.rmse_interval.0 <= hi,
+                "{case}: predicted [{:.4e}, {:.4e}], measured [{lo:.4e}, {hi:.4e}]",
+                p.rmse_interval.0,
+                p.rmse_interval.1
+            );
+        }
+    }
+}
