@@ -114,6 +114,7 @@ pub mod metrics;
 pub mod montecarlo;
 pub mod npy;
 pub mod output;
+pub mod padded;
 pub mod pilot;
 pub mod pixels;
 pub mod plan;

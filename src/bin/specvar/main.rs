@@ -25,6 +25,7 @@ mod bars;
 mod bias;
 mod mc;
 mod metrics;
+mod padded;
 mod patterns;
 mod plan;
 mod predict;
@@ -100,6 +101,9 @@ enum Command {
     /// How many samples: for each sampler, the smallest N whose predicted RMSE reaches a
     /// target.
     Plan(plan::Args),
+    /// The variance of a 4D integrand under two 2D patterns padded together (a pixel with
+    /// antialiasing and a light sample).
+    Padded(padded::Args),
     /// Bias of a fixed (not homogenized) pattern, from its spectrum and directly.
     Bias(bias::Args),
     /// Reproduce the talk's table with predictions, Monte Carlo, plots and report.md.
@@ -147,6 +151,7 @@ fn main() -> ExitCode {
         Some(Command::Spectrum(a)) => spectrum::run(&a, &ctx),
         Some(Command::Predict(a)) => predict::run(&a, &ctx),
         Some(Command::Plan(a)) => plan::run(&a, &ctx),
+        Some(Command::Padded(a)) => padded::run(&a, &ctx),
         Some(Command::Bias(a)) => bias::run(&a, &ctx),
         Some(Command::Report(a)) => report::run(&a, &ctx),
         Some(Command::Mc(a)) => mc::run(&a, &ctx),
