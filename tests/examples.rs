@@ -67,6 +67,7 @@ fn fixtures(dir: &Path) {
         .collect();
     std::fs::write(dir.join("pixels.npy"), pixel_stack_npy()).unwrap();
     std::fs::write(dir.join("pilot.npy"), pilot_npy()).unwrap();
+    std::fs::write(dir.join("pixel4d.npy"), pixel4d_npy()).unwrap();
     let png = specvar::plot::gray_png(&pixels, 64, 64).unwrap();
     for name in ["my_image.png", "photo.png"] {
         std::fs::write(dir.join(name), &png).unwrap();
@@ -129,6 +130,28 @@ fn pilot_npy() -> Vec<u8> {
         })
         .collect();
     npy(&[4, 2, 3], &values)
+}
+
+/// A 4D pixel, `f[ay, ax, by, bx]` on 16⁴ cells: a silhouette across the film coordinates `u`
+/// (beyond it 0.2), in front a floor lit where the light sample `v` is not hidden, the
+/// shadow's edge moving with `u_x`.
+fn pixel4d_npy() -> Vec<u8> {
+    const M: usize = 16;
+    let c = |i: usize| (i as f64 + 0.5) / M as f64;
+    let (c30, s30) = (30f64.to_radians().cos(), 30f64.to_radians().sin());
+    let (c70, s70) = (70f64.to_radians().cos(), 70f64.to_radians().sin());
+    let values: Vec<f64> = (0..M.pow(4))
+        .map(|i| {
+            let (bx, by, ax, ay) = (c(i % M), c(i / M % M), c(i / M / M % M), c(i / M / M / M));
+            if ax * c30 + ay * s30 > 0.75 {
+                0.2
+            } else {
+                let lit = bx * c70 + by * s70 > 0.3 + 0.5 * ax;
+                (0.5 + 0.5 * ay) * lit as u8 as f64
+            }
+        })
+        .collect();
+    npy(&[M, M, M, M], &values)
 }
 
 fn run(example: &Example, dir: &Path, cache: &PathBuf) {

@@ -54,6 +54,7 @@ __all__ = [
     "PilotPlan",
     "predict",
     "predict_image",
+    "predict_padded",
     "read_points",
     "sample",
     "samplers",
@@ -708,6 +709,37 @@ def plan_pilot(
         cache,
     )
     return _build(PilotPlan, raw, rmse_interval=tuple(raw["rmse_interval"]))
+
+
+@_counts_checked
+def predict_padded(
+    values: Any,
+    sampler: str,
+    n: int,
+    second: Optional[str] = None,
+    randomization: RandomizationName = "native",
+    mc: Optional[int] = None,
+    seed: int = 0,
+    cache: bool = True,
+) -> dict:
+    """The variance of a 4D integrand under two 2D patterns padded together, as renderers pad
+    them: ``values[ay, ax, by, bx]`` are its cell values (the first pair of dimensions, e.g. the
+    film, on the first two axes; the second, e.g. the light, on the last two); ``sampler``
+    draws the first pair and ``second`` (default: the same) the second, paired by a random
+    permutation. Returns a dict: ``variance``, ``budget``, the two marginals' predictions
+    (``first``, ``second``), the interaction's term (``interaction``) beside its white value
+    ``interaction_white`` (``‖h‖²/N``), and with ``mc`` trials the Monte Carlo measurement of
+    the padded estimator (``measured``: ``variance``, ``ci_low``, ``ci_high``, …)."""
+    return _specvar.predict_padded(
+        np.ascontiguousarray(values, dtype=np.float64),
+        sampler,
+        n,
+        second,
+        randomization,
+        mc,
+        seed,
+        cache,
+    )
 
 
 @dataclass(frozen=True)

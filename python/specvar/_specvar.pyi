@@ -81,6 +81,16 @@ def plan_pilot(
     seed: int = 0,
     cache: bool = True,
 ) -> dict[str, Any]: ...
+def predict_padded(
+    values: np.ndarray,
+    sampler: str,
+    n: int,
+    second: Optional[str] = None,
+    randomization: str = "native",
+    mc: Optional[int] = None,
+    seed: int = 0,
+    cache: bool = True,
+) -> dict[str, Any]: ...
 def monte_carlo(
     integrand: Union[str, np.ndarray, Callable[[np.ndarray], np.ndarray]],
     sampler: Optional[str] = None,

@@ -492,6 +492,55 @@ fn plan_pilot<'py>(
     Ok(out)
 }
 
+/// The variance of a 4D integrand `values[ay, ax, by, bx]` under two 2D patterns padded
+/// together (`sampler` on the first pair, `second` on the other), and with `mc` trials its
+/// Monte Carlo measurement.
+#[pyfunction]
+#[pyo3(signature = (values, sampler, n, second=None, randomization="native", mc=None, seed=0, cache=true))]
+#[allow(clippy::too_many_arguments)]
+fn predict_padded<'py>(
+    py: Python<'py>,
+    values: PyReadonlyArrayDyn<'py, f64>,
+    sampler: &str,
+    n: usize,
+    second: Option<&str>,
+    randomization: &str,
+    mc: Option<usize>,
+    seed: u64,
+    cache: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    use specvar::padded::{padded_monte_carlo, predict_padded, PaddedGrid, PaddedSamplers};
+    let f = PaddedGrid::from_array(specvar::npy::NpyArray {
+        shape: values.shape().to_vec(),
+        values: values.as_array().iter().copied().collect(),
+    })
+    .or_value_error()?;
+    let first = build_sampler(sampler, 2, cache).or_value_error()?;
+    let second = build_sampler(second.unwrap_or(sampler), 2, cache).or_value_error()?;
+    let choice: RandomizationChoice = randomization.parse().or_value_error()?;
+    let mut samplers = PaddedSamplers::native(first.as_ref(), second.as_ref()).or_value_error()?;
+    let native = samplers.randomizations;
+    samplers.randomizations = (choice.resolve(native.0), choice.resolve(native.1));
+    let params = PredictParams {
+        seed,
+        budget: budget(),
+        ..Default::default()
+    };
+    let silent = specvar::progress::Silent;
+    let (prediction, measured) = py
+        .detach(|| {
+            let p = predict_padded(&f, samplers, n, &params, &silent)?;
+            let m = mc
+                .map(|trials| padded_monte_carlo(&f, samplers, n, trials, seed))
+                .transpose()?;
+            Ok::<_, specvar::Error>((p, m))
+        })
+        .or_value_error()?;
+    let out = to_py(py, &prediction)?;
+    out.set_item("measured", to_py(py, &measured)?)?;
+    Ok(out)
+}
+
 /// Every pixel's predicted variance, and the image's MSE, for a stack of per-pixel cell values
 /// `(pixels, h, w)` or `(rows, columns, h, w)`, each `values[y, x]`.
 #[pyfunction]
@@ -774,6 +823,7 @@ fn _specvar(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(monte_carlo, m)?)?;
     m.add_function(wrap_pyfunction!(plan, m)?)?;
     m.add_function(wrap_pyfunction!(plan_pilot, m)?)?;
+    m.add_function(wrap_pyfunction!(predict_padded, m)?)?;
     m.add_function(wrap_pyfunction!(predict_image, m)?)?;
     m.add_function(wrap_pyfunction!(integrand_facts, m)?)?;
     m.add_function(wrap_pyfunction!(evaluate, m)?)?;
