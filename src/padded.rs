@@ -32,12 +32,13 @@ use crate::error::{invalid, Error, Result};
 use crate::integrand::GridIntegrand;
 use crate::montecarlo::{result_from_estimates, trial_pattern, McParams, McResult};
 use crate::npy::{read_npy, NpyArray};
+use crate::plan::{plan_by, reached, resolve, Plan, PlanParams};
 use crate::pointset::PointSet;
 use crate::predict::{predict_with, ErrorBudget, PredictParams, Prediction, Problem};
 use crate::progress::Progress;
 use crate::randomization::Randomization;
 use crate::rng::{realization_rng, splitmix64, Stream};
-use crate::sampler::Sampler;
+use crate::sampler::{CountRule, Sampler, SamplerKind};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::path::Path;
@@ -321,6 +322,55 @@ pub struct PaddedPrediction {
     /// The whole prediction's budget: the 2D terms' and the corrections' noise, the 2D
     /// terms' bounds.
     pub budget: ErrorBudget,
+}
+
+impl PaddedPrediction {
+    /// The prediction as one [`Prediction`]: the whole variance and budget, the first pair's
+    /// route and randomization (the reason names both pairs' routes).
+    pub fn as_prediction(&self) -> Prediction {
+        Prediction {
+            variance: self.variance,
+            reason: format!(
+                "padded pairs: the first by the {}, the second by the {}, the interaction by \
+                 the permutation identity",
+                self.first.route, self.second.route
+            ),
+            budget: self.budget,
+            alternatives: Vec::new(),
+            evaluations: self.first.evaluations + self.second.evaluations,
+            ..self.first.clone()
+        }
+    }
+}
+
+/// Plans the samples per pixel of a padded estimator: the smallest count, among the balanced
+/// counts of the sparser of the two samplers' ladders (powers of two where either is a net),
+/// whose predicted RMSE on `f` reaches the target (a relative target is relative to `∫ f`).
+/// The samplers keep their own randomizations (`params.randomization` is not used).
+///
+/// # Errors
+/// As [`predict_padded`] and [`crate::plan::plan`]; a count of the ladder that the other
+/// sampler cannot produce.
+pub fn plan_padded(
+    f: &PaddedGrid,
+    samplers: PaddedSamplers,
+    params: &PlanParams,
+    progress: &dyn Progress,
+) -> Result<Plan> {
+    samplers.check()?;
+    let (first, _) = resolve(samplers.first, params)?;
+    let (second, _) = resolve(samplers.second, params)?;
+    let sparse = |k: SamplerKind| k.facts().balanced_counts == CountRule::PowerOfTwo;
+    let kind = if sparse(second) && !sparse(first) {
+        second
+    } else {
+        first
+    };
+    reached(plan_by((kind, 2), f.integral(), params, |n| {
+        samplers.first.check_count(n)?;
+        samplers.second.check_count(n)?;
+        predict_padded(f, samplers, n, &params.predict, progress).map(|p| p.as_prediction())
+    })?)
 }
 
 /// Predicts the variance of `f` integrated by `n` padded samples of `samplers` (see the module

@@ -27,6 +27,17 @@
 //! under nets than the family does, and a smooth image faster than any discontinuous one: the
 //! plan is then conservative (more samples than needed), never short.
 //!
+//! A render's pixel is rarely one 2D integral: the film position, the light sample, the lens
+//! are pairs of dimensions that the renderer pads together, and the interaction between pairs
+//! is integrated almost as by independent points (`crate::padded`): that part of the variance
+//! falls like `1/N` whatever the sampler. A pilot cannot tell the two parts apart, so the
+//! default [`PilotModel::Padded`] carries the variance by `ρ = (ρ_edges + n₀/N) / 2` and widens
+//! the model term to hold any split between the two (all interaction: `n₀/N`; none: the
+//! family's ratio). [`PilotModel::Single`] is for a pixel integrated by one 2D pattern (a light
+//! sample at a fixed shading point): `ρ = ρ_edges`. On a Cornell-box crop rendered by Mitsuba
+//! 3 (film × light), the single model planned 221 samples for a 1% image RMSE whose renders
+//! measured 1.35%.
+//!
 //! A pilot of one pixel cannot plan to a useful precision: four renders give its variance with
 //! the spread of a `χ²₃`, a factor of ten across its 90% range. The pixels of an image average
 //! that out; the plan's interval says how far.
@@ -45,12 +56,48 @@ use std::path::Path;
 /// The dimension of the light or lens samples a pilot plans for.
 pub const PILOT_DIMENSION: usize = 2;
 
+/// What the pixels of a pilot integrate, which decides how their variance falls with N.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PilotModel {
+    /// Pairs of dimensions padded together (film × light, …): part of the variance falls like
+    /// the sampler's on discontinuities, part (the pairs' interaction) like `1/N`, in a split
+    /// the pilot does not know. A render's pixels, by default.
+    #[default]
+    Padded,
+    /// One 2D pattern per pixel (e.g. the light sample at a fixed shading point): the variance
+    /// falls like the sampler's on discontinuities.
+    Single,
+}
+
+impl std::str::FromStr for PilotModel {
+    type Err = Error;
+    /// `padded` or `single`.
+    fn from_str(s: &str) -> Result<Self> {
+        match s.trim() {
+            "padded" => Ok(PilotModel::Padded),
+            "single" => Ok(PilotModel::Single),
+            other => Err(invalid("pilot model", other, "padded or single")),
+        }
+    }
+}
+
+impl std::fmt::Display for PilotModel {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            PilotModel::Padded => "padded",
+            PilotModel::Single => "single",
+        })
+    }
+}
+
 /// Renders of an image at one sample count, with the sampler to be planned.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Pilot {
     n: usize,
     renders: usize,
     values: Vec<f64>,
+    model: PilotModel,
 }
 
 /// What a pilot says of the image at its sample count.
@@ -106,7 +153,12 @@ impl Pilot {
                 ),
             ));
         }
-        let pilot = Self { n, renders, values };
+        let pilot = Self {
+            n,
+            renders,
+            values,
+            model: PilotModel::default(),
+        };
         if pilot.variance().variance <= 0.0 {
             return Err(invalid(
                 "pilot",
@@ -146,6 +198,17 @@ impl Pilot {
     /// The sample count of the renders.
     pub fn n(&self) -> usize {
         self.n
+    }
+
+    /// The same pilot, its pixels integrating as `model` says ([`PilotModel::Padded`] by
+    /// default).
+    pub fn with_model(self, model: PilotModel) -> Self {
+        Self { model, ..self }
+    }
+
+    /// What its pixels integrate.
+    pub fn model(&self) -> PilotModel {
+        self.model
     }
 
     /// The image's variance at the pilot's count, and its standard error.
@@ -244,6 +307,25 @@ struct FamilyRatio {
     model: f64,
 }
 
+/// The ratio under `model` from `n₀` to `n`: the family's, or for padded pixels the mean of the
+/// family's and the white `n₀/n`, with a model term that holds every split between them.
+fn model_ratio(model: PilotModel, family: FamilyRatio, n0: usize, n: usize) -> FamilyRatio {
+    match model {
+        PilotModel::Single => family,
+        PilotModel::Padded => {
+            let white = n0 as f64 / n as f64;
+            let ratio = 0.5 * (family.ratio + white);
+            let high = white.max(family.ratio * (1.0 + family.model));
+            let low = white.min(family.ratio * (1.0 - family.model).max(0.0));
+            FamilyRatio {
+                ratio,
+                noise: family.noise * 0.5 * family.ratio / ratio,
+                model: (high - ratio).max(ratio - low) / ratio,
+            }
+        }
+    }
+}
+
 fn family_ratio(at_pilot: &[Prediction], at_n: &[Prediction]) -> FamilyRatio {
     let count = at_pilot.len() as f64;
     let ratios: Vec<f64> = at_pilot
@@ -325,7 +407,7 @@ pub fn plan_pilot(
         params,
         |n| {
             let at_n = family.predict(sampler, randomization, n, &params.predict, progress)?;
-            let r = family_ratio(&at_pilot, &at_n);
+            let r = model_ratio(pilot.model, family_ratio(&at_pilot, &at_n), pilot.n, n);
             let variance = measured.variance * r.ratio;
             Ok(Prediction {
                 variance,
@@ -340,13 +422,21 @@ pub fn plan_pilot(
             })
         },
     )?)?;
+    let carried = match pilot.model {
+        PilotModel::Single => format!(
+            "the {} on {} discontinuities",
+            plan.route,
+            family.members.len()
+        ),
+        PilotModel::Padded => format!(
+            "the mean of 1/N (padded pairs' interaction) and the {} on {} discontinuities",
+            plan.route,
+            family.members.len()
+        ),
+    };
     plan.route = format!(
-        "pilot ({} renders of {} pixels at N = {}), carried to N by the {} on {} discontinuities",
-        measured.renders,
-        measured.pixels,
-        measured.n,
-        plan.route,
-        family.members.len()
+        "pilot ({} renders of {} pixels at N = {}, {} model), carried to N by {carried}",
+        measured.renders, measured.pixels, measured.n, pilot.model
     );
     plan.reason = format!(
         "the pilot's variance {:.4e} ± {:.2e} at N = {} times the ratio of the sampler's \

@@ -100,3 +100,31 @@ fn padded_patterns_under_shifts_match_monte_carlo() {
         );
     }
 }
+
+/// A padded plan: the count reaches the target by Monte Carlo of the padded estimator.
+#[test]
+fn a_padded_plan_reaches_its_target_by_monte_carlo() {
+    use specvar::plan::{PlanParams, Target};
+    let f = pixel();
+    for kind in [SamplerKind::Jitter, SamplerKind::Sobol] {
+        let s = kind.build(2).unwrap();
+        let samplers = PaddedSamplers::native(s.as_ref(), s.as_ref()).unwrap();
+        let params = PlanParams::new(Target::RelativeRmse(0.01));
+        let p = specvar::padded::plan_padded(&f, samplers, &params, &Silent).unwrap();
+        let mc = padded_monte_carlo(&f, samplers, p.n, TRIALS, 23).unwrap();
+        let (rmse, target) = (mc.variance.sqrt(), p.target);
+        eprintln!(
+            "padded plan {kind}: N = {}, predicted {:.4e}, measured {rmse:.4e} [{:.4e}, {:.4e}], target {target:.4e}",
+            p.n,
+            p.rmse,
+            mc.ci_low.sqrt(),
+            mc.ci_high.sqrt()
+        );
+        assert!(p.rmse <= target && p.route.starts_with("cell form"));
+        // Within the issue's ±25% (from above only on the powers of two of Sobol').
+        assert!(rmse <= 1.25 * target, "{kind}: {rmse:.4e}");
+        if kind == SamplerKind::Jitter {
+            assert!(rmse >= 0.75 * target, "{kind}: {rmse:.4e}");
+        }
+    }
+}

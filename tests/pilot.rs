@@ -3,8 +3,10 @@
 
 use specvar::integrand::{GridIntegrand, Integrand};
 use specvar::montecarlo::{empirical_variance, estimate_integral, McParams};
-use specvar::pilot::{plan_pilot, Pilot};
+use specvar::padded::{predict_padded, PaddedGrid, PaddedSamplers};
+use specvar::pilot::{plan_pilot, Pilot, PilotModel};
 use specvar::plan::{PlanParams, Target};
+use specvar::predict::PredictParams;
 use specvar::progress::Silent;
 use specvar::sampler::{CountRule, Sampler, SamplerKind};
 
@@ -61,7 +63,9 @@ fn render(sampler: &dyn Sampler, image: &[GridIntegrand], seed: u64) -> Pilot {
             estimate_integral(&image[i % image.len()], &points)
         })
         .collect();
-    Pilot::new(PILOT_N, RENDERS, values).unwrap()
+    Pilot::new(PILOT_N, RENDERS, values)
+        .unwrap()
+        .with_model(PilotModel::Single)
 }
 
 #[test]
@@ -110,5 +114,105 @@ fn a_pilot_of_four_renders_at_16_samples_plans_within_40_percent() {
                 p.rmse_interval.1
             );
         }
+    }
+}
+
+/// Pixels of the padded image.
+const PADDED_PIXELS: usize = 24;
+
+/// Pixel `p` of a padded image: film `u` × light `v` on 8² × 16² cells, a silhouette across
+/// the film and a shadow edge on the light that moves with the film position.
+fn padded_pixel(p: usize) -> PaddedGrid {
+    let (fm, lm) = (8, 16);
+    let silhouette = (25.0 + 40.0 * (p % 5) as f64 / 5.0).to_radians();
+    let shadow = (20.0 + 140.0 * p as f64 / PADDED_PIXELS as f64).to_radians();
+    let offset = 0.3 + 0.4 * ((p * 7) % 11) as f64 / 11.0;
+    let c = |i: usize, m: usize| (i as f64 + 0.5) / m as f64;
+    let mut values = Vec::with_capacity(fm * fm * lm * lm);
+    for ay in 0..fm {
+        for ax in 0..fm {
+            for by in 0..lm {
+                for bx in 0..lm {
+                    let (ux, uy, vx, vy) = (c(ax, fm), c(ay, fm), c(bx, lm), c(by, lm));
+                    let value = if ux * silhouette.cos() + uy * silhouette.sin() > 0.8 {
+                        0.2
+                    } else {
+                        let lit = vx * shadow.cos() + vy * shadow.sin() > offset + 0.3 * (ux - 0.5);
+                        (0.5 + 0.5 * uy) * lit as u8 as f64
+                    };
+                    values.push(value);
+                }
+            }
+        }
+    }
+    PaddedGrid::new([fm, fm, lm, lm], values).unwrap()
+}
+
+/// A permutation of `0..n` from a 64-bit mixer (the test's own, not the library's).
+fn shuffled(n: usize, key: u64) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..n).collect();
+    for i in (1..n).rev() {
+        let j = specvar::rng::splitmix64(key ^ (i as u64 * 0x9E37)) % (i as u64 + 1);
+        order.swap(i, j as usize);
+    }
+    order
+}
+
+/// A padded image planned from four renders at 16 samples: the default (padded) model.
+#[test]
+fn a_pilot_of_padded_pixels_plans_within_40_percent() {
+    let image: Vec<PaddedGrid> = (0..PADDED_PIXELS).map(padded_pixel).collect();
+    let mean = image.iter().map(|f| f.integral()).sum::<f64>() / image.len() as f64;
+    let target = 0.01 * mean;
+    let params = PlanParams::new(Target::Rmse(target));
+    // CMJ's marginals take estimated routes (seconds each): jitter and Sobol' keep the test
+    // short.
+    for kind in [SamplerKind::Jitter, SamplerKind::Sobol] {
+        let sampler = kind.build(2).unwrap();
+        let s = sampler.as_ref();
+        let values = (0..RENDERS * image.len())
+            .map(|i| {
+                let a = s.sample(PILOT_N, 300, i as u64).unwrap();
+                let b = s.sample(PILOT_N, 301, i as u64).unwrap();
+                let order = shuffled(PILOT_N, i as u64);
+                let f = &image[i % image.len()];
+                a.points()
+                    .zip(&order)
+                    .map(|(u, &m)| f.eval(u, b.point(m)))
+                    .sum::<f64>()
+                    / PILOT_N as f64
+            })
+            .collect();
+        let pilot = Pilot::new(PILOT_N, RENDERS, values).unwrap();
+        assert_eq!(pilot.model(), PilotModel::Padded);
+        let p = plan_pilot(s, &pilot, &params, &Silent).unwrap();
+        // The truth at N: the padded prediction, itself checked by Monte Carlo
+        // (tests/padded.rs), averaged over the pixels.
+        let padded = PaddedSamplers::native(s, s).unwrap();
+        let variance = image
+            .iter()
+            .map(|f| {
+                predict_padded(f, padded, p.n, &PredictParams::default(), &Silent)
+                    .unwrap()
+                    .variance
+            })
+            .sum::<f64>()
+            / image.len() as f64;
+        let rmse = variance.sqrt();
+        let case = format!("{kind}: N = {}", p.n);
+        eprintln!(
+            "padded {case}: predicted {:.4e} [{:.4e}, {:.4e}], truth {rmse:.4e}, target {target:.4e} ({:+.0}%)",
+            p.rmse, p.rmse_interval.0, p.rmse_interval.1, 100.0 * (rmse / target - 1.0)
+        );
+        assert!(rmse <= target * (1.0 + PILOT_BAND), "{case}: {rmse:.4e}");
+        if kind.facts().balanced_counts != CountRule::PowerOfTwo {
+            assert!(rmse >= target * (1.0 - PILOT_BAND), "{case}: {rmse:.4e}");
+        }
+        assert!(
+            p.rmse_interval.0 <= rmse && rmse <= p.rmse_interval.1,
+            "{case}: predicted [{:.4e}, {:.4e}], truth {rmse:.4e}",
+            p.rmse_interval.0,
+            p.rmse_interval.1
+        );
     }
 }

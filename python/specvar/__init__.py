@@ -50,6 +50,7 @@ __all__ = [
     "monte_carlo",
     "periodogram",
     "plan",
+    "plan_padded",
     "plan_pilot",
     "PilotPlan",
     "predict",
@@ -679,6 +680,7 @@ def plan_pilot(
     sampler: str,
     rmse: float,
     relative: bool = False,
+    model: Literal["padded", "single"] = "padded",
     randomization: RandomizationName = "native",
     max_n: Optional[int] = None,
     seed: int = 0,
@@ -690,7 +692,11 @@ def plan_pilot(
     variance at ``n`` (the mean over pixels of each pixel's sample variance across the renders)
     is carried to other counts by the sampler's own predictions on discontinuities in general
     position (a disk and oblique edges), and the plan is the smallest balanced count whose
-    image RMSE reaches ``rmse`` (relative to the image's mean with ``relative=True``). Its
+    image RMSE reaches ``rmse`` (relative to the image's mean with ``relative=True``). With
+    ``model="padded"`` (the default, a render's pixels: film, light and other pairs of
+    dimensions padded together) half the variance is taken to fall like ``1/N`` instead, the
+    pairs' interaction, with an interval that holds any split; ``model="single"`` is for pixels
+    integrated by one 2D pattern (a light sample at a fixed shading point). Its
     interval carries the pilot's noise and the spread of those discontinuities' rates; on an
     image smoother than a discontinuity (or with edges along the axes, for nets) the plan is
     conservative. Four renders of one pixel are too few to plan from (their variance spreads
@@ -703,6 +709,7 @@ def plan_pilot(
         sampler,
         float(rmse),
         relative,
+        model,
         randomization,
         max_n,
         seed,
@@ -740,6 +747,36 @@ def predict_padded(
         seed,
         cache,
     )
+
+
+@_counts_checked
+def plan_padded(
+    values: Any,
+    sampler: str,
+    rmse: float,
+    relative: bool = False,
+    second: Optional[str] = None,
+    randomization: RandomizationName = "native",
+    max_n: Optional[int] = None,
+    seed: int = 0,
+    cache: bool = True,
+) -> Plan:
+    """How many samples for a 4D integrand ``values[ay, ax, by, bx]`` integrated by two 2D
+    patterns padded together (as :func:`predict_padded`): the smallest balanced count (of the
+    sparser ladder of the two samplers) whose predicted RMSE reaches ``rmse`` (relative to
+    ``|∫f|`` with ``relative=True``). Raises ``ValueError`` as :func:`plan` does."""
+    raw = _specvar.plan_padded(
+        np.ascontiguousarray(values, dtype=np.float64),
+        sampler,
+        float(rmse),
+        relative,
+        second,
+        randomization,
+        max_n,
+        seed,
+        cache,
+    )
+    return _build(Plan, raw, rmse_interval=tuple(raw["rmse_interval"]))
 
 
 @dataclass(frozen=True)

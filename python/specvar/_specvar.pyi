@@ -76,6 +76,7 @@ def plan_pilot(
     sampler: str,
     rmse: float,
     relative: bool = False,
+    model: str = "padded",
     randomization: str = "native",
     max_n: Optional[int] = None,
     seed: int = 0,
@@ -88,6 +89,17 @@ def predict_padded(
     second: Optional[str] = None,
     randomization: str = "native",
     mc: Optional[int] = None,
+    seed: int = 0,
+    cache: bool = True,
+) -> dict[str, Any]: ...
+def plan_padded(
+    values: np.ndarray,
+    sampler: str,
+    rmse: float,
+    relative: bool = False,
+    second: Optional[str] = None,
+    randomization: str = "native",
+    max_n: Optional[int] = None,
     seed: int = 0,
     cache: bool = True,
 ) -> dict[str, Any]: ...

@@ -441,7 +441,7 @@ fn plan<'py>(
 /// the render (`(renders, h, w)` or `(renders, pixels)`), made with that sampler at `n`
 /// samples per pixel; planned for the image's RMSE.
 #[pyfunction]
-#[pyo3(signature = (renders, n, sampler, rmse, relative=false, randomization="native", max_n=None, seed=0, cache=true))]
+#[pyo3(signature = (renders, n, sampler, rmse, relative=false, model="padded", randomization="native", max_n=None, seed=0, cache=true))]
 #[allow(clippy::too_many_arguments)]
 fn plan_pilot<'py>(
     py: Python<'py>,
@@ -450,12 +450,13 @@ fn plan_pilot<'py>(
     sampler: &str,
     rmse: f64,
     relative: bool,
+    model: &str,
     randomization: &str,
     max_n: Option<usize>,
     seed: u64,
     cache: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
-    use specvar::pilot::{plan_pilot, Pilot};
+    use specvar::pilot::{plan_pilot, Pilot, PilotModel};
     use specvar::plan::{PlanParams, Target};
     let target = if relative {
         Target::RelativeRmse(rmse)
@@ -469,7 +470,8 @@ fn plan_pilot<'py>(
             values: renders.as_array().iter().copied().collect(),
         },
     )
-    .or_value_error()?;
+    .or_value_error()?
+    .with_model(model.parse::<PilotModel>().or_value_error()?);
     let built = build_sampler(sampler, 2, cache).or_value_error()?;
     let base = PlanParams::new(target);
     let params = PlanParams {
@@ -539,6 +541,57 @@ fn predict_padded<'py>(
     let out = to_py(py, &prediction)?;
     out.set_item("measured", to_py(py, &measured)?)?;
     Ok(out)
+}
+
+/// The samples for a target RMSE of a padded estimator on a 4D integrand.
+#[pyfunction]
+#[pyo3(signature = (values, sampler, rmse, relative=false, second=None, randomization="native", max_n=None, seed=0, cache=true))]
+#[allow(clippy::too_many_arguments)]
+fn plan_padded<'py>(
+    py: Python<'py>,
+    values: PyReadonlyArrayDyn<'py, f64>,
+    sampler: &str,
+    rmse: f64,
+    relative: bool,
+    second: Option<&str>,
+    randomization: &str,
+    max_n: Option<usize>,
+    seed: u64,
+    cache: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    use specvar::padded::{plan_padded, PaddedGrid, PaddedSamplers};
+    use specvar::plan::{PlanParams, Target};
+    let f = PaddedGrid::from_array(specvar::npy::NpyArray {
+        shape: values.shape().to_vec(),
+        values: values.as_array().iter().copied().collect(),
+    })
+    .or_value_error()?;
+    let first = build_sampler(sampler, 2, cache).or_value_error()?;
+    let second = build_sampler(second.unwrap_or(sampler), 2, cache).or_value_error()?;
+    let choice: RandomizationChoice = randomization.parse().or_value_error()?;
+    let mut samplers = PaddedSamplers::native(first.as_ref(), second.as_ref()).or_value_error()?;
+    let native = samplers.randomizations;
+    samplers.randomizations = (choice.resolve(native.0), choice.resolve(native.1));
+    let target = if relative {
+        Target::RelativeRmse(rmse)
+    } else {
+        Target::Rmse(rmse)
+    };
+    let base = PlanParams::new(target);
+    let params = PlanParams {
+        max_n,
+        predict: PredictParams {
+            seed,
+            budget: budget(),
+            ..base.predict
+        },
+        ..base
+    };
+    let silent = specvar::progress::Silent;
+    let plan = py
+        .detach(|| plan_padded(&f, samplers, &params, &silent))
+        .or_value_error()?;
+    to_py(py, &plan)
 }
 
 /// Every pixel's predicted variance, and the image's MSE, for a stack of per-pixel cell values
@@ -824,6 +877,7 @@ fn _specvar(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(plan, m)?)?;
     m.add_function(wrap_pyfunction!(plan_pilot, m)?)?;
     m.add_function(wrap_pyfunction!(predict_padded, m)?)?;
+    m.add_function(wrap_pyfunction!(plan_padded, m)?)?;
     m.add_function(wrap_pyfunction!(predict_image, m)?)?;
     m.add_function(wrap_pyfunction!(integrand_facts, m)?)?;
     m.add_function(wrap_pyfunction!(evaluate, m)?)?;

@@ -30,6 +30,14 @@ def test_the_padded_prediction_meets_its_monte_carlo(first, second):
     assert p["interaction"] == pytest.approx(p["interaction_white"], rel=0.1)
 
 
+def test_a_padded_plan_reaches_its_target():
+    values = pixel()
+    p = specvar.plan_padded(values, "jitter", rmse=0.02, relative=True)
+    assert p.rmse <= p.target and p.below["rmse"] > p.target
+    m = specvar.predict_padded(values, "jitter", p.n, mc=4000, seed=5)["measured"]
+    assert math.sqrt(m["ci_low"]) <= 1.25 * p.target and math.sqrt(m["ci_high"]) >= 0.75 * p.target
+
+
 def test_bad_padded_input_is_refused():
     with pytest.raises(ValueError, match="rank 4"):
         specvar.predict_padded(np.ones((4, 4, 4)), "jitter", 16)

@@ -41,7 +41,8 @@ def render(pixels, sampler):
 @pytest.mark.parametrize("sampler", ["random", "jitter"])
 def test_a_pilot_plans_near_the_plan_from_the_pixels(sampler):
     pixels = image()
-    pilot = specvar.plan_pilot(render(pixels, sampler), PILOT_N, sampler, rmse=0.01, relative=True)
+    renders = render(pixels, sampler)
+    pilot = specvar.plan_pilot(renders, PILOT_N, sampler, rmse=0.01, relative=True, model="single")
     (tabulated,) = specvar.plan(pixels, rmse=0.01, relative=True, samplers=[sampler])
     assert pilot.pilot["renders"] == RENDERS and pilot.pilot["pixels"] == PIXELS
     assert pilot.route.startswith("pilot") and pilot.rmse <= pilot.target
@@ -53,6 +54,20 @@ def test_a_pilot_plans_near_the_plan_from_the_pixels(sampler):
     assert pilot.rmse_interval[0] <= from_pixels <= pilot.rmse_interval[1], pilot
 
 
+def test_the_padded_model_asks_more_samples_of_strata_than_the_single_one():
+    renders = render(image(), "jitter")
+    single = specvar.plan_pilot(renders, PILOT_N, "jitter", rmse=0.01, relative=True, model="single")
+    padded = specvar.plan_pilot(renders, PILOT_N, "jitter", rmse=0.01, relative=True)
+    assert "padded model" in padded.route and padded.n > single.n
+    # Random points: every part falls like 1/N, and the two models agree.
+    renders = render(image(), "random")
+    one, two = (
+        specvar.plan_pilot(renders, PILOT_N, "random", rmse=0.01, relative=True, model=m).n
+        for m in ("single", "padded")
+    )
+    assert abs(one - two) <= 0.01 * one
+
+
 def test_bad_pilots_are_refused():
     with pytest.raises(ValueError, match="at least 2 renders"):
         specvar.plan_pilot(np.ones((1, 8)), 16, "jitter", rmse=0.01)
@@ -60,3 +75,5 @@ def test_bad_pilots_are_refused():
         specvar.plan_pilot(np.ones((4, 8)), 16, "jitter", rmse=0.01)
     with pytest.raises(ValueError, match="finite"):
         specvar.plan_pilot(np.array([[1.0, np.nan], [2.0, 3.0]]), 16, "jitter", rmse=0.01)
+    with pytest.raises(ValueError, match="padded or single"):
+        specvar.plan_pilot(np.eye(4), 16, "jitter", rmse=0.01, model="4d")

@@ -1,7 +1,10 @@
 //! `specvar padded`: the variance of a 4D integrand under two 2D patterns padded together.
 
 use specvar::montecarlo::{McResult, Z_99};
-use specvar::padded::{padded_monte_carlo, predict_padded, PaddedGrid, PaddedSamplers};
+use specvar::padded::{
+    padded_monte_carlo, plan_padded, predict_padded, PaddedGrid, PaddedSamplers,
+};
+use specvar::plan::{PlanParams, Target};
 use specvar::predict::PredictParams;
 use specvar::randomization::RandomizationChoice;
 use specvar::sampler::SamplerKind;
@@ -21,8 +24,15 @@ pub struct Args {
     #[arg(long)]
     pub second: Option<SamplerKind>,
     /// Samples (points of each pattern).
-    #[arg(short = 'n')]
-    pub n: usize,
+    #[arg(short = 'n', required_unless_present = "rmse")]
+    pub n: Option<usize>,
+    /// Plan instead of predicting: the smallest balanced N whose predicted RMSE reaches this
+    /// target (with --relative, relative to the integral).
+    #[arg(long, conflicts_with_all = ["n", "mc"])]
+    pub rmse: Option<f64>,
+    /// Read --rmse as relative to the magnitude of the integral.
+    #[arg(long, requires = "rmse")]
+    pub relative: bool,
     /// How both patterns are randomized: native (each sampler as it is used), shift,
     /// digital-shift or none.
     #[arg(long, default_value = "native")]
@@ -62,10 +72,15 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
         ..PredictParams::default()
     };
     let bars = super::bars::Bars::default();
-    let p = predict_padded(&f, samplers, args.n, &params, &bars)?;
+    let n = match (args.rmse, args.n) {
+        (Some(rmse), _) => return plan(args, &f, samplers, rmse, params, &bars),
+        (None, Some(n)) => n,
+        (None, None) => unreachable!("clap requires -n without --rmse"),
+    };
+    let p = predict_padded(&f, samplers, n, &params, &bars)?;
     let measured = args
         .mc
-        .map(|trials| padded_monte_carlo(&f, samplers, args.n, trials, args.seed))
+        .map(|trials| padded_monte_carlo(&f, samplers, n, trials, args.seed))
         .transpose()?;
     if args.json {
         let doc = Doc {
@@ -76,8 +91,7 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
     }
     let [ah, aw, bh, bw] = f.shape();
     outln!(
-        "padded estimator, N = {}: {} ({}) on the first pair ({ah} × {aw} cells), {} ({}) on the second ({bh} × {bw})",
-        args.n,
+        "padded estimator, N = {n}: {} ({}) on the first pair ({ah} × {aw} cells), {} ({}) on the second ({bh} × {bw})",
         first.name(),
         samplers.randomizations.0.estimator(),
         second.name(),
@@ -114,4 +128,45 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
         )?;
     }
     Ok(())
+}
+
+/// Plans the padded estimator's samples for `rmse` and prints the plan.
+fn plan(
+    args: &Args,
+    f: &PaddedGrid,
+    samplers: PaddedSamplers,
+    rmse: f64,
+    predict: PredictParams,
+    bars: &super::bars::Bars,
+) -> Result<()> {
+    let target = if args.relative {
+        Target::RelativeRmse(rmse)
+    } else {
+        Target::Rmse(rmse)
+    };
+    let params = PlanParams {
+        predict,
+        ..PlanParams::new(target)
+    };
+    let p = plan_padded(f, samplers, &params, bars)?;
+    if args.json {
+        return outln!("{}", super::to_json(&p)?);
+    }
+    outln!(
+        "padded plan for {target} (RMSE {:.4e}): N = {}, predicted RMSE {:.4e} [{:.4e}, {:.4e}] (99%)",
+        p.target,
+        p.n,
+        p.rmse,
+        p.rmse_interval.0,
+        p.rmse_interval.1
+    )?;
+    if let Some(below) = p.below {
+        outln!("below: N = {}, RMSE {:.4e}", below.n, below.rmse)?;
+    }
+    outln!(
+        "{} predictions, N among {}; {}",
+        p.predictions,
+        p.counts,
+        p.reason
+    )
 }

@@ -1,7 +1,7 @@
 //! `specvar plan`: for each sampler, the smallest N whose predicted RMSE reaches a target.
 
 use specvar::integrand::IntegrandSpec;
-use specvar::pilot::{plan_pilot, Pilot};
+use specvar::pilot::{plan_pilot, Pilot, PilotModel};
 use specvar::pixels::PixelStack;
 use specvar::plan::{default_samplers, plan_many, plan_pixels_many, Plan, PlanParams, Target};
 use specvar::predict::PredictParams;
@@ -29,6 +29,11 @@ pub struct Args {
     /// The samples per pixel of the pilot's renders.
     #[arg(long, requires = "pilot")]
     pub pilot_n: Option<usize>,
+    /// What the pilot's pixels integrate: padded (the default: pairs of dimensions padded
+    /// together, film × light, part of whose variance falls like 1/N) or single (one 2D
+    /// pattern per pixel).
+    #[arg(long, requires = "pilot", default_value = "padded")]
+    pub pilot_model: PilotModel,
     /// The target root-mean-square error (with --relative: relative to the integral).
     #[arg(long)]
     pub rmse: f64,
@@ -96,7 +101,8 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
                         .into(),
                 });
             };
-            let pilot = Pilot::read(path, args.pilot_n.unwrap_or_default())?;
+            let pilot =
+                Pilot::read(path, args.pilot_n.unwrap_or_default())?.with_model(args.pilot_model);
             let v = pilot.variance();
             let label = format!(
                 "a pilot of {} renders of {} pixels at N = {} ({}; variance {:.4e} ± {:.2e})",
