@@ -141,6 +141,8 @@ pub fn read_grid_file(path: &Path) -> Result<GridIntegrand> {
         read_grid_png(&bytes)?
     } else if bytes.starts_with(crate::npy::MAGIC) {
         grid_of_array(crate::npy::read_npy(&bytes)?)?
+    } else if bytes.starts_with(&EXR_MAGIC) {
+        read_grid_exr(&bytes)?
     } else if named_png {
         return Err(Error::format(
             path.display().to_string(),
@@ -150,7 +152,7 @@ pub fn read_grid_file(path: &Path) -> Result<GridIntegrand> {
         let text = String::from_utf8(bytes).map_err(|_| {
             Error::format(
                 path.display().to_string(),
-                "neither a PNG image nor UTF-8 text",
+                "neither a PNG, OpenEXR or .npy file nor UTF-8 text",
             )
         })?;
         read_grid_text(&text)?
@@ -161,6 +163,71 @@ pub fn read_grid_file(path: &Path) -> Result<GridIntegrand> {
     );
     let label = format!("grid({name}, {}×{})", grid.width(), grid.height());
     Ok(grid.with_name(label))
+}
+
+/// The first four bytes of an OpenEXR file.
+const EXR_MAGIC: [u8; 4] = [0x76, 0x2f, 0x31, 0x01];
+
+/// An OpenEXR image as a grid, like a PNG: its first layer at its largest resolution, the top
+/// row at `y = 1`; the luminance `0.2126 R + 0.7152 G + 0.0722 B` where it has R, G and B
+/// channels, else its `Y` channel, else its first channel. Values are the file's own (linear,
+/// unbounded: a render's radiance), not scaled to `[0, 1]`.
+///
+/// # Errors
+/// A malformed file, deep data, more cells than the largest grid (checked from the header,
+/// before the pixels are read), or a value that is not finite.
+pub fn read_grid_exr(bytes: &[u8]) -> Result<GridIntegrand> {
+    use exr::prelude::traits::*;
+    use exr::prelude::{read, AnyChannel, FlatSamples};
+    let bad = |e: exr::error::Error| Error::format("OpenEXR image", e);
+    let meta =
+        exr::meta::MetaData::read_from_buffered(std::io::Cursor::new(bytes), false).map_err(bad)?;
+    let header = meta
+        .headers
+        .first()
+        .ok_or_else(|| Error::format("OpenEXR image", "no layer"))?;
+    let (width, height) = (header.layer_size.0, header.layer_size.1);
+    let cells = width as u64 * height as u64;
+    if cells > MAX_GRID_CELLS as u64 {
+        return Err(Error::TooLarge {
+            what: "a grid integrand".into(),
+            needed: format!("{cells} cells"),
+            budget: format!("{MAX_GRID_CELLS} cells"),
+            advice: "downscale the image".into(),
+        });
+    }
+    let image = read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .all_channels()
+        .first_valid_layer()
+        .all_attributes()
+        .from_buffered(std::io::Cursor::new(bytes))
+        .map_err(bad)?;
+    let channels = &image.layer_data.channel_data.list;
+    let named = |name: &str| channels.iter().find(|c| c.name.eq(name));
+    let at = |c: &AnyChannel<FlatSamples>, i: usize| {
+        c.sample_data.value_by_flat_index(i).to_f32() as f64
+    };
+    let value: Box<dyn Fn(usize) -> f64> = match (named("R"), named("G"), named("B")) {
+        (Some(r), Some(g), Some(b)) => {
+            Box::new(move |i| 0.2126 * at(r, i) + 0.7152 * at(g, i) + 0.0722 * at(b, i))
+        }
+        _ => {
+            let channel = named("Y")
+                .or(channels.first())
+                .ok_or_else(|| Error::format("OpenEXR image", "no channel"))?;
+            Box::new(move |i| at(channel, i))
+        }
+    };
+    let mut values = vec![0.0; width * height];
+    for row in 0..height {
+        let y = height - 1 - row;
+        for x in 0..width {
+            values[y * width + x] = value(row * width + x);
+        }
+    }
+    GridIntegrand::new(width, height, values)
 }
 
 /// A 2D array `values[y, x]` (row 0 at `y = 0`) as a grid.

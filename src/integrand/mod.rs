@@ -26,7 +26,7 @@ pub use anisotropic::{AnisotropicGaussian, MAX_OUTSIDE_FRACTION};
 pub use ball::Ball;
 pub use gaussian::Gaussian;
 pub use grid::GridIntegrand;
-pub use grid_io::{grid_of_array, read_grid_file, read_grid_png, read_grid_text};
+pub use grid_io::{grid_of_array, read_grid_exr, read_grid_file, read_grid_png, read_grid_text};
 pub use polygon::{Polygon, MAX_VERTICES};
 pub use spec::{parse_integrand, IntegrandKind, IntegrandSpec, INTEGRAND_FORMS};
 

@@ -114,7 +114,7 @@ pub enum IntegrandSpec {
 /// Every form [`parse_integrand`] accepts, in words: the one list the command line's help and
 /// the parser's errors both show.
 pub const INTEGRAND_FORMS: &str = "disk, ball or gaussian, with optional overrides such as \
-                                   disk:r=0.2,a=2, grid:FILE for a text, PNG or .npy grid (grid:FILE,a=0.14 scales it), \
+                                   disk:r=0.2,a=2, grid:FILE for a text, PNG, OpenEXR or .npy grid (grid:FILE,a=0.14 scales it), \
                                    polygon:x,y;x,y;x,y or polygon:@FILE, \
                                    edge:theta=30,offset=0.5, or agaussian:s1=0.05,s2=0.02,angle=30";
 
