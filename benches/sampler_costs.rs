@@ -1,11 +1,13 @@
 //! The generation cost each sampler declares ([`SamplerFacts::cost_per_point_ns`]) against a
 //! measurement on this machine: the cost sizes work budgets, Monte Carlo pools and the costly
 //! class, so a declared cost that has drifted beyond [`COST_TOLERANCE`] fails this benchmark.
+//! The cheap samplers are measured again at 16 times the reference count, against the cost
+//! their growth declares there ([`SamplerFacts::cost_growth`]).
 //! Run on an idle machine: `cargo bench --bench sampler_costs`.
 
 use specvar::integrand::{Ball, Gaussian, Integrand};
 use specvar::randomization::Randomization;
-use specvar::sampler::{SamplerKind, COST_TOLERANCE, POOL_NS_PER_SHIFT};
+use specvar::sampler::{SamplerKind, COST_REFERENCE_N, COST_TOLERANCE, POOL_NS_PER_SHIFT};
 use std::time::Instant;
 
 /// Points per pattern: the N at which the costs were declared (1024 for the optimizers, whose
@@ -19,10 +21,10 @@ fn points(kind: SamplerKind) -> usize {
     kind.nearest_count(n, 2)
 }
 
-/// The fastest of a few draws, per point, in nanoseconds: the least disturbed by other work.
-fn measured_ns(kind: SamplerKind) -> f64 {
+/// The fastest of a few draws of `n` points, per point, in nanoseconds: the least disturbed by
+/// other work.
+fn measured_ns(kind: SamplerKind, n: usize) -> f64 {
     let sampler = kind.build(2).expect("every sampler exists in 2D");
-    let n = points(kind);
     let draws = if kind.is_costly() { 3 } else { 20 };
     (0..draws)
         .map(|r| {
@@ -65,18 +67,24 @@ fn main() {
         evaluation_ns()
     );
     println!(
-        "{:<11} {:>12} {:>12} {:>7}",
-        "sampler", "declared ns", "measured ns", "ratio"
+        "{:<11} {:>8} {:>12} {:>12} {:>7}",
+        "sampler", "N", "declared ns", "measured ns", "ratio"
     );
     for kind in SamplerKind::in_dimension(2) {
-        let (declared, measured) = (kind.cost_per_point_ns(), measured_ns(kind));
-        let ratio = measured / declared;
-        println!(
-            "{:<11} {declared:>12.1} {measured:>12.1} {ratio:>7.2}",
-            kind.name()
-        );
-        if !(1.0 / COST_TOLERANCE..=COST_TOLERANCE).contains(&ratio) {
-            drifted.push(format!("{kind} ({ratio:.2}×)"));
+        let mut counts = vec![points(kind)];
+        if !kind.is_costly() {
+            counts.push(kind.nearest_count(16 * COST_REFERENCE_N as usize, 2));
+        }
+        for n in counts {
+            let (declared, measured) = (kind.cost_per_point_ns_at(n), measured_ns(kind, n));
+            let ratio = measured / declared;
+            println!(
+                "{:<11} {n:>8} {declared:>12.1} {measured:>12.1} {ratio:>7.2}",
+                kind.name()
+            );
+            if !(1.0 / COST_TOLERANCE..=COST_TOLERANCE).contains(&ratio) {
+                drifted.push(format!("{kind} at N = {n} ({ratio:.2}×)"));
+            }
         }
     }
     assert!(

@@ -664,7 +664,7 @@ fn estimate_occupancy(
                 n,
                 seed: params.seed,
             },
-            kind.cost_per_point_ns(),
+            kind.cost_per_point_ns_at(n),
         ),
         CellSource::Sets(sets, _) => {
             if sets.len() < 2 {

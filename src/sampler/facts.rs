@@ -50,10 +50,19 @@ pub struct SamplerFacts {
     /// 4096 by `benches/samplers.rs` (which fails when a measurement leaves
     /// [`COST_TOLERANCE`] of it). It sizes work estimates and Monte Carlo pools.
     pub cost_per_point_ns: f64,
+    /// How the cost per point grows beyond the count it was measured at
+    /// ([`COST_REFERENCE_N`]): `cost_per_point_ns · max(1, N / COST_REFERENCE_N)^cost_growth`
+    /// (0 where it stays flat; PMJ02's occupancy tables leave the caches).
+    pub cost_growth: f64,
     /// The generator's working memory, in bytes, for `n` points in dimension `d` (beyond the
     /// points themselves).
     pub working_bytes: fn(n: f64, d: usize) -> f64,
 }
+
+/// The count at which [`SamplerFacts::cost_per_point_ns`] holds (1024 for the optimizers,
+/// which `benches/sampler_costs.rs` measures there), beyond which
+/// [`SamplerFacts::cost_growth`] applies.
+pub const COST_REFERENCE_N: f64 = 4096.0;
 
 /// How far a measured cost per point may stray from the declared one (either way) before
 /// `benches/samplers.rs` fails: the decisions it drives (pools, the costly class) change at

@@ -28,6 +28,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     symmetry: Symmetry::CubeWithSquareStrata,
     correlation_reach: 1.0,
     cost_per_point_ns: 8.0,
+    cost_growth: 0.0,
     working_bytes: super::facts::one_word_per_point,
 };
 

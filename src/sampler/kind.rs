@@ -270,6 +270,24 @@ impl SamplerKind {
         self.facts().cost_per_point_ns
     }
 
+    /// The time to generate one point of a 2D pattern of `n` points, in nanoseconds: the
+    /// declared cost, grown beyond [`COST_REFERENCE_N`](super::facts::COST_REFERENCE_N) by
+    /// [`SamplerFacts::cost_growth`](super::SamplerFacts).
+    ///
+    /// # Examples
+    /// ```
+    /// use specvar::sampler::SamplerKind;
+    /// let pmj = SamplerKind::Pmj02;
+    /// assert_eq!(pmj.cost_per_point_ns_at(1024), pmj.cost_per_point_ns());
+    /// assert!(pmj.cost_per_point_ns_at(65536) > 2.0 * pmj.cost_per_point_ns());
+    /// assert_eq!(SamplerKind::Jitter.cost_per_point_ns_at(1 << 20), SamplerKind::Jitter.cost_per_point_ns());
+    /// ```
+    pub fn cost_per_point_ns_at(self, n: usize) -> f64 {
+        let f = self.facts();
+        let beyond = (n as f64 / super::facts::COST_REFERENCE_N).max(1.0);
+        f.cost_per_point_ns * beyond.powf(f.cost_growth)
+    }
+
     /// The memory and time one pattern of `n` points in dimension `d` takes to draw (the time
     /// from [`cost_per_point_ns`](Self::cost_per_point_ns), the memory from the generator's
     /// working set).
@@ -278,7 +296,7 @@ impl SamplerKind {
         let (n, points) = (n as f64, n as f64 * d as f64 * 8.0);
         Needs {
             memory_bytes: points + (self.facts().working_bytes)(n, d),
-            work_seconds: n * self.cost_per_point_ns() * 1e-9,
+            work_seconds: n * self.cost_per_point_ns_at(n as usize) * 1e-9,
         }
     }
 

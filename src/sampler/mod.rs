@@ -33,7 +33,7 @@ pub use closed_form::{fejer, sinc, ClosedForm, ClosedLattice, TailDeviation};
 pub use cmj::CorrelatedMultiJitter;
 pub use facts::{
     CellRule, ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry,
-    COST_TOLERANCE,
+    COST_REFERENCE_N, COST_TOLERANCE,
 };
 pub use gaussian_jitter::{
     GaussianJitter, DEFAULT_GAUSSIAN_WIDTH, MAX_GAUSSIAN_WIDTH, MIN_GAUSSIAN_WIDTH,

@@ -33,6 +33,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     symmetry: Symmetry::Partial,
     correlation_reach: 2.0,
     cost_per_point_ns: 14.0,
+    cost_growth: 0.0,
     working_bytes: super::facts::one_word_per_point,
 };
 

@@ -35,6 +35,7 @@ pub(crate) const DART_FACTS: SamplerFacts = SamplerFacts {
     symmetry: Symmetry::Cube,
     correlation_reach: 2.0,
     cost_per_point_ns: 4_500.0,
+    cost_growth: 0.0,
     working_bytes: |n, _| n * 64.0,
 };
 
@@ -55,6 +56,7 @@ pub(crate) const BRIDSON_FACTS: SamplerFacts = SamplerFacts {
     symmetry: Symmetry::Cube,
     correlation_reach: 2.0,
     cost_per_point_ns: 8_400.0,
+    cost_growth: 0.0,
     working_bytes: |n, _| n * 64.0,
 };
 

@@ -27,6 +27,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     symmetry: Symmetry::Cube,
     correlation_reach: 0.0,
     cost_per_point_ns: 4.0,
+    cost_growth: 0.0,
     working_bytes: super::facts::one_word_per_point,
 };
 

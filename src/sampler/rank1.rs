@@ -27,6 +27,7 @@ pub(crate) const KOROBOV_FACTS: SamplerFacts = SamplerFacts {
     symmetry: Symmetry::Partial,
     correlation_reach: 2.0,
     cost_per_point_ns: 40.0,
+    cost_growth: 0.0,
     working_bytes: super::facts::one_word_per_point,
 };
 
@@ -47,6 +48,7 @@ pub(crate) const FIBONACCI_FACTS: SamplerFacts = SamplerFacts {
     symmetry: Symmetry::Partial,
     correlation_reach: 2.0,
     cost_per_point_ns: 16.0,
+    cost_growth: 0.0,
     working_bytes: super::facts::one_word_per_point,
 };
 

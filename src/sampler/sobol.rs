@@ -26,6 +26,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     symmetry: Symmetry::Partial,
     correlation_reach: 2.0,
     cost_per_point_ns: 25.0,
+    cost_growth: 0.0,
     working_bytes: |_, _| 4096.0,
 };
 
