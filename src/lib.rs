@@ -65,6 +65,9 @@
 //!   (`.npy`), its variance, and the image's MSE.
 //! - [`plan`]: how many samples: for each sampler, the smallest of its balanced counts whose
 //!   predicted RMSE reaches a target, found along the predictions' own rate.
+//! - [`padded`]: a 4D pixel (film × light) under two 2D patterns padded together, as
+//!   renderers draw them: the two marginals on their routes and the interaction by the
+//!   permutation identity; its plan.
 //! - [`pilot`]: the same from a pilot (a few renders at a small count) instead of the pixels'
 //!   integrands, carried to N by the sampler's predictions on discontinuities.
 //! - [`anisotropy`]: the variance of an edge against its angle, and its rates against N.

@@ -255,6 +255,12 @@ pub struct EdgeFamily {
     members: Vec<Box<dyn Integrand>>,
 }
 
+/// The relative noise each family member's prediction aims at: the geometric mean of four
+/// carries about half of it, well under a pilot's own noise (a 64-pixel image of four renders
+/// knows its variance to about 10%), so a tighter one only costs time (estimated routes need
+/// `1/ε²` patterns).
+pub const FAMILY_TARGET_NOISE: f64 = 0.05;
+
 /// The edges of [`EdgeFamily`]: angle in degrees and offset.
 const FAMILY_EDGES: [(f64, f64); 3] = [(17.0, 0.43), (38.0, 0.61), (62.0, 0.37)];
 /// The disk of [`EdgeFamily`]: radius and centre.
@@ -399,14 +405,18 @@ pub fn plan_pilot(
     let (kind, randomization) = resolve(sampler, params)?;
     let measured = pilot.variance();
     let family = EdgeFamily::new()?;
-    let at_pilot = family.predict(sampler, randomization, pilot.n, &params.predict, progress)?;
+    let member = PredictParams {
+        target_noise: params.predict.target_noise.max(FAMILY_TARGET_NOISE),
+        ..params.predict
+    };
+    let at_pilot = family.predict(sampler, randomization, pilot.n, &member, progress)?;
     let pilot_noise = measured.standard_error / measured.variance;
     let mut plan = reached(plan_by(
         (kind, PILOT_DIMENSION),
         measured.mean,
         params,
         |n| {
-            let at_n = family.predict(sampler, randomization, n, &params.predict, progress)?;
+            let at_n = family.predict(sampler, randomization, n, &member, progress)?;
             let r = model_ratio(pilot.model, family_ratio(&at_pilot, &at_n), pilot.n, n);
             let variance = measured.variance * r.ratio;
             Ok(Prediction {
