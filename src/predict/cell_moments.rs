@@ -2,15 +2,17 @@
 //! cells' means and inner variances that every sum of the cell form reads, tabulated when a
 //! route visits more cells than the grid has, and the checks and budget of such sums.
 
-use crate::budget::{Budget, Needs, COEFFICIENT_SECONDS};
+use crate::budget::{Budget, Needs};
 use crate::error::{Error, Result};
 use crate::integrand::{wrapped_interval, Integrand};
 use crate::quadrature::CompensatedSum;
 use rayon::prelude::*;
 
-/// The work of one cell's moments (a clip, a disk–rectangle area, four error functions): the
-/// integrands' coefficient cost, which bounds them.
-pub(crate) const CELL_SECONDS: f64 = COEFFICIENT_SECONDS;
+/// The work of one cell's moments (a clip, a disk–rectangle area, four error functions) and of
+/// finding the cell: 250–280 ns a point measured on a truncated Gaussian at N = 262144, whose
+/// cells' table no longer fits the caches (the integrands' coefficient cost, 200 ns, held at
+/// smaller N).
+pub(crate) const CELL_SECONDS: f64 = 2.7e-7;
 /// The most cells an exact sum over all cells visits (Latin hypercube's pairs): `2^24`.
 pub(crate) const EXACT_CELL_BUDGET: usize = 1 << 24;
 /// Cells per parallel task of a table or a sum: sums over chunks in a fixed order give the same bits

@@ -291,15 +291,21 @@ pub fn occupancy_variance(
     Ok(estimate)
 }
 
+/// The fewest terms an estimate rests on when the work budget cannot afford its usual first
+/// batch (a costly pattern at a large N): as many as a Monte Carlo interval rests on.
+pub(crate) const MIN_TERMS: usize = crate::montecarlo::MIN_UNITS;
+
 /// How many terms an estimate starts with and may reach: the ones `params.realizations` fixes,
 /// else `initial` first and as many as `params.work_budget_seconds` affords at `per_term`
-/// seconds each, within `[initial, most]`.
+/// seconds each, within `[initial, most]`; where the budget affords fewer than `initial`,
+/// as many as it affords, but never fewer than [`MIN_TERMS`].
 pub(crate) fn terms_within_budget(
     params: &super::PredictParams,
     per_term: f64,
     (initial, most): (usize, usize),
 ) -> (usize, usize) {
     let affordable = (params.work_budget_seconds / per_term.max(f64::MIN_POSITIVE)) as usize;
+    let initial = initial.min(affordable.max(MIN_TERMS));
     let max = params
         .realizations
         .unwrap_or_else(|| affordable.clamp(initial, most));

@@ -27,7 +27,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     symmetry: Symmetry::Partial,
     correlation_reach: 2.0,
     cost_per_point_ns: 330.0,
-    cost_growth: 0.4,
+    cost_growth: 0.5,
     working_bytes: super::facts::one_word_per_point,
 };
 
