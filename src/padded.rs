@@ -36,7 +36,7 @@ use crate::plan::{plan_by, reached, resolve, Plan, PlanParams};
 use crate::pointset::PointSet;
 use crate::predict::{predict_with, ErrorBudget, PredictParams, Prediction, Problem};
 use crate::progress::Progress;
-use crate::randomization::Randomization;
+use crate::randomization::{Randomization, RandomizationChoice};
 use crate::rng::{realization_rng, splitmix64, Stream};
 use crate::sampler::{CountRule, Sampler, SamplerKind};
 use rayon::prelude::*;
@@ -230,22 +230,36 @@ pub struct PaddedSamplers<'a> {
 }
 
 impl<'a> PaddedSamplers<'a> {
-    /// Two samplers, each under its native randomization.
+    /// Two samplers, each randomized as `choice` says (by default its native randomization).
     ///
     /// # Errors
-    /// A sampler that is not 2D.
-    pub fn native(first: &'a dyn Sampler, second: &'a dyn Sampler) -> Result<Self> {
-        let native = |s: &dyn Sampler| {
-            s.kind()
-                .map_or(Randomization::Shift, |k| k.native_randomization())
+    /// A sampler that is not 2D, or a fixed pattern used without a randomization.
+    pub fn new(
+        first: &'a dyn Sampler,
+        second: &'a dyn Sampler,
+        choice: RandomizationChoice,
+    ) -> Result<Self> {
+        let resolve = |s: &dyn Sampler| {
+            choice.resolve(
+                s.kind()
+                    .map_or(Randomization::Shift, |k| k.native_randomization()),
+            )
         };
         let samplers = Self {
             first,
             second,
-            randomizations: (native(first), native(second)),
+            randomizations: (resolve(first), resolve(second)),
         };
         samplers.check()?;
         Ok(samplers)
+    }
+
+    /// Two samplers, each under its native randomization.
+    ///
+    /// # Errors
+    /// As [`new`](Self::new).
+    pub fn native(first: &'a dyn Sampler, second: &'a dyn Sampler) -> Result<Self> {
+        Self::new(first, second, RandomizationChoice::Native)
     }
 
     /// Checks that both are 2D and unbiased under their randomizations (the padded identity

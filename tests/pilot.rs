@@ -1,6 +1,8 @@
 //! Plans from a pilot (a few renders at 16 samples per pixel), checked by Monte Carlo of the
 //! image at the planned count.
 
+mod common;
+
 use specvar::integrand::{GridIntegrand, Integrand};
 use specvar::montecarlo::{empirical_variance, estimate_integral, McParams};
 use specvar::padded::{predict_padded, PaddedGrid, PaddedSamplers};
@@ -22,30 +24,13 @@ const PILOT_BAND: f64 = 0.40;
 /// patterns for its interval.
 const TRIALS: usize = 500;
 
-/// A pixel's soft shadow on `m × m` cells: a penumbra of `width` across a line at `angle`
-/// degrees through `offset`, over a gradient.
-fn soft_shadow(m: usize, angle: f64, offset: f64, width: f64) -> GridIntegrand {
-    let (c, s) = (angle.to_radians().cos(), angle.to_radians().sin());
-    let values = (0..m * m)
-        .map(|i| {
-            let (x, y) = (
-                ((i % m) as f64 + 0.5) / m as f64,
-                ((i / m) as f64 + 0.5) / m as f64,
-            );
-            let t = ((x * c + y * s - offset) / width + 0.5).clamp(0.0, 1.0);
-            0.1 + 0.6 * t * t * (3.0 - 2.0 * t) + 0.3 * x
-        })
-        .collect();
-    GridIntegrand::new(m, m, values).unwrap()
-}
-
 /// An image: shadow edges over the light square, hard or slightly soft, whose angle and position
 /// change from pixel to pixel.
 fn image() -> Vec<GridIntegrand> {
     (0..PIXELS)
         .map(|p| {
             let t = p as f64 / PIXELS as f64;
-            soft_shadow(
+            common::soft_shadow(
                 64,
                 10.0 + 157.0 * t,
                 0.3 + 0.5 * ((p * 7) % 11) as f64 / 11.0,

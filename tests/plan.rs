@@ -3,7 +3,7 @@
 
 mod common;
 
-use specvar::integrand::{GridIntegrand, Integrand, IntegrandSpec};
+use specvar::integrand::{Integrand, IntegrandSpec};
 use specvar::montecarlo::{empirical_variance, McParams, McResult};
 use specvar::plan::{default_samplers, plan, Plan, PlanParams, Target};
 use specvar::progress::Silent;
@@ -16,24 +16,6 @@ const TRIALS: usize = 800;
 /// How far the measured RMSE at the planned N may be from the target where the candidates are
 /// dense (random, strata): the issue's ±25%.
 const TARGET_BAND: f64 = 0.25;
-
-/// A pixel's soft shadow on `m × m` cells: a penumbra of `width` across a line at `angle`
-/// degrees, over a gradient that makes the values at opposite faces differ (the seam an
-/// unshifted estimator never sees).
-fn soft_shadow(m: usize, angle: f64, width: f64) -> GridIntegrand {
-    let (c, s) = (angle.to_radians().cos(), angle.to_radians().sin());
-    let values = (0..m * m)
-        .map(|i| {
-            let (x, y) = (
-                ((i % m) as f64 + 0.5) / m as f64,
-                ((i / m) as f64 + 0.5) / m as f64,
-            );
-            let t = ((x * c + y * s - 0.6) / width + 0.5).clamp(0.0, 1.0);
-            0.1 + 0.6 * t * t * (3.0 - 2.0 * t) + 0.3 * x
-        })
-        .collect();
-    GridIntegrand::new(m, m, values).unwrap()
-}
 
 fn edge() -> Box<dyn Integrand> {
     "edge:theta=30"
@@ -93,7 +75,11 @@ fn planned_counts_reach_the_target_on_an_edge_with_a_seam() {
 
 #[test]
 fn planned_counts_reach_the_target_on_a_soft_shadow() {
-    check_plans("soft shadow", &soft_shadow(128, 30.0, 0.15), 0.005);
+    check_plans(
+        "soft shadow",
+        &common::soft_shadow(128, 30.0, 0.6, 0.15),
+        0.005,
+    );
 }
 
 #[test]
@@ -149,7 +135,7 @@ fn bad_targets_are_refused() {
 fn an_image_is_planned_for_its_rmse_and_measured_pixel_by_pixel() {
     use specvar::pixels::PixelStack;
     use specvar::plan::plan_pixels;
-    let pixel = |angle: f64| soft_shadow(32, angle, 0.1);
+    let pixel = |angle: f64| common::soft_shadow(32, angle, 0.6, 0.1);
     let stack = PixelStack::new(2, [10.0, 35.0, 60.0, 85.0].map(pixel).to_vec()).unwrap();
     let params = PlanParams::new(Target::RelativeRmse(0.01));
     for kind in [SamplerKind::Jitter, SamplerKind::Sobol] {

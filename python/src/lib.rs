@@ -494,6 +494,40 @@ fn plan_pilot<'py>(
     Ok(out)
 }
 
+/// A padded problem from Python's arguments: the 4D grid and the two samplers.
+struct PaddedInput {
+    f: specvar::padded::PaddedGrid,
+    first: Box<dyn Sampler>,
+    second: Box<dyn Sampler>,
+}
+
+impl PaddedInput {
+    fn new(
+        values: &PyReadonlyArrayDyn<'_, f64>,
+        sampler: &str,
+        second: Option<&str>,
+        cache: bool,
+    ) -> PyResult<Self> {
+        let f = specvar::padded::PaddedGrid::from_array(specvar::npy::NpyArray {
+            shape: values.shape().to_vec(),
+            values: values.as_array().iter().copied().collect(),
+        })
+        .or_value_error()?;
+        Ok(Self {
+            f,
+            first: build_sampler(sampler, 2, cache).or_value_error()?,
+            second: build_sampler(second.unwrap_or(sampler), 2, cache).or_value_error()?,
+        })
+    }
+
+    /// The two samplers randomized as `randomization` names.
+    fn samplers(&self, randomization: &str) -> PyResult<specvar::padded::PaddedSamplers<'_>> {
+        let choice: RandomizationChoice = randomization.parse().or_value_error()?;
+        specvar::padded::PaddedSamplers::new(self.first.as_ref(), self.second.as_ref(), choice)
+            .or_value_error()
+    }
+}
+
 /// The variance of a 4D integrand `values[ay, ax, by, bx]` under two 2D patterns padded
 /// together (`sampler` on the first pair, `second` on the other), and with `mc` trials its
 /// Monte Carlo measurement.
@@ -511,18 +545,9 @@ fn predict_padded<'py>(
     seed: u64,
     cache: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
-    use specvar::padded::{padded_monte_carlo, predict_padded, PaddedGrid, PaddedSamplers};
-    let f = PaddedGrid::from_array(specvar::npy::NpyArray {
-        shape: values.shape().to_vec(),
-        values: values.as_array().iter().copied().collect(),
-    })
-    .or_value_error()?;
-    let first = build_sampler(sampler, 2, cache).or_value_error()?;
-    let second = build_sampler(second.unwrap_or(sampler), 2, cache).or_value_error()?;
-    let choice: RandomizationChoice = randomization.parse().or_value_error()?;
-    let mut samplers = PaddedSamplers::native(first.as_ref(), second.as_ref()).or_value_error()?;
-    let native = samplers.randomizations;
-    samplers.randomizations = (choice.resolve(native.0), choice.resolve(native.1));
+    use specvar::padded::{padded_monte_carlo, predict_padded};
+    let input = PaddedInput::new(&values, sampler, second, cache)?;
+    let (f, samplers) = (&input.f, input.samplers(randomization)?);
     let params = PredictParams {
         seed,
         budget: budget(),
@@ -531,9 +556,9 @@ fn predict_padded<'py>(
     let silent = specvar::progress::Silent;
     let (prediction, measured) = py
         .detach(|| {
-            let p = predict_padded(&f, samplers, n, &params, &silent)?;
+            let p = predict_padded(f, samplers, n, &params, &silent)?;
             let m = mc
-                .map(|trials| padded_monte_carlo(&f, samplers, n, trials, seed))
+                .map(|trials| padded_monte_carlo(f, samplers, n, trials, seed))
                 .transpose()?;
             Ok::<_, specvar::Error>((p, m))
         })
@@ -559,19 +584,10 @@ fn plan_padded<'py>(
     seed: u64,
     cache: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
-    use specvar::padded::{plan_padded, PaddedGrid, PaddedSamplers};
+    use specvar::padded::plan_padded;
     use specvar::plan::{PlanParams, Target};
-    let f = PaddedGrid::from_array(specvar::npy::NpyArray {
-        shape: values.shape().to_vec(),
-        values: values.as_array().iter().copied().collect(),
-    })
-    .or_value_error()?;
-    let first = build_sampler(sampler, 2, cache).or_value_error()?;
-    let second = build_sampler(second.unwrap_or(sampler), 2, cache).or_value_error()?;
-    let choice: RandomizationChoice = randomization.parse().or_value_error()?;
-    let mut samplers = PaddedSamplers::native(first.as_ref(), second.as_ref()).or_value_error()?;
-    let native = samplers.randomizations;
-    samplers.randomizations = (choice.resolve(native.0), choice.resolve(native.1));
+    let input = PaddedInput::new(&values, sampler, second, cache)?;
+    let (f, samplers) = (&input.f, input.samplers(randomization)?);
     let target = if relative {
         Target::RelativeRmse(rmse)
     } else {
@@ -589,7 +605,7 @@ fn plan_padded<'py>(
     };
     let silent = specvar::progress::Silent;
     let plan = py
-        .detach(|| plan_padded(&f, samplers, &params, &silent))
+        .detach(|| plan_padded(f, samplers, &params, &silent))
         .or_value_error()?;
     to_py(py, &plan)
 }

@@ -91,14 +91,7 @@ pub fn read_grid_png(bytes: &[u8]) -> Result<GridIntegrand> {
     decoder.set_transformations(png::Transformations::EXPAND);
     let mut reader = decoder.read_info().map_err(bad)?;
     let cells = reader.info().width as u64 * reader.info().height as u64;
-    if cells > MAX_GRID_CELLS as u64 {
-        return Err(Error::TooLarge {
-            what: "a grid integrand".into(),
-            needed: format!("{cells} cells"),
-            budget: format!("{MAX_GRID_CELLS} cells"),
-            advice: "downscale the image".into(),
-        });
-    }
+    check_image_cells(cells)?;
     let mut buffer = vec![0; reader.output_buffer_size()];
     let info = reader.next_frame(&mut buffer).map_err(bad)?;
     let (width, height) = (info.width as usize, info.height as usize);
@@ -165,6 +158,19 @@ pub fn read_grid_file(path: &Path) -> Result<GridIntegrand> {
     Ok(grid.with_name(label))
 }
 
+/// Refuses an image of more cells than the largest grid, before its pixels are read.
+fn check_image_cells(cells: u64) -> Result<()> {
+    if cells > MAX_GRID_CELLS as u64 {
+        return Err(Error::TooLarge {
+            what: "a grid integrand".into(),
+            needed: format!("{cells} cells"),
+            budget: format!("{MAX_GRID_CELLS} cells"),
+            advice: "downscale the image".into(),
+        });
+    }
+    Ok(())
+}
+
 /// The first four bytes of an OpenEXR file.
 const EXR_MAGIC: [u8; 4] = [0x76, 0x2f, 0x31, 0x01];
 
@@ -188,14 +194,7 @@ pub fn read_grid_exr(bytes: &[u8]) -> Result<GridIntegrand> {
         .ok_or_else(|| Error::format("OpenEXR image", "no layer"))?;
     let (width, height) = (header.layer_size.0, header.layer_size.1);
     let cells = width as u64 * height as u64;
-    if cells > MAX_GRID_CELLS as u64 {
-        return Err(Error::TooLarge {
-            what: "a grid integrand".into(),
-            needed: format!("{cells} cells"),
-            budget: format!("{MAX_GRID_CELLS} cells"),
-            advice: "downscale the image".into(),
-        });
-    }
+    check_image_cells(cells)?;
     let image = read()
         .no_deep_data()
         .largest_resolution_level()

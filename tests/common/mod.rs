@@ -168,3 +168,26 @@ pub fn assert_agrees(
         mc.ci_high
     );
 }
+
+/// A pixel's soft shadow on `m × m` cells: a penumbra of `width` across a line at `angle`
+/// degrees through `offset` (along the line's normal), over a gradient in x that makes the
+/// values at opposite faces differ (the seam an unshifted estimator never sees).
+pub fn soft_shadow(
+    m: usize,
+    angle: f64,
+    offset: f64,
+    width: f64,
+) -> specvar::integrand::GridIntegrand {
+    let (c, s) = (angle.to_radians().cos(), angle.to_radians().sin());
+    let values = (0..m * m)
+        .map(|i| {
+            let (x, y) = (
+                ((i % m) as f64 + 0.5) / m as f64,
+                ((i / m) as f64 + 0.5) / m as f64,
+            );
+            let t = ((x * c + y * s - offset) / width + 0.5).clamp(0.0, 1.0);
+            0.1 + 0.6 * t * t * (3.0 - 2.0 * t) + 0.3 * x
+        })
+        .collect();
+    specvar::integrand::GridIntegrand::new(m, m, values).unwrap()
+}

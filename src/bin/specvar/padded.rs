@@ -60,12 +60,7 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
     let f = PaddedGrid::read(&args.integrand)?;
     let first = ctx.sampler(args.sampler, 2)?;
     let second = ctx.sampler(args.second.unwrap_or(args.sampler), 2)?;
-    let mut samplers = PaddedSamplers::native(first.as_ref(), second.as_ref())?;
-    let native = samplers.randomizations;
-    samplers.randomizations = (
-        args.randomization.resolve(native.0),
-        args.randomization.resolve(native.1),
-    );
+    let samplers = PaddedSamplers::new(first.as_ref(), second.as_ref(), args.randomization)?;
     let params = PredictParams {
         seed: args.seed,
         budget: ctx.budget,
