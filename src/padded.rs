@@ -548,7 +548,8 @@ pub fn padded_monte_carlo(
     result_from_estimates(n, &params, &estimates, Some(f.integral()))
 }
 
-/// A uniformly random permutation of `0..n` for trial `t` of `seed` (Fisher–Yates).
+/// A uniformly random permutation of `0..n` for trial `t` of `seed` (Fisher–Yates; reducing a
+/// 64-bit draw modulo `i + 1` biases it by less than `n / 2^64`).
 fn permutation(n: usize, seed: u64, t: usize) -> Vec<usize> {
     use rand::Rng;
     let mut rng = realization_rng(seed, t as u64, Stream::Trial);

@@ -25,7 +25,7 @@
 //! covered by the model term, since the image's ratio is a mean of its pixels' ratios weighted
 //! by their variances at `n₀`. A pixel whose discontinuities run along the axes falls faster
 //! under nets than the family does, and a smooth image faster than any discontinuous one: the
-//! plan is then conservative (more samples than needed), never short.
+//! plan then errs towards more samples than needed.
 //!
 //! A render's pixel is rarely one 2D integral: the film position, the light sample, the lens
 //! are pairs of dimensions that the renderer pads together, and the interaction between pairs
@@ -35,8 +35,8 @@
 //! the model term to hold any split between the two (all interaction: `n₀/N`; none: the
 //! family's ratio). [`PilotModel::Single`] is for a pixel integrated by one 2D pattern (a light
 //! sample at a fixed shading point): `ρ = ρ_edges`. On a Cornell-box crop rendered by Mitsuba
-//! 3 (film × light), the single model planned 221 samples for a 1% image RMSE whose renders
-//! measured 1.35%.
+//! 3 (film × light), four renders at 16 samples planned 462 samples for a 1% image RMSE with
+//! the padded model (renders measured 0.93%) and 221 with the single one (1.35%).
 //!
 //! A pilot of one pixel cannot plan to a useful precision: four renders give its variance with
 //! the spread of a `χ²₃`, a factor of ten across its 90% range. The pixels of an image average
