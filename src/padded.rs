@@ -372,19 +372,73 @@ pub fn plan_padded(
     progress: &dyn Progress,
 ) -> Result<Plan> {
     samplers.check()?;
-    let (first, _) = resolve(samplers.first, params)?;
-    let (second, _) = resolve(samplers.second, params)?;
-    let sparse = |k: SamplerKind| k.facts().balanced_counts == CountRule::PowerOfTwo;
-    let kind = if sparse(second) && !sparse(first) {
-        second
-    } else {
-        first
-    };
+    let kind = ladder_kind(samplers, params)?;
     reached(plan_by((kind, 2), f.integral(), params, |n| {
         samplers.first.check_count(n)?;
         samplers.second.check_count(n)?;
         predict_padded(f, samplers, n, &params.predict, progress).map(|p| p.as_prediction())
     })?)
+}
+
+/// Plans the samples per pixel of an image of padded pixels: the smallest balanced count (as
+/// [`plan_padded`] chooses them) whose image RMSE, the root of the mean of the pixels'
+/// predicted variances, reaches the target (a relative target is relative to the image's mean
+/// value).
+///
+/// # Errors
+/// No pixels, and as [`plan_padded`].
+pub fn plan_padded_pixels(
+    pixels: &[PaddedGrid],
+    samplers: PaddedSamplers,
+    params: &PlanParams,
+    progress: &dyn Progress,
+) -> Result<Plan> {
+    samplers.check()?;
+    if pixels.is_empty() {
+        return Err(invalid("padded pixels", 0, "at least one pixel"));
+    }
+    let count = pixels.len() as f64;
+    let mean = pixels.iter().map(|f| f.integral()).sum::<f64>() / count;
+    let kind = ladder_kind(samplers, params)?;
+    reached(plan_by((kind, 2), mean, params, |n| {
+        samplers.first.check_count(n)?;
+        samplers.second.check_count(n)?;
+        let predictions = pixels
+            .iter()
+            .map(|f| predict_padded(f, samplers, n, &params.predict, progress))
+            .collect::<Result<Vec<_>>>()?;
+        let mut image = predictions[0].as_prediction();
+        image.variance = predictions.iter().map(|p| p.variance).sum::<f64>() / count;
+        let noise = predictions
+            .iter()
+            .map(|p| p.budget.spectrum_noise.powi(2))
+            .sum::<f64>()
+            .sqrt()
+            / count;
+        let mean_of = |part: fn(&ErrorBudget) -> f64| {
+            predictions.iter().map(|p| part(&p.budget)).sum::<f64>() / count
+        };
+        image.budget = ErrorBudget {
+            spectrum_noise: noise,
+            quadrature: mean_of(|b| b.quadrature),
+            truncation: mean_of(|b| b.truncation),
+            model: mean_of(|b| b.model),
+        };
+        Ok(image)
+    })?)
+}
+
+/// The sampler whose balanced counts a padded plan steps along: the sparser ladder (powers of
+/// two where either sampler is a net).
+fn ladder_kind(samplers: PaddedSamplers, params: &PlanParams) -> Result<SamplerKind> {
+    let (first, _) = resolve(samplers.first, params)?;
+    let (second, _) = resolve(samplers.second, params)?;
+    let sparse = |k: SamplerKind| k.facts().balanced_counts == CountRule::PowerOfTwo;
+    Ok(if sparse(second) && !sparse(first) {
+        second
+    } else {
+        first
+    })
 }
 
 /// Predicts the variance of `f` integrated by `n` padded samples of `samplers` (see the module

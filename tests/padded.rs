@@ -128,3 +128,44 @@ fn a_padded_plan_reaches_its_target_by_monte_carlo() {
         }
     }
 }
+
+/// An image of padded pixels: one pixel twice plans as that pixel; two different pixels plan
+/// for their mean variance, checked by Monte Carlo of each.
+#[test]
+fn an_image_of_padded_pixels_plans_for_its_mean_variance() {
+    use specvar::padded::{plan_padded, plan_padded_pixels};
+    use specvar::plan::{PlanParams, Target};
+    let f = pixel();
+    let s = SamplerKind::Jitter.build(2).unwrap();
+    let samplers = PaddedSamplers::native(s.as_ref(), s.as_ref()).unwrap();
+    let params = PlanParams::new(Target::RelativeRmse(0.02));
+    let one = plan_padded(&f, samplers, &params, &Silent).unwrap();
+    let twice = plan_padded_pixels(&[f.clone(), f.clone()], samplers, &params, &Silent).unwrap();
+    assert_eq!(one.n, twice.n);
+    assert!((one.rmse / twice.rmse - 1.0).abs() < 1e-12);
+    // A second pixel: the first's complement, scaled.
+    let [ah, aw, bh, bw] = f.shape();
+    let values = (0..ah * aw * bh * bw)
+        .map(|i| {
+            let (bx, ax) = (i % bw, i / (bw * bh) % aw);
+            0.3 + 0.5 * ((bx + ax) % 3 == 0) as u8 as f64
+        })
+        .collect();
+    let g = PaddedGrid::new([ah, aw, bh, bw], values).unwrap();
+    let image = [f, g];
+    let p = plan_padded_pixels(&image, samplers, &params, &Silent).unwrap();
+    let measured = image
+        .iter()
+        .map(|h| padded_monte_carlo(h, samplers, p.n, TRIALS, 29).unwrap())
+        .collect::<Vec<_>>();
+    let mean_of = |v: &dyn Fn(&specvar::montecarlo::McResult) -> f64| {
+        (measured.iter().map(v).sum::<f64>() / 2.0).sqrt()
+    };
+    let (lo, hi) = (mean_of(&|m| m.ci_low), mean_of(&|m| m.ci_high));
+    eprintln!(
+        "padded image: N = {}, predicted {:.4e}, measured [{lo:.4e}, {hi:.4e}], target {:.4e}",
+        p.n, p.rmse, p.target
+    );
+    assert!(lo <= p.rmse_interval.1 && p.rmse_interval.0 <= hi);
+    assert!(lo <= 1.25 * p.target && hi >= 0.75 * p.target);
+}

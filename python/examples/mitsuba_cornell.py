@@ -18,7 +18,8 @@ The script
 4. plans the samples for 1% relative RMSE of the pixel (``plan_padded``), checks each count
    by renders, and sets qmcpy's ``CubQMCSobolG`` beside it where qmcpy is installed;
 5. plans the crop from a pilot of four renders at 16 samples (``plan_pilot``) and compares it
-   with the plan from the crop's tabulated pixels and with renders at the planned count;
+   with the plans from the crop's tabulated pixels (4D padded, and the light alone) and with
+   renders at the planned count;
 6. draws measured against predicted variance (``cornell_variance.svg``).
 
 Needs ``pip install mitsuba`` (not a dependency of specvar or of its tests); ``pip install
@@ -231,9 +232,14 @@ pixels = np.array(
     ]
 )
 (from_pixels,) = specvar.plan(pixels, rmse=0.01, relative=True, samplers=["jitter"])
+padded_pixels = np.array(
+    [tabulate_4d(x, y, film_cells=4, light_cells=16) for y in range(y0, y0 + CROP) for x in range(x0, x0 + CROP)]
+)
+from_padded = specvar.plan_padded(padded_pixels, "jitter", rmse=0.01, relative=True)
 print(
-    f"\ncrop, jitter, 1% relative image RMSE; the light integrands at the pixels' centres "
-    f"(tabulated, 32 x 32) plan N = {from_pixels.n}"
+    f"\ncrop, jitter, 1% relative image RMSE, planned from the pixels' integrands tabulated: "
+    f"4D (4 x 4 film x 16 x 16 light cells, padded) N = {from_padded.n}; the light integrands "
+    f"at the pixels' centres alone (32 x 32) N = {from_pixels.n}"
 )
 for model in ("padded", "single"):
     p = specvar.plan_pilot(pilot, 16, "jitter", rmse=0.01, relative=True, model=model)

@@ -764,7 +764,9 @@ def plan_padded(
     """How many samples for a 4D integrand ``values[ay, ax, by, bx]`` integrated by two 2D
     patterns padded together (as :func:`predict_padded`): the smallest balanced count (of the
     sparser ladder of the two samplers) whose predicted RMSE reaches ``rmse`` (relative to
-    ``|∫f|`` with ``relative=True``). Raises ``ValueError`` as :func:`plan` does."""
+    ``|∫f|`` with ``relative=True``). A stack of such pixels, ``values[pixel, ay, ax, by, bx]``,
+    is planned for the image's RMSE (the root of the mean of the pixels' variances; relative to
+    the image's mean). Raises ``ValueError`` as :func:`plan` does."""
     raw = _specvar.plan_padded(
         np.ascontiguousarray(values, dtype=np.float64),
         sampler,

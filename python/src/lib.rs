@@ -494,30 +494,53 @@ fn plan_pilot<'py>(
     Ok(out)
 }
 
-/// A padded problem from Python's arguments: the 4D grid and the two samplers.
+/// A padded problem from Python's arguments: the 4D grids (one, or a stack of pixels) and the
+/// two samplers.
 struct PaddedInput {
-    f: specvar::padded::PaddedGrid,
+    pixels: Vec<specvar::padded::PaddedGrid>,
     first: Box<dyn Sampler>,
     second: Box<dyn Sampler>,
 }
 
 impl PaddedInput {
+    /// `values` of rank 4 (one grid) or 5 (pixels first).
     fn new(
         values: &PyReadonlyArrayDyn<'_, f64>,
         sampler: &str,
         second: Option<&str>,
         cache: bool,
     ) -> PyResult<Self> {
-        let f = specvar::padded::PaddedGrid::from_array(specvar::npy::NpyArray {
-            shape: values.shape().to_vec(),
-            values: values.as_array().iter().copied().collect(),
-        })
-        .or_value_error()?;
+        let shape = values.shape().to_vec();
+        let all: Vec<f64> = values.as_array().iter().copied().collect();
+        let (count, grid) = match shape.as_slice() {
+            [p, rest @ ..] if rest.len() == 4 => (*p, rest.to_vec()),
+            _ => (1, shape.clone()),
+        };
+        let cells = grid.iter().product::<usize>().max(1);
+        let pixels = (0..count)
+            .map(|p| {
+                specvar::padded::PaddedGrid::from_array(specvar::npy::NpyArray {
+                    shape: grid.clone(),
+                    values: all[p * cells..(p + 1) * cells].to_vec(),
+                })
+            })
+            .collect::<specvar::Result<Vec<_>>>()
+            .or_value_error()?;
         Ok(Self {
-            f,
+            pixels,
             first: build_sampler(sampler, 2, cache).or_value_error()?,
             second: build_sampler(second.unwrap_or(sampler), 2, cache).or_value_error()?,
         })
+    }
+
+    /// The one grid of a rank-4 input.
+    fn grid(&self) -> PyResult<&specvar::padded::PaddedGrid> {
+        match self.pixels.as_slice() {
+            [f] => Ok(f),
+            _ => Err(PyValueError::new_err(
+                "one 4D grid (ay, ax, by, bx): a stack of pixels is planned, not predicted here",
+            )),
+        }
     }
 
     /// The two samplers randomized as `randomization` names.
@@ -547,7 +570,7 @@ fn predict_padded<'py>(
 ) -> PyResult<Bound<'py, PyAny>> {
     use specvar::padded::{padded_monte_carlo, predict_padded};
     let input = PaddedInput::new(&values, sampler, second, cache)?;
-    let (f, samplers) = (&input.f, input.samplers(randomization)?);
+    let (f, samplers) = (input.grid()?, input.samplers(randomization)?);
     let params = PredictParams {
         seed,
         budget: budget(),
@@ -568,7 +591,8 @@ fn predict_padded<'py>(
     Ok(out)
 }
 
-/// The samples for a target RMSE of a padded estimator on a 4D integrand.
+/// The samples for a target RMSE of a padded estimator on a 4D integrand, or on an image of
+/// them (`values` of rank 5, pixels first: the image's RMSE).
 #[pyfunction]
 #[pyo3(signature = (values, sampler, rmse, relative=false, second=None, randomization="native", max_n=None, seed=0, cache=true))]
 #[allow(clippy::too_many_arguments)]
@@ -584,10 +608,10 @@ fn plan_padded<'py>(
     seed: u64,
     cache: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
-    use specvar::padded::plan_padded;
+    use specvar::padded::{plan_padded, plan_padded_pixels};
     use specvar::plan::{PlanParams, Target};
     let input = PaddedInput::new(&values, sampler, second, cache)?;
-    let (f, samplers) = (&input.f, input.samplers(randomization)?);
+    let samplers = input.samplers(randomization)?;
     let target = if relative {
         Target::RelativeRmse(rmse)
     } else {
@@ -605,7 +629,10 @@ fn plan_padded<'py>(
     };
     let silent = specvar::progress::Silent;
     let plan = py
-        .detach(|| plan_padded(f, samplers, &params, &silent))
+        .detach(|| match input.pixels.as_slice() {
+            [f] => plan_padded(f, samplers, &params, &silent),
+            pixels => plan_padded_pixels(pixels, samplers, &params, &silent),
+        })
         .or_value_error()?;
     to_py(py, &plan)
 }

@@ -38,8 +38,16 @@ def test_a_padded_plan_reaches_its_target():
     assert math.sqrt(m["ci_low"]) <= 1.25 * p.target and math.sqrt(m["ci_high"]) >= 0.75 * p.target
 
 
+def test_a_stack_of_padded_pixels_plans_the_image():
+    one = specvar.plan_padded(pixel(), "jitter", rmse=0.02, relative=True)
+    two = specvar.plan_padded(np.stack([pixel(), pixel()]), "jitter", rmse=0.02, relative=True)
+    assert one.n == two.n and one.rmse == pytest.approx(two.rmse, rel=1e-12)
+
+
 def test_bad_padded_input_is_refused():
     with pytest.raises(ValueError, match="rank 4"):
         specvar.predict_padded(np.ones((4, 4, 4)), "jitter", 16)
+    with pytest.raises(ValueError, match="stack of pixels"):
+        specvar.predict_padded(np.stack([pixel(4), pixel(4)]), "jitter", 16)
     with pytest.raises(ValueError, match="biased"):
         specvar.predict_padded(pixel(4), "regular", 16, randomization="none")
