@@ -32,6 +32,7 @@ use crate::error::{invalid, Error, Result};
 use crate::integrand::GridIntegrand;
 use crate::montecarlo::{result_from_estimates, trial_pattern, McParams, McResult};
 use crate::npy::{read_npy, NpyArray};
+use crate::pixels::mean_of;
 use crate::plan::{plan_by, reached, resolve, Plan, PlanParams};
 use crate::pointset::PointSet;
 use crate::predict::{predict_with, ErrorBudget, PredictParams, Prediction, Problem};
@@ -397,8 +398,7 @@ pub fn plan_padded_pixels(
     if pixels.is_empty() {
         return Err(invalid("padded pixels", 0, "at least one pixel"));
     }
-    let count = pixels.len() as f64;
-    let mean = pixels.iter().map(|f| f.integral()).sum::<f64>() / count;
+    let mean = pixels.iter().map(|f| f.integral()).sum::<f64>() / pixels.len() as f64;
     let kind = ladder_kind(samplers, params)?;
     reached(plan_by((kind, 2), mean, params, |n| {
         samplers.first.check_count(n)?;
@@ -407,22 +407,12 @@ pub fn plan_padded_pixels(
             .iter()
             .map(|f| predict_padded(f, samplers, n, &params.predict, progress))
             .collect::<Result<Vec<_>>>()?;
-        let mut image = predictions[0].as_prediction();
-        image.variance = predictions.iter().map(|p| p.variance).sum::<f64>() / count;
-        let noise = predictions
-            .iter()
-            .map(|p| p.budget.spectrum_noise.powi(2))
-            .sum::<f64>()
-            .sqrt()
-            / count;
-        let mean_of = |part: fn(&ErrorBudget) -> f64| {
-            predictions.iter().map(|p| part(&p.budget)).sum::<f64>() / count
-        };
-        image.budget = ErrorBudget {
-            spectrum_noise: noise,
-            quadrature: mean_of(|b| b.quadrature),
-            truncation: mean_of(|b| b.truncation),
-            model: mean_of(|b| b.model),
+        let each: Vec<Prediction> = predictions.iter().map(|p| p.as_prediction()).collect();
+        let (variance, budget) = mean_of(&each.iter().collect::<Vec<_>>());
+        let image = Prediction {
+            variance,
+            budget,
+            ..each[0].clone()
         };
         Ok(image)
     })?)

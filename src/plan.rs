@@ -95,6 +95,15 @@ pub enum Target {
 }
 
 impl Target {
+    /// An RMSE of `rmse`, relative to the integral's magnitude where `relative`.
+    pub fn new(rmse: f64, relative: bool) -> Self {
+        if relative {
+            Target::RelativeRmse(rmse)
+        } else {
+            Target::Rmse(rmse)
+        }
+    }
+
     /// The RMSE it asks of an integrand whose integral is `integral`.
     ///
     /// # Errors

@@ -169,3 +169,60 @@ fn an_image_of_padded_pixels_plans_for_its_mean_variance() {
     assert!(lo <= p.rmse_interval.1 && p.rmse_interval.0 <= hi);
     assert!(lo <= 1.25 * p.target && hi >= 0.75 * p.target);
 }
+
+/// Bad padded input is refused with the parameter named and what is allowed.
+#[test]
+fn bad_padded_input_is_refused_with_what_is_allowed() {
+    use specvar::Error;
+    let e = PaddedGrid::new([2, 2, 2, 0], vec![]).unwrap_err();
+    assert!(
+        matches!(&e, Error::InvalidParameter { name: "padded grid shape", allowed, .. } if allowed.contains("four positive sides")),
+        "{e}"
+    );
+    let e = PaddedGrid::new([2, 2, 2, 2], vec![0.0; 15]).unwrap_err();
+    assert!(
+        matches!(
+            &e,
+            Error::InvalidParameter {
+                name: "padded grid values",
+                ..
+            }
+        ),
+        "{e}"
+    );
+    let mut values = vec![0.0; 16];
+    values[3] = f64::INFINITY;
+    let e = PaddedGrid::new([2, 2, 2, 2], values).unwrap_err();
+    assert!(
+        matches!(
+            &e,
+            Error::InvalidParameter {
+                name: "padded grid value",
+                ..
+            }
+        ),
+        "{e}"
+    );
+    let regular = SamplerKind::Regular.build(2).unwrap();
+    let mut samplers = PaddedSamplers::native(regular.as_ref(), regular.as_ref()).unwrap();
+    samplers.randomizations = (Randomization::None, Randomization::None);
+    let e = samplers.check().unwrap_err();
+    assert!(
+        matches!(&e, Error::InvalidParameter { name: "padded randomization", allowed, .. } if allowed.contains("biased")),
+        "{e}"
+    );
+    let cube = SamplerKind::Jitter.build(3).unwrap();
+    let e = PaddedSamplers::native(cube.as_ref(), cube.as_ref())
+        .err()
+        .unwrap();
+    assert!(
+        matches!(
+            &e,
+            Error::InvalidParameter {
+                name: "padded sampler dimension",
+                ..
+            }
+        ),
+        "{e}"
+    );
+}

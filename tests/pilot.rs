@@ -201,3 +201,45 @@ fn a_pilot_of_padded_pixels_plans_within_40_percent() {
         );
     }
 }
+
+/// Bad pilots are refused with the parameter named and what is allowed.
+#[test]
+fn bad_pilots_are_refused_with_what_is_allowed() {
+    use specvar::Error;
+    let invalid = |r: specvar::Result<Pilot>| match r {
+        Err(Error::InvalidParameter { name, allowed, .. }) => (name, allowed),
+        other => panic!("expected an invalid parameter, got {other:?}"),
+    };
+    let (name, allowed) = invalid(Pilot::new(16, 1, vec![0.5; 8]));
+    assert_eq!(name, "pilot renders");
+    assert!(allowed.contains("at least 2 renders"), "{allowed}");
+    let (name, allowed) = invalid(Pilot::new(16, 3, vec![0.5; 8]));
+    assert_eq!(name, "pilot values");
+    assert!(allowed.contains("multiple of the 3 renders"), "{allowed}");
+    let (name, allowed) = invalid(Pilot::new(16, 2, vec![0.5, f64::NAN, 0.4, 0.3]));
+    assert_eq!(name, "pilot value");
+    assert!(allowed.contains("render 0, pixel 1"), "{allowed}");
+    let (name, _) = invalid(Pilot::new(16, 2, vec![0.5; 6]));
+    assert_eq!(name, "pilot");
+    let (name, _) = invalid(Pilot::new(0, 2, vec![0.5, 0.4]));
+    assert_eq!(name, "pilot sample count");
+    let model = "4d".parse::<PilotModel>().unwrap_err();
+    assert!(model.to_string().contains("padded or single"), "{model}");
+    // A 3D sampler, and a pilot count the sampler cannot draw.
+    let pilot = Pilot::new(16, 2, vec![0.5, 0.4]).unwrap();
+    let params = PlanParams::new(Target::Rmse(0.01));
+    let ball = SamplerKind::Jitter.build(3).unwrap();
+    let e = plan_pilot(ball.as_ref(), &pilot, &params, &Silent).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            Error::InvalidParameter {
+                name: "pilot sampler dimension",
+                ..
+            }
+        ),
+        "{e}"
+    );
+    let orthogonal = SamplerKind::OrthogonalArray.build(2).unwrap();
+    assert!(plan_pilot(orthogonal.as_ref(), &pilot, &params, &Silent).is_err());
+}

@@ -361,6 +361,27 @@ fn predict<'py>(
     to_py(py, &prediction)
 }
 
+/// A plan's parameters from Python's arguments: the library's defaults with the session's
+/// budget.
+fn plan_params(
+    target: specvar::plan::Target,
+    randomization: RandomizationChoice,
+    max_n: Option<usize>,
+    seed: u64,
+) -> specvar::plan::PlanParams {
+    let base = specvar::plan::PlanParams::new(target);
+    specvar::plan::PlanParams {
+        randomization,
+        max_n,
+        predict: PredictParams {
+            seed,
+            budget: budget(),
+            ..base.predict
+        },
+        ..base
+    }
+}
+
 /// For each sampler, the smallest balanced N whose predicted RMSE on `integrand` reaches
 /// `rmse` (relative to the integral's magnitude with `relative`), with the prediction there; or,
 /// for a stack of per-pixel cell values `(pixels, h, w)` or `(rows, columns, h, w)` in
@@ -382,12 +403,8 @@ fn plan<'py>(
     pixels: Option<PyReadonlyArrayDyn<'py, f64>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     use specvar::pixels::PixelStack;
-    use specvar::plan::{default_samplers, plan_many, plan_pixels_many, PlanParams, Target};
-    let target = if relative {
-        Target::RelativeRmse(rmse)
-    } else {
-        Target::Rmse(rmse)
-    };
+    use specvar::plan::{default_samplers, plan_many, plan_pixels_many, Target};
+    let target = Target::new(rmse, relative);
     let kinds: Vec<SamplerKind> = match samplers {
         Some(names) => names
             .iter()
@@ -401,17 +418,7 @@ fn plan<'py>(
         .map(|k| build_sampler(k.name(), dimension, cache))
         .collect::<specvar::Result<Vec<_>>>()
         .or_value_error()?;
-    let base = PlanParams::new(target);
-    let params = PlanParams {
-        randomization: randomization.parse().or_value_error()?,
-        max_n,
-        predict: PredictParams {
-            seed,
-            budget: budget(),
-            ..base.predict
-        },
-        ..base
-    };
+    let params = plan_params(target, randomization.parse().or_value_error()?, max_n, seed);
     let refs: Vec<&dyn Sampler> = built.iter().map(|s| s.as_ref()).collect();
     let silent = specvar::progress::Silent;
     let plans = match (integrand, pixels) {
@@ -457,12 +464,8 @@ fn plan_pilot<'py>(
     cache: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     use specvar::pilot::{plan_pilot, Pilot, PilotModel};
-    use specvar::plan::{PlanParams, Target};
-    let target = if relative {
-        Target::RelativeRmse(rmse)
-    } else {
-        Target::Rmse(rmse)
-    };
+    use specvar::plan::Target;
+    let target = Target::new(rmse, relative);
     let pilot = Pilot::from_array(
         n,
         specvar::npy::NpyArray {
@@ -473,17 +476,7 @@ fn plan_pilot<'py>(
     .or_value_error()?
     .with_model(model.parse::<PilotModel>().or_value_error()?);
     let built = build_sampler(sampler, 2, cache).or_value_error()?;
-    let base = PlanParams::new(target);
-    let params = PlanParams {
-        randomization: randomization.parse().or_value_error()?,
-        max_n,
-        predict: PredictParams {
-            seed,
-            budget: budget(),
-            ..base.predict
-        },
-        ..base
-    };
+    let params = plan_params(target, randomization.parse().or_value_error()?, max_n, seed);
     let silent = specvar::progress::Silent;
     let plan = py
         .detach(|| plan_pilot(built.as_ref(), &pilot, &params, &silent))
@@ -609,24 +602,12 @@ fn plan_padded<'py>(
     cache: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     use specvar::padded::{plan_padded, plan_padded_pixels};
-    use specvar::plan::{PlanParams, Target};
+    use specvar::plan::Target;
     let input = PaddedInput::new(&values, sampler, second, cache)?;
     let samplers = input.samplers(randomization)?;
-    let target = if relative {
-        Target::RelativeRmse(rmse)
-    } else {
-        Target::Rmse(rmse)
-    };
-    let base = PlanParams::new(target);
-    let params = PlanParams {
-        max_n,
-        predict: PredictParams {
-            seed,
-            budget: budget(),
-            ..base.predict
-        },
-        ..base
-    };
+    let target = Target::new(rmse, relative);
+    // The samplers carry their randomizations: the plan's own is not read.
+    let params = plan_params(target, RandomizationChoice::Native, max_n, seed);
     let silent = specvar::progress::Silent;
     let plan = py
         .detach(|| match input.pixels.as_slice() {

@@ -134,11 +134,7 @@ fn plan(
     predict: PredictParams,
     bars: &super::bars::Bars,
 ) -> Result<()> {
-    let target = if args.relative {
-        Target::RelativeRmse(rmse)
-    } else {
-        Target::Rmse(rmse)
-    };
+    let target = Target::new(rmse, args.relative);
     let params = PlanParams {
         predict,
         ..PlanParams::new(target)

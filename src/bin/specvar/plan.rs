@@ -64,11 +64,7 @@ pub struct Args {
 
 /// Plans and prints.
 pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
-    let target = if args.relative {
-        Target::RelativeRmse(args.rmse)
-    } else {
-        Target::Rmse(args.rmse)
-    };
+    let target = Target::new(args.rmse, args.relative);
     let base = PlanParams::new(target);
     let params = PlanParams {
         randomization: args.randomization,
