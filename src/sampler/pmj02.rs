@@ -107,6 +107,46 @@ impl Occupancy {
         self.shapes[(self.bits - j) as usize][c / 64] >> (c % 64) & 1 == 1
     }
 
+    /// The free columns (cells of the shape `2^m × 1`) in `[x0, x0 + 2^w)`, as `(word index,
+    /// mask of its free bits in the range)`: a popcount per 64 columns instead of a test per
+    /// column.
+    fn free_column_words(&self, x0: u64, w: u32) -> impl Iterator<Item = (usize, u64)> + '_ {
+        let columns = &self.shapes[self.bits as usize];
+        let (start, end) = (x0 as usize, (x0 + (1 << w)) as usize);
+        (start / 64..end.div_ceil(64)).map(move |word| {
+            let (lo, hi) = ((word * 64).max(start), ((word + 1) * 64).min(end));
+            let span = hi - lo;
+            let range = if span == 64 {
+                u64::MAX
+            } else {
+                ((1u64 << span) - 1) << (lo % 64)
+            };
+            (word, !columns[word] & range)
+        })
+    }
+
+    /// How many columns in `[x0, x0 + 2^w)` are free.
+    fn free_columns(&self, x0: u64, w: u32) -> usize {
+        self.free_column_words(x0, w)
+            .map(|(_, free)| free.count_ones() as usize)
+            .sum()
+    }
+
+    /// The `rank`-th free column in `[x0, x0 + 2^w)`, in increasing order.
+    fn nth_free_column(&self, x0: u64, w: u32, mut rank: usize) -> u64 {
+        for (word, mut free) in self.free_column_words(x0, w) {
+            let count = free.count_ones() as usize;
+            if rank < count {
+                for _ in 0..rank {
+                    free &= free - 1;
+                }
+                return (word * 64) as u64 + free.trailing_zeros() as u64;
+            }
+            rank -= count;
+        }
+        unreachable!("a rank below the count of free columns")
+    }
+
     fn mark(&mut self, x: u64, y: u64) {
         for j in 0..=self.bits {
             let c = self.cell(j, x, y >> (self.bits - j));
@@ -148,29 +188,53 @@ struct Phase<'a, R: rand::Rng> {
 }
 
 impl<R: rand::Rng> Phase<'_, R> {
-    /// Places one point in the quarter whose finest strata start at `(x0, y0)`, `2^w` wide.
+    /// Places one point in the quarter whose finest strata start at `(x0, y0)`, `2^w` wide:
+    /// a column uniformly among the free ones, then a row among its valid ones; a column
+    /// without valid rows is dropped and another drawn. The first draw reads the free columns'
+    /// bits (a popcount per 64 columns); only after a column without rows is the list of free
+    /// columns built, drawn from as before (the same draws, so the same points).
     fn place(&mut self, x0: u64, y0: u64, w: u32) -> Option<(f64, f64)> {
-        let m = self.occupancy.bits;
+        let free = self.occupancy.free_columns(x0, w);
+        if free == 0 {
+            return None;
+        }
+        let pick = uniform_index(self.rng, free);
+        let x = self.occupancy.nth_free_column(x0, w, pick);
+        if let Some(point) = self.place_in_column(x, y0, w) {
+            return Some(point);
+        }
         self.columns.clear();
-        self.columns
-            .extend((x0..x0 + (1 << w)).filter(|&x| !self.occupancy.taken(0, x, 0)));
+        for (word, mut free) in self.occupancy.free_column_words(x0, w) {
+            while free != 0 {
+                self.columns
+                    .push((word * 64) as u64 + free.trailing_zeros() as u64);
+                free &= free - 1;
+            }
+        }
+        self.columns.swap_remove(pick);
         while !self.columns.is_empty() {
             let pick = uniform_index(self.rng, self.columns.len());
             let x = self.columns.swap_remove(pick);
-            let mut rows = std::mem::take(&mut self.rows);
-            self.occupancy.valid_rows(x, y0, w, &mut rows);
-            if !rows.is_empty() {
-                let y = rows[uniform_index(self.rng, rows.len())];
-                self.rows = rows;
-                self.occupancy.mark(x, y);
-                let scale = (-(m as i32) as f64).exp2();
-                let fx = (x as f64 + uniform(self.rng)) * scale;
-                let fy = (y as f64 + uniform(self.rng)) * scale;
-                return Some((fx.min(super::ONE_MINUS_EPS), fy.min(super::ONE_MINUS_EPS)));
+            if let Some(point) = self.place_in_column(x, y0, w) {
+                return Some(point);
             }
-            self.rows = rows;
         }
         None
+    }
+
+    /// A point in column `x`, in a row drawn uniformly among its valid ones, if any.
+    fn place_in_column(&mut self, x: u64, y0: u64, w: u32) -> Option<(f64, f64)> {
+        let m = self.occupancy.bits;
+        let mut rows = std::mem::take(&mut self.rows);
+        self.occupancy.valid_rows(x, y0, w, &mut rows);
+        let y = (!rows.is_empty()).then(|| rows[uniform_index(self.rng, rows.len())]);
+        self.rows = rows;
+        let y = y?;
+        self.occupancy.mark(x, y);
+        let scale = (-(m as i32) as f64).exp2();
+        let fx = (x as f64 + uniform(self.rng)) * scale;
+        let fy = (y as f64 + uniform(self.rng)) * scale;
+        Some((fx.min(super::ONE_MINUS_EPS), fy.min(super::ONE_MINUS_EPS)))
     }
 }
 
