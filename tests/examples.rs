@@ -2,7 +2,7 @@
 //! holds the files the examples name, each succeeds, or fails with exit code 2 where the docs
 //! show the error it prints, within a generous time.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -154,7 +154,7 @@ fn pixel4d_npy() -> Vec<u8> {
     npy(&[M, M, M, M], &values)
 }
 
-fn run(example: &Example, dir: &Path, cache: &PathBuf) {
+fn run(example: &Example, dir: &Path, cache: &Path) {
     let mut child = Command::new(env!("CARGO_BIN_EXE_specvar"))
         .args(&example.args)
         .current_dir(dir)
@@ -201,7 +201,10 @@ fn every_documented_command_runs_as_written() {
     // The README runs in an empty directory: every file it reads, it makes first.
     let (readme, reference) = (scratch("readme"), scratch("reference"));
     fixtures(&reference);
-    let cache = readme.join("cache");
+    // The costly patterns (CCVT, Gaussian blue noise) and reference images are kept between
+    // runs under the build's directory, as a user's cache keeps them between commands: the
+    // first run after a clean build draws them, later runs read them.
+    let cache = Path::new(env!("CARGO_TARGET_TMPDIR")).join("documented-commands-cache");
     let all: Vec<(Example, &Path)> = examples("README.md")
         .into_iter()
         .map(|e| (e, readme.as_path()))

@@ -266,6 +266,28 @@ fn grid_transform_matches_the_cell_by_cell_integral() {
     assert!((g.fourier(&[0.0, 0.0]).re - g.integral()).abs() < 1e-15);
 }
 
+/// A grid's power on the lattice, computed axis by axis, is the squared modulus of its
+/// coefficients, each from the cell-by-cell integral, at frequencies that alias past the grid.
+#[test]
+fn grid_power_on_the_lattice_is_its_coefficients_squared() {
+    use specvar::spectrum::Lattice;
+    let g = small_grid();
+    let lattice = Lattice {
+        dimension: 2,
+        kmax: 13,
+    };
+    let mut power = vec![0.0; lattice.len()];
+    g.power_on_lattice(lattice, &mut power);
+    for (i, &p) in power.iter().enumerate() {
+        let k = lattice.frequency(i);
+        let exact = grid_transform_by_cells(&g, [k[0] as f64, k[1] as f64]).norm_sqr();
+        assert!(
+            (p - exact).abs() <= common::ROUNDING * g.integral_of_square(),
+            "{k:?}: {p} vs {exact}"
+        );
+    }
+}
+
 #[test]
 fn grid_radial_power_is_the_angular_mean() {
     let g = small_grid();

@@ -232,6 +232,15 @@ fn rates_command_library_and_report_give_identical_rows() {
     report.ambient.width = 4;
     report.ambient.height = 4;
     report.ambient.samplers = vec![SamplerKind::Random];
+    // The other sections at their smallest: this test compares the study's rows.
+    report.edges.samplers = vec![SamplerKind::Jitter];
+    report.edges.angles = vec![0.0];
+    report.edges.rate_ns = vec![16, 64];
+    report.estimators.samplers = vec![SamplerKind::Jitter];
+    report.estimators.ns = vec![16];
+    report.coverage.cases.truncate(1);
+    report.coverage.integrands.truncate(1);
+    report.coverage.ns = vec![16];
     report.ambient.cache_dir = Some(std::env::temp_dir().join("specvar-test-rates-report"));
     let computed = compute(&report, &Silent).unwrap();
     assert_eq!(serde_json::to_value(&computed.study.rows).unwrap(), library);

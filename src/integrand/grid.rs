@@ -2,6 +2,7 @@
 
 use super::{Integrand, IntegrandKind};
 use crate::error::{invalid, Result};
+use crate::spectrum::Lattice;
 use num_complex::Complex64;
 use rustfft::FftPlanner;
 use std::f64::consts::PI;
@@ -309,6 +310,28 @@ impl Integrand for GridIntegrand {
     }
     fn coefficient(&self, k: &[i64]) -> Complex64 {
         self.fourier_at_integer(k[0], k[1])
+    }
+    fn power_on_lattice(&self, lattice: Lattice, out: &mut [f64]) {
+        // |f̂(k)|² = |G(k mod M)|² |c_x(k_x)|² |c_y(k_y)|²: the cells' factors once per axis
+        // and the DFT's row of each k_y once, then one product per frequency (a pixel's power
+        // is summed over every pixel of an image).
+        let k = lattice.kmax as i64;
+        let (w, h) = (self.width as i64, self.height as i64);
+        let axis_power = |table: &[Complex64], m: i64| -> Vec<f64> {
+            (-k..=k)
+                .map(|kk| cell_factor(table, kk, m).norm_sqr())
+                .collect()
+        };
+        let (px, py) = (axis_power(&self.cell_x, w), axis_power(&self.cell_y, h));
+        let rows: Vec<usize> = (-k..=k).map(|ky| (ky.rem_euclid(h) * w) as usize).collect();
+        let side = lattice.side();
+        for (a, kx) in (-k..=k).enumerate() {
+            let column = kx.rem_euclid(w) as usize;
+            let line = &mut out[a * side..(a + 1) * side];
+            for ((slot, &row), &wy) in line.iter_mut().zip(&rows).zip(&py) {
+                *slot = self.dft[row + column].norm_sqr() * px[a] * wy;
+            }
+        }
     }
     fn projection_energy(&self, axis: usize) -> f64 {
         // The projection onto an axis is piecewise constant: the mean of each column (x) or

@@ -52,17 +52,17 @@ pub fn read_grid_text(text: &str) -> Result<GridIntegrand> {
                 )),
             })
             .collect::<Result<Vec<f64>>>()?;
-        if let Some(first) = rows.first() {
-            if row.len() != first.len() {
-                return Err(parse_error(
-                    line_number,
-                    format!(
-                        "{} values, but the first row has {}",
-                        row.len(),
-                        first.len()
-                    ),
-                ));
-            }
+        if let Some(first) = rows.first()
+            && row.len() != first.len()
+        {
+            return Err(parse_error(
+                line_number,
+                format!(
+                    "{} values, but the first row has {}",
+                    row.len(),
+                    first.len()
+                ),
+            ));
         }
         rows.push(row);
     }

@@ -74,29 +74,29 @@ pub fn predict_polar(
             reason: format!("{} is not isotropic: use the lattice form", f.label()),
         });
     }
-    if let SpectrumSource::Closed(c) = source {
-        if !c.is_scale_invariant() {
-            return Err(Error::OutsideValidity {
-                route: "the polar form".into(),
-                reason: format!(
-                    "the closed form ({}) depends on N itself, not on ν alone: use the lattice \
+    if let SpectrumSource::Closed(c) = source
+        && !c.is_scale_invariant()
+    {
+        return Err(Error::OutsideValidity {
+            route: "the polar form".into(),
+            reason: format!(
+                "the closed form ({}) depends on N itself, not on ν alone: use the lattice \
                      form",
-                    c.name()
-                ),
-            });
-        }
+                c.name()
+            ),
+        });
     }
-    if let SpectrumSource::Closed(ClosedForm::Jitter) = source {
-        if crate::sampler::perfect_root(n, d).is_none() {
-            return Err(invalid(
-                "N",
-                n,
-                format!(
-                    "m^{d} for jitter's closed radial form (rectangular strata are \
+    if let SpectrumSource::Closed(ClosedForm::Jitter) = source
+        && crate::sampler::perfect_root(n, d).is_none()
+    {
+        return Err(invalid(
+            "N",
+            n,
+            format!(
+                "m^{d} for jitter's closed radial form (rectangular strata are \
                      anisotropic: use the lattice form)"
-                ),
-            ));
-        }
+            ),
+        ));
     }
     if let SpectrumSource::Estimated(e) = source {
         let r = &e.radial;
@@ -125,11 +125,12 @@ pub fn predict_polar(
         }
         _ => None,
     };
-    if panels > params.max_panels as f64 && params.max_panels > 0 {
-        if let (SpectrumSource::Closed(closed), Some(_)) = (source, f.radial_oscillation(rho_end)) {
-            let split = params.max_panels as f64 * width;
-            return far_by_mean(f, *closed, n, params, (split, nu_end), table.as_ref());
-        }
+    if panels > params.max_panels as f64
+        && params.max_panels > 0
+        && let (SpectrumSource::Closed(closed), Some(_)) = (source, f.radial_oscillation(rho_end))
+    {
+        let split = params.max_panels as f64 * width;
+        return far_by_mean(f, *closed, n, params, (split, nu_end), table.as_ref());
     }
     if panels.is_nan() || panels > PANEL_LIMIT {
         return Err(Error::OutsideValidity {

@@ -335,10 +335,10 @@ pub(crate) fn predict_routed(
             }
             _ => None,
         };
-        if let Some(sets) = fixed {
-            if let Some(p) = fixed_sets_in_space(problem.integrand, sets, kind, params)? {
-                return Ok(p);
-            }
+        if let Some(sets) = fixed
+            && let Some(p) = fixed_sets_in_space(problem.integrand, sets, kind, params)?
+        {
+            return Ok(p);
         }
     }
     if params.spectrum == SpectrumChoice::Closed && closed.is_none() {
@@ -381,37 +381,35 @@ fn closed_lattice(
         && closed.is_scale_invariant()
         && closed != ClosedForm::WhiteNoise
         && !reaches_one
+        && let Ok(polar) = closed_polar(problem, closed, kind, params)
     {
-        if let Ok(polar) = closed_polar(problem, closed, kind, params) {
-            let reason = format!(
-                "{}; the lattice form was not computed: the widest lattice it may take, \
+        let reason = format!(
+            "{}; the lattice form was not computed: the widest lattice it may take, \
                  |k_i| ≤ {widest}, does not reach ν = 1 at N = {n}, and its tail bound would be \
                  most of the variance",
-                polar.reason
-            );
-            return Ok(with_reason(polar, reason));
-        }
+            polar.reason
+        );
+        return Ok(with_reason(polar, reason));
     }
     let p = lattice_with_closed_form(problem, closed, &name, params);
-    if params.form == FormChoice::Auto && closed.is_scale_invariant() {
-        if let Ok(polar) = closed_polar(problem, closed, kind, params) {
-            return match p {
-                Ok(p) => Ok(tighter_of(p, polar)),
-                // The polar form's work does not grow with N: it answers where the default
-                // lattice would exceed the budget (a lattice asked for is refused as asked).
-                Err(Error::TooLarge { what, needed, .. }) if params.kmax.is_none() => {
-                    Ok(with_reason(
-                        polar.clone(),
-                        format!(
-                            "{}; the lattice form was not computed ({what} would need {needed}, \
+    if params.form == FormChoice::Auto
+        && closed.is_scale_invariant()
+        && let Ok(polar) = closed_polar(problem, closed, kind, params)
+    {
+        return match p {
+            Ok(p) => Ok(tighter_of(p, polar)),
+            // The polar form's work does not grow with N: it answers where the default
+            // lattice would exceed the budget (a lattice asked for is refused as asked).
+            Err(Error::TooLarge { what, needed, .. }) if params.kmax.is_none() => Ok(with_reason(
+                polar.clone(),
+                format!(
+                    "{}; the lattice form was not computed ({what} would need {needed}, \
                          above the budget)",
-                            polar.reason
-                        ),
-                    ))
-                }
-                Err(e) => Err(e),
-            };
-        }
+                    polar.reason
+                ),
+            )),
+            Err(e) => Err(e),
+        };
     }
     p
 }
@@ -930,18 +928,17 @@ pub(crate) fn predict_routed_many(
             .map(|p| predict_routed(p, params, progress))
             .collect();
     }
-    if let Patterns::PointSets(sets) = first.patterns {
-        if first.randomization == Randomization::Shift
-            && params.spectrum == SpectrumChoice::Auto
-            && params.kmax.is_none()
-        {
-            let exact = problems
-                .iter()
-                .map(|p| fixed_sets_in_space(p.integrand, sets, None, params))
-                .collect::<Result<Option<Vec<_>>>>()?;
-            if let Some(all) = exact {
-                return Ok(all);
-            }
+    if let Patterns::PointSets(sets) = first.patterns
+        && first.randomization == Randomization::Shift
+        && params.spectrum == SpectrumChoice::Auto
+        && params.kmax.is_none()
+    {
+        let exact = problems
+            .iter()
+            .map(|p| fixed_sets_in_space(p.integrand, sets, None, params))
+            .collect::<Result<Option<Vec<_>>>>()?;
+        if let Some(all) = exact {
+            return Ok(all);
         }
     }
     let refs: Vec<&Problem<'_>> = problems.iter().collect();

@@ -203,7 +203,7 @@ fn stratified_density(d: usize, m: usize, seed: u64, realization: u64) -> Vec<f6
         dropped[c] = true;
     }
     let mut points = Vec::with_capacity(m * d);
-    for (c, _) in dropped.iter().enumerate().filter(|(_, &drop)| !drop) {
+    for (c, _) in dropped.iter().enumerate().filter(|&(_, &drop)| !drop) {
         let mut rest = c;
         let mut cell = [0usize; 3];
         for a in (0..d).rev() {

@@ -419,14 +419,14 @@ impl<'a> SpectrumAccumulator<'a> {
     /// A sampler or engine error, or more realizations than the given sets hold. The
     /// realizations before the first that failed stay accumulated.
     pub fn extend_to(&mut self, target: usize, progress: &dyn Progress) -> Result<()> {
-        if let Some(available) = self.source.available() {
-            if target > available {
-                return Err(invalid(
-                    "realizations",
-                    target,
-                    format!("at most the {available} point sets given"),
-                ));
-            }
+        if let Some(available) = self.source.available()
+            && target > available
+        {
+            return Err(invalid(
+                "realizations",
+                target,
+                format!("at most the {available} point sets given"),
+            ));
         }
         if target == 0 && self.realizations == 0 {
             return Err(invalid("realizations", 0, "at least 1"));

@@ -242,10 +242,10 @@ fn context(cli: &Cli) -> specvar::Result<Context> {
         },
     };
     let cache = (!cli.no_cache).then(specvar::cache::default_dir);
-    if let Some(dir) = &cache {
-        if let Err(e) = specvar::cache::check_writable(dir) {
-            eprintln!("warning: {e}; costly patterns and references will be drawn anew");
-        }
+    if let Some(dir) = &cache
+        && let Err(e) = specvar::cache::check_writable(dir)
+    {
+        eprintln!("warning: {e}; costly patterns and references will be drawn anew");
     }
     Ok(Context { budget, cache })
 }
