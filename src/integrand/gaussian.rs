@@ -204,6 +204,29 @@ impl Integrand for Gaussian {
         }
         Some((mass, square))
     }
+    fn separable_cells(&self, grid: &[usize]) -> Option<super::SeparableCells> {
+        if grid.len() != self.centre.len() {
+            return None;
+        }
+        // The rows box_moments multiplies: the same bounds, widths and order.
+        let rows = |width: f64| -> Vec<Vec<f64>> {
+            grid.iter()
+                .zip(&self.centre)
+                .map(|(&m, &c)| {
+                    (0..m)
+                        .map(|i| {
+                            axis_mass(i as f64 / m as f64, (i + 1) as f64 / m as f64, c, width)
+                        })
+                        .collect()
+                })
+                .collect()
+        };
+        Some(super::SeparableCells {
+            height: self.height,
+            mass: rows(self.sigma),
+            square: rows(self.sigma / SQRT_2),
+        })
+    }
     fn grid_masses(&self, grid: &[usize], t: &[f64]) -> Option<Vec<f64>> {
         // Separable: the mass of a cell is the height times its axes' masses, and a shifted
         // cell wraps axis by axis.

@@ -4,7 +4,7 @@
 
 use crate::budget::{Budget, Needs};
 use crate::error::{Error, Result};
-use crate::integrand::{wrapped_interval, Integrand};
+use crate::integrand::{wrapped_interval, Integrand, SeparableCells};
 use crate::quadrature::CompensatedSum;
 use rayon::prelude::*;
 
@@ -13,6 +13,14 @@ use rayon::prelude::*;
 /// cells' table no longer fits the caches (the integrands' coefficient cost, 200 ns, held at
 /// smaller N).
 pub(crate) const CELL_SECONDS: f64 = 2.7e-7;
+/// The work of one cell's moments from a separable integrand's rows held in the caches (a
+/// product per axis and a lookup per row), and of finding the cell: 20 ns, a bound on what was
+/// measured at N = 4096 (Latin hypercube's 200 patterns in 0.6 s, with their drawing).
+pub(crate) const SEPARABLE_CELL_SECONDS: f64 = 2e-8;
+/// The rows' size up to which [`SEPARABLE_CELL_SECONDS`] holds. Beyond, each lookup misses
+/// the caches: 70–210 ns a point was measured with rows of 2–8 MB (N = 65536 to 262144,
+/// drawing included), so [`CELL_SECONDS`] is kept there.
+const SEPARABLE_ROWS_IN_CACHE: usize = 1 << 20;
 /// The most cells an exact sum over all cells visits (Latin hypercube's pairs): `2^24`.
 pub(crate) const EXACT_CELL_BUDGET: usize = 1 << 24;
 /// Cells per parallel task of a table or a sum: sums over chunks in a fixed order give the same bits
@@ -113,19 +121,51 @@ pub(crate) fn shifted_cell_mean_and_variance(
     (mean, (square * cells - mean * mean).max(0.0))
 }
 
-/// `(F_c, V_c)`: the mean of `f` over cell `index` of `grid` and its variance inside the cell.
-pub(crate) fn cell_mean_and_variance(
-    f: &dyn Integrand,
-    grid: &[usize],
-    index: usize,
-) -> (f64, f64) {
-    let d = grid.len();
-    let (mut lo, mut hi) = ([0.0; 3], [0.0; 3]);
-    cell_box(index, grid, &mut lo[..d], &mut hi[..d]);
-    let cells: f64 = grid.iter().map(|&m| m as f64).product();
-    let (mass, square) = f.box_moments(&lo[..d], &hi[..d]).unwrap_or((0.0, 0.0));
-    let mean = mass * cells;
-    (mean, (square * cells - mean * mean).max(0.0))
+/// An integrand's moments over the cells of one grid: from its rows of axis factors where it is
+/// separable ([`Integrand::separable_cells`], a few products a cell), else one box at a time
+/// ([`Integrand::box_moments`]); the two agree to the bit.
+pub(crate) struct CellMoments<'a> {
+    f: &'a dyn Integrand,
+    grid: &'a [usize],
+    cells: f64,
+    separable: Option<SeparableCells>,
+}
+
+impl<'a> CellMoments<'a> {
+    pub(crate) fn new(f: &'a dyn Integrand, grid: &'a [usize]) -> Self {
+        Self {
+            f,
+            grid,
+            cells: grid.iter().map(|&m| m as f64).product(),
+            separable: f.separable_cells(grid),
+        }
+    }
+
+    /// The work of one cell's moments: a few products for a separable integrand whose rows fit
+    /// in the caches, else [`CELL_SECONDS`].
+    pub(crate) fn seconds_per_cell(&self) -> f64 {
+        let row_bytes = |rows: &SeparableCells| 16 * rows.mass.iter().map(Vec::len).sum::<usize>();
+        match &self.separable {
+            Some(rows) if row_bytes(rows) <= SEPARABLE_ROWS_IN_CACHE => SEPARABLE_CELL_SECONDS,
+            _ => CELL_SECONDS,
+        }
+    }
+
+    /// `(F_c, V_c)`: the mean of `f` over cell `index` of the grid and its variance inside the
+    /// cell.
+    pub(crate) fn mean_and_variance(&self, index: usize) -> (f64, f64) {
+        let (mass, square) = match &self.separable {
+            Some(rows) => rows.moments(index),
+            None => {
+                let d = self.grid.len();
+                let (mut lo, mut hi) = ([0.0; 3], [0.0; 3]);
+                cell_box(index, self.grid, &mut lo[..d], &mut hi[..d]);
+                self.f.box_moments(&lo[..d], &hi[..d]).unwrap_or((0.0, 0.0))
+            }
+        };
+        let mean = mass * self.cells;
+        (mean, (square * self.cells - mean * mean).max(0.0))
+    }
 }
 
 /// Errors unless `f` has closed-form moments over boxes ([`Integrand::box_moments`]).
@@ -167,6 +207,7 @@ impl CellTable {
     pub(crate) fn new(f: &dyn Integrand, grid: &[usize], n: usize) -> Self {
         let cells: usize = grid.iter().product();
         let integral = f.integral();
+        let moments = CellMoments::new(f, grid);
         let mut deviation = vec![0.0; cells];
         let within: Vec<f64> = deviation
             .par_chunks_mut(TABLE_CHUNK)
@@ -174,7 +215,7 @@ impl CellTable {
             .map(|(c, chunk)| {
                 let mut within = CompensatedSum::default();
                 for (i, slot) in chunk.iter_mut().enumerate() {
-                    let (mean, var) = cell_mean_and_variance(f, grid, c * TABLE_CHUNK + i);
+                    let (mean, var) = moments.mean_and_variance(c * TABLE_CHUNK + i);
                     *slot = mean - integral;
                     within.add(var);
                 }

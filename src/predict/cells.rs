@@ -19,8 +19,8 @@
 //! "Strata in space", derives it and relates it to the aliased Fourier pairs.
 
 use super::cell_moments::{
-    cell_mean_and_variance, check_box_moments, check_cells, chunked_sum, CellSum, CellTable,
-    CELL_ROUNDING, CELL_SECONDS, EXACT_CELL_BUDGET,
+    check_box_moments, check_cells, chunked_sum, CellMoments, CellSum, CellTable, CELL_ROUNDING,
+    EXACT_CELL_BUDGET,
 };
 use super::{ErrorBudget, Form, FormChoice, Prediction, Route, SpectrumChoice, SpectrumOrigin};
 use crate::budget::{Budget, Needs};
@@ -169,8 +169,9 @@ pub fn fixed_strata_variance(
     }
     check_cells("the per-stratum sum", cells, budget)?;
     let per_cell = (n / cells) as f64;
+    let moments = CellMoments::new(f, grid);
     let (sum, scale) = chunked_sum(cells, |i| {
-        let (mean, var) = cell_mean_and_variance(f, grid, i);
+        let (mean, var) = moments.mean_and_variance(i);
         (var, var + mean * mean)
     });
     let norm = per_cell / (n as f64 * n as f64);
@@ -195,7 +196,7 @@ pub struct OccupancyEstimate {
 /// table, `(M − I)²` (the within-cell term is added once, exactly); without, also the pattern's
 /// own within-cell term `(1/N²) Σ_j V_{c_j}`.
 fn pattern_term(
-    f: &dyn Integrand,
+    (f, moments): (&dyn Integrand, &CellMoments),
     pattern: &PointSet,
     grid: &[usize],
     table: Option<&CellTable>,
@@ -211,7 +212,7 @@ fn pattern_term(
         None => {
             let integral = f.integral();
             for x in pattern.points() {
-                let (m, v) = cell_mean_and_variance(f, grid, cell_of(x, grid));
+                let (m, v) = moments.mean_and_variance(cell_of(x, grid));
                 deviation.add(m - integral);
                 within.add(v);
             }
@@ -275,6 +276,7 @@ pub fn occupancy_variance(
         .filter(|&c| c <= TABLE_CELLS && c <= max_patterns.saturating_mul(n))
         .map(|_| stage(progress, "cell means", 0, || CellTable::new(f, grid, n)));
     let within = table.as_ref().map_or(0.0, |t| t.within);
+    let moments = CellMoments::new(f, grid);
     let mut estimate = mean_to_target_noise(
         "occupancy of the cells",
         (initial.clamp(2, max_patterns), max_patterns),
@@ -283,7 +285,7 @@ pub fn occupancy_variance(
         |i| {
             patterns
                 .realization(i)
-                .map(|p| pattern_term(f, &p, grid, table.as_ref()))
+                .map(|p| pattern_term((f, &moments), &p, grid, table.as_ref()))
         },
         progress,
     )?;
@@ -683,14 +685,15 @@ fn estimate_occupancy(
             (PatternSource::Sets(sets), 0.0)
         }
     };
-    let per_pattern = n as f64 * (cost_ns * 1e-9 + CELL_SECONDS);
+    // A separable integrand's cells cost a few products each (its rows: 2N erf differences).
+    let per_cell = CellMoments::new(f, grid).seconds_per_cell();
+    let per_pattern = n as f64 * (cost_ns * 1e-9 + per_cell);
     let (initial, max) = terms_within_budget(params, per_pattern, (INITIAL_PATTERNS, MAX_PATTERNS));
     params.budget.check(
         "the occupancy estimate",
         Needs {
             memory_bytes: 8.0 * (max + cells.min(TABLE_CELLS)) as f64 + 16.0 * n as f64,
-            work_seconds: initial as f64 * per_pattern
-                + cells.min(TABLE_CELLS) as f64 * CELL_SECONDS,
+            work_seconds: initial as f64 * per_pattern + cells.min(TABLE_CELLS) as f64 * per_cell,
         },
         "lower N or the realizations",
     )?;
