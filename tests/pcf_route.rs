@@ -121,7 +121,6 @@ fn window_autocorrelation(power: i32, s: f64, r: [f64; 2]) -> f64 {
 /// face (which the torus would wrap into a jump).
 #[test]
 fn pair_correlation_route_on_a_window_of_a_stationary_pattern() {
-    use rayon::prelude::*;
     use specvar::montecarlo::{result_from_estimates, McParams, Z_99};
     use specvar::pointset::toroidal_delta;
     use specvar::sampler::{Homogenized, Jitter, Sampler};
@@ -138,8 +137,7 @@ fn pair_correlation_route_on_a_window_of_a_stationary_pattern() {
         let f_w =
             |x: &[f64]| -> Option<f64> { (x[0] < s && x[1] < s).then(|| (x[0] / s).powi(power)) };
         // Prediction: pair sums over 200 patterns (a seed of its own).
-        let pair_sums: Vec<f64> = (0..200u64)
-            .into_par_iter()
+        let pair_sums: Vec<f64> = (0..200)
             .map(|r| {
                 let p = process.sample(m, 21, r).unwrap();
                 let mut total = 0.0;

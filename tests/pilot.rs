@@ -3,6 +3,7 @@
 
 mod common;
 
+use rayon::prelude::*;
 use specvar::integrand::{GridIntegrand, Integrand};
 use specvar::montecarlo::{empirical_variance, estimate_integral, McParams};
 use specvar::padded::{predict_padded, PaddedGrid, PaddedSamplers};
@@ -59,12 +60,15 @@ fn a_pilot_of_four_renders_at_16_samples_plans_within_40_percent() {
     let mean = image.iter().map(|f| f.integral()).sum::<f64>() / PIXELS as f64;
     let target = 0.01 * mean;
     let params = PlanParams::new(Target::Rmse(target));
-    for kind in [
+    // The samplers are independent: checked side by side.
+    [
         SamplerKind::Random,
         SamplerKind::Jitter,
         SamplerKind::Cmj,
         SamplerKind::Sobol,
-    ] {
+    ]
+    .into_par_iter()
+    .for_each(|kind| {
         let sampler = kind.build(2).unwrap();
         for seed in 0..3 {
             let pilot = render(sampler.as_ref(), &image, 100 + seed);
@@ -99,7 +103,7 @@ fn a_pilot_of_four_renders_at_16_samples_plans_within_40_percent() {
                 p.rmse_interval.1
             );
         }
-    }
+    });
 }
 
 /// Pixels of the padded image.
