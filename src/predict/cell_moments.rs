@@ -121,6 +121,23 @@ pub(crate) fn shifted_cell_mean_and_variance(
     (mean, (square * cells - mean * mean).max(0.0))
 }
 
+/// The work of one cell's moments of `f` on `grid`, known before any row is computed: a few
+/// products for a separable integrand whose rows fit in the caches, else [`CELL_SECONDS`].
+pub(crate) fn seconds_per_cell(f: &dyn Integrand, grid: &[usize]) -> f64 {
+    // One cell per axis asks whether f is separable at no cost.
+    let separable = f.separable_cells(&vec![1; grid.len()]).is_some();
+    if separable && separable_row_bytes(grid) <= SEPARABLE_ROWS_IN_CACHE as f64 {
+        SEPARABLE_CELL_SECONDS
+    } else {
+        CELL_SECONDS
+    }
+}
+
+/// The memory of a separable integrand's rows on `grid` (two numbers a cell of each axis).
+pub(crate) fn separable_row_bytes(grid: &[usize]) -> f64 {
+    16.0 * grid.iter().map(|&m| m as f64).sum::<f64>()
+}
+
 /// An integrand's moments over the cells of one grid: from its rows of axis factors where it is
 /// separable ([`Integrand::separable_cells`], a few products a cell), else one box at a time
 /// ([`Integrand::box_moments`]); the two agree to the bit.
@@ -138,16 +155,6 @@ impl<'a> CellMoments<'a> {
             grid,
             cells: grid.iter().map(|&m| m as f64).product(),
             separable: f.separable_cells(grid),
-        }
-    }
-
-    /// The work of one cell's moments: a few products for a separable integrand whose rows fit
-    /// in the caches, else [`CELL_SECONDS`].
-    pub(crate) fn seconds_per_cell(&self) -> f64 {
-        let row_bytes = |rows: &SeparableCells| 16 * rows.mass.iter().map(Vec::len).sum::<usize>();
-        match &self.separable {
-            Some(rows) if row_bytes(rows) <= SEPARABLE_ROWS_IN_CACHE => SEPARABLE_CELL_SECONDS,
-            _ => CELL_SECONDS,
         }
     }
 

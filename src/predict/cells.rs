@@ -19,8 +19,8 @@
 //! "Strata in space", derives it and relates it to the aliased Fourier pairs.
 
 use super::cell_moments::{
-    check_box_moments, check_cells, chunked_sum, CellMoments, CellSum, CellTable, CELL_ROUNDING,
-    EXACT_CELL_BUDGET,
+    check_box_moments, check_cells, chunked_sum, seconds_per_cell, separable_row_bytes,
+    CellMoments, CellSum, CellTable, CELL_ROUNDING, EXACT_CELL_BUDGET,
 };
 use super::{ErrorBudget, Form, FormChoice, Prediction, Route, SpectrumChoice, SpectrumOrigin};
 use crate::budget::{Budget, Needs};
@@ -685,14 +685,17 @@ fn estimate_occupancy(
             (PatternSource::Sets(sets), 0.0)
         }
     };
-    // A separable integrand's cells cost a few products each (its rows: 2N erf differences).
-    let per_cell = CellMoments::new(f, grid).seconds_per_cell();
+    // A separable integrand's cells cost a few products each (its rows: one erf difference a
+    // cell of each axis, and their memory).
+    let per_cell = seconds_per_cell(f, grid);
     let per_pattern = n as f64 * (cost_ns * 1e-9 + per_cell);
     let (initial, max) = terms_within_budget(params, per_pattern, (INITIAL_PATTERNS, MAX_PATTERNS));
     params.budget.check(
         "the occupancy estimate",
         Needs {
-            memory_bytes: 8.0 * (max + cells.min(TABLE_CELLS)) as f64 + 16.0 * n as f64,
+            memory_bytes: 8.0 * (max + cells.min(TABLE_CELLS)) as f64
+                + 16.0 * n as f64
+                + separable_row_bytes(grid),
             work_seconds: initial as f64 * per_pattern + cells.min(TABLE_CELLS) as f64 * per_cell,
         },
         "lower N or the realizations",
