@@ -158,6 +158,11 @@ impl<'a> CellMoments<'a> {
         }
     }
 
+    /// `∫ f` over the cube.
+    pub(crate) fn integral(&self) -> f64 {
+        self.f.integral()
+    }
+
     /// `(F_c, V_c)`: the mean of `f` over cell `index` of the grid and its variance inside the
     /// cell.
     pub(crate) fn mean_and_variance(&self, index: usize) -> (f64, f64) {
@@ -211,10 +216,10 @@ pub(crate) struct CellTable {
 }
 
 impl CellTable {
-    pub(crate) fn new(f: &dyn Integrand, grid: &[usize], n: usize) -> Self {
-        let cells: usize = grid.iter().product();
-        let integral = f.integral();
-        let moments = CellMoments::new(f, grid);
+    /// The table of `moments`' cells, for patterns of `n` points.
+    pub(crate) fn new(moments: &CellMoments, n: usize) -> Self {
+        let cells: usize = moments.grid.iter().product();
+        let integral = moments.integral();
         let mut deviation = vec![0.0; cells];
         let within: Vec<f64> = deviation
             .par_chunks_mut(TABLE_CHUNK)

@@ -5,7 +5,8 @@
 //! space"), at the cost of tabulating them.
 
 use super::cell_moments::{
-    check_box_moments, check_cells, CellSum, CellTable, CELL_ROUNDING, EXACT_CELL_BUDGET,
+    check_box_moments, check_cells, CellMoments, CellSum, CellTable, CELL_ROUNDING,
+    EXACT_CELL_BUDGET,
 };
 use crate::budget::Budget;
 use crate::error::{Error, Result};
@@ -53,7 +54,7 @@ pub fn latin_hypercube_variance(f: &dyn Integrand, n: usize, budget: &Budget) ->
     let cells = exact_cells("the Latin hypercube's pair sum", n, d, budget)?;
     let grid = vec![n; d];
     let integral = f.integral();
-    let table = CellTable::new(f, &grid, n);
+    let table = CellTable::new(&CellMoments::new(f, &grid), n);
     let (nf, norm) = (n as f64, 1.0 / (n as f64 * n as f64));
     let occupied = nf.powi(1 - d as i32);
     let mut squares = CompensatedSum::default();
@@ -153,7 +154,7 @@ pub fn multi_jitter_variance(f: &dyn Integrand, n: usize, budget: &Budget) -> Re
     }
     exact_cells("the multi-jittered pair sum", n, 2, budget)?;
     let (m, r) = crate::sampler::near_square_factors(n);
-    let table = CellTable::new(f, &[n, n], n);
+    let table = CellTable::new(&CellMoments::new(f, &[n, n]), n);
     let g = |x: usize, y: usize| table.deviation[y * n + x];
     // Block (i, j): fine x in [i r, (i + 1) r), fine y in [j m, (j + 1) m).
     let block = |i: usize, j: usize| i + m * j;

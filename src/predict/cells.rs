@@ -196,7 +196,7 @@ pub struct OccupancyEstimate {
 /// table, `(M − I)²` (the within-cell term is added once, exactly); without, also the pattern's
 /// own within-cell term `(1/N²) Σ_j V_{c_j}`.
 fn pattern_term(
-    (f, moments): (&dyn Integrand, &CellMoments),
+    moments: &CellMoments,
     pattern: &PointSet,
     grid: &[usize],
     table: Option<&CellTable>,
@@ -210,7 +210,7 @@ fn pattern_term(
             .points()
             .for_each(|x| deviation.add(t.deviation[cell_of(x, grid)])),
         None => {
-            let integral = f.integral();
+            let integral = moments.integral();
             for x in pattern.points() {
                 let (m, v) = moments.mean_and_variance(cell_of(x, grid));
                 deviation.add(m - integral);
@@ -272,11 +272,11 @@ pub fn occupancy_variance(
     }
     let max_patterns = max_patterns.max(2);
     let cells = grid.iter().try_fold(1usize, |a, &m| a.checked_mul(m));
+    let moments = CellMoments::new(f, grid);
     let table = cells
         .filter(|&c| c <= TABLE_CELLS && c <= max_patterns.saturating_mul(n))
-        .map(|_| stage(progress, "cell means", 0, || CellTable::new(f, grid, n)));
+        .map(|_| stage(progress, "cell means", 0, || CellTable::new(&moments, n)));
     let within = table.as_ref().map_or(0.0, |t| t.within);
-    let moments = CellMoments::new(f, grid);
     let mut estimate = mean_to_target_noise(
         "occupancy of the cells",
         (initial.clamp(2, max_patterns), max_patterns),
@@ -285,7 +285,7 @@ pub fn occupancy_variance(
         |i| {
             patterns
                 .realization(i)
-                .map(|p| pattern_term((f, &moments), &p, grid, table.as_ref()))
+                .map(|p| pattern_term(&moments, &p, grid, table.as_ref()))
         },
         progress,
     )?;
