@@ -249,6 +249,9 @@ pub fn predict_pixels(
     progress: &dyn Progress,
 ) -> Result<ImagePrediction> {
     let randomization = randomization.resolve(native_randomization(sampler.kind()));
+    if let Some(kind) = sampler.kind() {
+        crate::predict::check_unbiased(kind, randomization)?;
+    }
     let predictions = stage(
         progress,
         "predicting the pixels",

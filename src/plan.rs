@@ -331,10 +331,9 @@ pub(crate) fn resolve(
             "one of specvar's samplers, whose balanced counts are known",
         )
     })?;
-    Ok((
-        kind,
-        params.randomization.resolve(kind.native_randomization()),
-    ))
+    let randomization = params.randomization.resolve(kind.native_randomization());
+    crate::predict::check_unbiased(kind, randomization)?;
+    Ok((kind, randomization))
 }
 
 /// The search of [`plan`] for a sampler of `kind` in dimension `d` on the predictions of

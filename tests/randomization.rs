@@ -73,10 +73,16 @@ fn independent_points_under_a_digital_shift_are_white_noise() {
 #[test]
 fn an_estimator_the_routes_do_not_predict_is_refused_and_measured() {
     let f = Ball::new(0.25, vec![0.5, 0.5], 1.0).unwrap();
-    // Jitter as drawn has the cell form; Gaussian jitter's offsets are not uniform in cells.
+    // Halton's digit permutations as drawn and Gaussian jitter under a digital shift: neither
+    // a cell form (their points are not uniform in cells) nor a spectral route.
+    let halton = specvar::sampler::Halton::new(2).unwrap();
     let jitter = specvar::sampler::GaussianJitter::new(2).unwrap();
-    for r in [Randomization::None, Randomization::DigitalShift] {
-        let problem = Problem::new(&jitter, &f, 64).unwrap().with_randomization(r);
+    let cases: [(&dyn Sampler, Randomization); 2] = [
+        (&halton, Randomization::None),
+        (&jitter, Randomization::DigitalShift),
+    ];
+    for (sampler, r) in cases {
+        let problem = Problem::new(sampler, &f, 64).unwrap().with_randomization(r);
         let e = predict(&problem, &PredictParams::default()).unwrap_err();
         assert!(
             e.to_string().contains(&format!("mc --randomization {r}")),
@@ -87,7 +93,7 @@ fn an_estimator_the_routes_do_not_predict_is_refused_and_measured() {
             randomization: r,
             ..McParams::default()
         };
-        let m = empirical_variance(&jitter, &f, 64, &mc).unwrap();
+        let m = empirical_variance(sampler, &f, 64, &mc).unwrap();
         assert!(m.variance > 0.0 && m.randomization == r);
     }
 }

@@ -34,9 +34,14 @@ def test_predictions_are_for_the_estimator_asked_or_refused():
     m = specvar.monte_carlo("disk", sampler="jitter", n=64, trials=8000, seed=4)
     assert m.randomization == "none"
     assert m.ci_low <= p.variance <= m.ci_high, (p, m)
-    # Gaussian jitter's offsets are not uniform in cells: refused, naming the Monte Carlo.
+    # Gaussian jitter as drawn: independent points, exact by its aliased frequency pairs.
+    p = specvar.predict("disk", sampler="gjitter", n=64)
+    assert (p.randomization, p.route.form) == ("none", "aliased_pairs")
+    m = specvar.monte_carlo("disk", sampler="gjitter", n=64, trials=8000, seed=4)
+    assert m.ci_low <= p.variance <= m.ci_high, (p, m)
+    # Halton's digit permutations as drawn have no route: refused, naming the Monte Carlo.
     with pytest.raises(ValueError, match="mc --randomization none"):
-        specvar.predict("disk", sampler="gjitter", n=64, randomization="none")
+        specvar.predict("disk", sampler="halton", n=64, randomization="none")
     # A fixed rule used as drawn has a bias, not a variance.
     with pytest.raises(ValueError, match="bias"):
         specvar.predict("disk", sampler="korobov", n=89, randomization="none")

@@ -219,6 +219,21 @@ impl Integrand for AnisotropicGaussian {
             None => self.transform([k[0] as f64, k[1] as f64]),
         }
     }
+    fn square_coefficient(&self, k: &[i64]) -> Option<Complex64> {
+        // f² = a² exp(-rᵀΣ⁻¹r): the lobe of covariance Σ/2 and height a², whose transform has
+        // half the exponent and, over the whole plane, a·(its integral)/2.
+        Some(match &self.truncated {
+            Some(lobe) => lobe.squared().coefficient([k[0], k[1]]),
+            None => {
+                let nu = [k[0] as f64, k[1] as f64];
+                let amplitude = 0.5
+                    * self.height
+                    * self.spectral_integral()
+                    * (-PI * PI * self.quadratic(nu)).exp();
+                shift_phase(&nu, &self.centre) * amplitude
+            }
+        })
+    }
     fn power_on_lattice(&self, lattice: Lattice, out: &mut [f64]) {
         match &self.truncated {
             Some(lobe) => lobe.power_on_lattice(lattice.kmax, out),

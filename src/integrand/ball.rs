@@ -205,6 +205,10 @@ impl Integrand for Ball {
         let omega: Vec<f64> = k.iter().map(|&c| c as f64).collect();
         self.fourier(&omega)
     }
+    fn square_coefficient(&self, k: &[i64]) -> Option<Complex64> {
+        // An indicator times its height: f² = a f.
+        Some(self.coefficient(k) * self.height)
+    }
     fn projection_energy(&self, _axis: usize) -> f64 {
         // The projection is the chord measure: 2h√(R² - x²) in 2D, πh(R² - x²) in 3D.
         let (r, h2) = (self.radius, self.height * self.height);

@@ -304,6 +304,16 @@ impl Integrand for Gaussian {
             .product::<Complex64>()
             * self.height
     }
+    fn square_coefficient(&self, k: &[i64]) -> Option<Complex64> {
+        // f² = a² exp(-|x - c|²/σ²): the same cube's Gaussian of width σ/√2 and height a².
+        let square = Gaussian::new(
+            self.sigma * std::f64::consts::FRAC_1_SQRT_2,
+            self.centre.clone(),
+            self.height * self.height,
+        )
+        .ok()?;
+        Some(square.coefficient(k))
+    }
     fn power_on_lattice(&self, lattice: crate::spectrum::Lattice, out: &mut [f64]) {
         // Separable: |c(k)|² = a² Π_i |c_i(k_i)|², from one table per axis.
         let tables: Vec<Vec<f64>> = (0..lattice.dimension)

@@ -51,6 +51,8 @@ pub struct GridIntegrand {
     name: String,
     /// The cells' circular autocorrelation, computed when first asked for.
     correlation: std::sync::OnceLock<Vec<f64>>,
+    /// The grid of the squared values, built when its coefficients are first asked for.
+    square: std::sync::OnceLock<Option<Box<GridIntegrand>>>,
 }
 
 impl GridIntegrand {
@@ -100,6 +102,7 @@ impl GridIntegrand {
             mean_square,
             name: format!("grid({width}×{height})"),
             correlation: std::sync::OnceLock::new(),
+            square: std::sync::OnceLock::new(),
         })
     }
 
@@ -310,6 +313,16 @@ impl Integrand for GridIntegrand {
     }
     fn coefficient(&self, k: &[i64]) -> Complex64 {
         self.fourier_at_integer(k[0], k[1])
+    }
+    fn square_coefficient(&self, k: &[i64]) -> Option<Complex64> {
+        // f² is the grid of the squared values, with its own DFT.
+        let square = self.square.get_or_init(|| {
+            let values = self.values.iter().map(|v| v * v).collect();
+            GridIntegrand::new(self.width, self.height, values)
+                .ok()
+                .map(Box::new)
+        });
+        square.as_ref().map(|g| g.coefficient(k))
     }
     fn power_on_lattice(&self, lattice: Lattice, out: &mut [f64]) {
         // |f̂(k)|² = |G(k mod M)|² |c_x(k_x)|² |c_y(k_y)|²: the cells' factors once per axis

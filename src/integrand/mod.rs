@@ -90,6 +90,14 @@ pub trait Integrand: Send + Sync {
     /// The torus Fourier coefficient `∫_{[0,1)^d} f(x) e^{-2πi k·x} dx` at integer `k` of the
     /// function [`eval`](Self::eval) defines: exact (truncation at the faces, wrapping, cells).
     fn coefficient(&self, k: &[i64]) -> Complex64;
+    /// The torus Fourier coefficient of `f²` at integer `k`, exactly, where the integrand has
+    /// one (`None` otherwise). Points drawn independently from known densities, as Gaussian
+    /// jitter draws them, have `E f(x)²` from these coefficients (`docs/theory.md`, "Gaussian
+    /// jitter as drawn").
+    fn square_coefficient(&self, k: &[i64]) -> Option<Complex64> {
+        let _ = k;
+        None
+    }
     /// `|coefficient(k)|²` for every frequency of `lattice`, in lattice order, into `out`
     /// (length `lattice.len()`). Separable integrands override it with per-axis tables.
     fn power_on_lattice(&self, lattice: Lattice, out: &mut [f64]) {

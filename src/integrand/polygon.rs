@@ -291,6 +291,10 @@ impl Integrand for Polygon {
     fn coefficient(&self, k: &[i64]) -> Complex64 {
         self.transform([k[0] as f64, k[1] as f64])
     }
+    fn square_coefficient(&self, k: &[i64]) -> Option<Complex64> {
+        // An indicator times its height: f² = a f.
+        Some(self.coefficient(k) * self.height)
+    }
     fn projection_energy(&self, axis: usize) -> f64 {
         // The section length is linear between the vertices' coordinates along the axis, so
         // its square is quadratic there: two Gauss points per piece are exact.

@@ -25,6 +25,7 @@ mod bias;
 mod cell_moments;
 mod cell_pairs;
 mod cells;
+mod gaussian_jitter;
 mod lattice;
 mod owen_gains;
 mod pair;
@@ -42,6 +43,7 @@ pub use cell_pairs::{latin_hypercube_variance, multi_jitter_variance};
 pub use cells::{
     fixed_strata_variance, occupancy_variance, CellOrigin, Occupancy, OccupancyEstimate,
 };
+pub use gaussian_jitter::gaussian_jitter_bias;
 pub use lattice::{
     predict_from_power, predict_lattice, predict_on_patterns, LatticePower, PatternPlan,
 };
@@ -58,7 +60,7 @@ use crate::integrand::Integrand;
 use crate::pointset::PointSet;
 use crate::progress::{Progress, Silent};
 use crate::randomization::Randomization;
-use crate::sampler::{CellRule, Sampler};
+use crate::sampler::{CellRule, Sampler, SamplerKind};
 use crate::spectrum::{ClosedForm, SpectrumEstimate};
 use serde::Serialize;
 use std::fmt;
@@ -149,6 +151,10 @@ pub enum Form {
     Cells,
     /// The sum over Walsh frequencies (fixed patterns under a digital shift).
     Walsh,
+    /// The sum over the pairs of frequencies a sampler's strata alias together (Gaussian
+    /// jitter as drawn).
+    #[serde(rename = "aliased_pairs")]
+    AliasedPairs,
 }
 
 impl fmt::Display for Form {
@@ -158,6 +164,7 @@ impl fmt::Display for Form {
             Form::Lattice => "lattice form",
             Form::Cells => "cell form",
             Form::Walsh => "Walsh form",
+            Form::AliasedPairs => "aliased-pair form",
         })
     }
 }
@@ -638,6 +645,36 @@ pub fn predict(problem: &Problem<'_>, params: &PredictParams) -> Result<Predicti
 /// The estimator's [`Error::OutsideValidity`].
 pub fn check_route(problem: &Problem<'_>) -> Result<()> {
     route::check_estimator(problem)
+}
+
+/// Refuses an estimator whose mean squared error is not its variance: Gaussian jitter used as
+/// drawn is biased (its points' density ripples at the grid's period;
+/// [`gaussian_jitter_bias`]), so a plan or an image's MSE, which read the variance as the
+/// squared error, would leave the bias out. Other estimators with a route are unbiased.
+///
+/// # Errors
+/// [`Error::OutsideValidity`] for Gaussian jitter used as drawn.
+///
+/// # Examples
+/// ```
+/// use specvar::predict::check_unbiased;
+/// use specvar::randomization::Randomization;
+/// use specvar::sampler::SamplerKind;
+/// assert!(check_unbiased(SamplerKind::GaussianJitter, Randomization::None).is_err());
+/// assert!(check_unbiased(SamplerKind::GaussianJitter, Randomization::Shift).is_ok());
+/// # Ok::<(), specvar::Error>(())
+/// ```
+pub fn check_unbiased(kind: SamplerKind, randomization: Randomization) -> Result<()> {
+    if kind == SamplerKind::GaussianJitter && randomization == Randomization::None {
+        return Err(Error::OutsideValidity {
+            route: "a squared error from the variance".into(),
+            reason: "gjitter used as drawn is biased (`specvar predict` states its bias), so its \
+                     mean squared error is the variance plus the bias squared; plan or render it \
+                     with --randomization shift"
+                .into(),
+        });
+    }
+    Ok(())
 }
 
 /// Predicts the variance of the homogenized estimator, reporting the spectrum estimate's

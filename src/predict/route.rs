@@ -145,7 +145,7 @@ pub(crate) fn check_estimator(problem: &Problem<'_>) -> Result<()> {
         return Ok(());
     }
     let kind = problem.kind();
-    if uses_cells(problem) || uses_walsh(problem) {
+    if uses_cells(problem) || uses_walsh(problem) || gaussian_jitter_as_drawn(problem).is_some() {
         return Ok(());
     }
     match kind {
@@ -204,6 +204,24 @@ fn uses_cells(problem: &Problem<'_>) -> bool {
                 facts.cells != CellRule::None && !facts.randomness.is_stationary()
             }),
         }
+}
+
+/// Gaussian jitter used as drawn, with its closed form and strata: independent points with
+/// known densities, whose variance the aliased-pair form gives exactly.
+fn gaussian_jitter_as_drawn(
+    problem: &Problem<'_>,
+) -> Option<(crate::sampler::ClosedForm, Vec<usize>)> {
+    let Patterns::Sampler(sampler) = problem.patterns else {
+        return None;
+    };
+    if problem.randomization != Randomization::None
+        || problem.kind() != Some(SamplerKind::GaussianJitter)
+    {
+        return None;
+    }
+    let form = sampler.closed_form(problem.n)?;
+    let strata = crate::sampler::strata(problem.n, problem.integrand.dimension())?;
+    Some((form, strata))
 }
 
 /// Whether `problem` is Owen-scrambled Sobol' under a digital shift, whose law is Owen's
@@ -297,6 +315,14 @@ pub(crate) fn predict_routed(
     }
     if uses_walsh(problem) {
         return super::walsh::predict_walsh(problem, params, progress);
+    }
+    if let Some((form, strata)) = gaussian_jitter_as_drawn(problem) {
+        return super::gaussian_jitter::predict_gaussian_jitter_as_drawn(
+            problem.integrand,
+            form,
+            &strata,
+            &params.budget,
+        );
     }
     if let Some(sampler) = shifted_scrambled_net(problem, params) {
         return super::shifted_gains::predict_shifted_net(

@@ -272,6 +272,9 @@ pub fn predict_mse_per_pixel(
 ) -> Result<Prediction> {
     grid.check()?;
     super::check_max_distance(max_distance)?;
+    if let Some(kind) = sampler.kind() {
+        crate::predict::check_unbiased(kind, randomization)?;
+    }
     let pixels: Vec<usize> = (0..frame.height())
         .step_by(grid.stride)
         .flat_map(|y| {

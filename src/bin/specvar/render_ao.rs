@@ -127,7 +127,8 @@ struct Row {
 pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
     let mut config = args.config(ctx);
     specvar::output::check_output_dir(&args.out)?;
-    // Every sampler: those whose estimator has a route (Halton as drawn has none).
+    // Every sampler whose estimator has a route and an MSE equal to its variance (Halton as
+    // drawn has no route, Gaussian jitter as drawn a bias).
     let mut unrouted = Vec::new();
     if let Samplers::All = args.sampler {
         let disk = specvar::integrand::Ball::new(0.25, vec![0.5, 0.5], 1.0)?;
@@ -140,7 +141,8 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
                     .resolve(kind.native_randomization());
                 specvar::predict::check_route(
                     &specvar::predict::Problem::new(s.as_ref(), &disk, n)?.with_randomization(r),
-                )
+                )?;
+                specvar::predict::check_unbiased(kind, r)
             });
             if routed.is_err() {
                 unrouted.push(kind.name());
