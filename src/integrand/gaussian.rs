@@ -314,6 +314,16 @@ impl Integrand for Gaussian {
         .ok()?;
         Some(square.coefficient(k))
     }
+    fn separable_coefficients(&self, kmax: &[usize]) -> Option<super::SeparableCoefficients> {
+        (kmax.len() == self.centre.len()).then(|| super::SeparableCoefficients {
+            height: self.height,
+            axes: kmax
+                .iter()
+                .enumerate()
+                .map(|(a, &k)| self.axis_coefficients(a, k))
+                .collect(),
+        })
+    }
     fn power_on_lattice(&self, lattice: crate::spectrum::Lattice, out: &mut [f64]) {
         // Separable: |c(k)|² = a² Π_i |c_i(k_i)|², from one table per axis.
         let tables: Vec<Vec<f64>> = (0..lattice.dimension)

@@ -62,6 +62,16 @@ impl SeparableCells {
     }
 }
 
+/// The torus coefficients of a separable integrand, `f̂(k) = height · Π_a axes[a][k_a + K_a]`
+/// on `|k_a| ≤ K_a` ([`Integrand::separable_coefficients`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SeparableCoefficients {
+    /// The factor common to every coefficient (the integrand's height).
+    pub height: f64,
+    /// Per axis, the axis factor's coefficients for `k = -K_a..=K_a`.
+    pub axes: Vec<Vec<Complex64>>,
+}
+
 /// A real integrand on `[0,1)^d` with a closed-form Fourier transform.
 pub trait Integrand: Send + Sync {
     /// Which kind of integrand this is.
@@ -96,6 +106,13 @@ pub trait Integrand: Send + Sync {
     /// jitter as drawn").
     fn square_coefficient(&self, k: &[i64]) -> Option<Complex64> {
         let _ = k;
+        None
+    }
+    /// The torus coefficients on `|k_a| ≤ kmax[a]` as one row per axis, when the integrand is
+    /// a product of functions of one coordinate each (a Gaussian): sums over the lattice then
+    /// factor into sums per axis. `None` otherwise.
+    fn separable_coefficients(&self, kmax: &[usize]) -> Option<SeparableCoefficients> {
+        let _ = kmax;
         None
     }
     /// `|coefficient(k)|²` for every frequency of `lattice`, in lattice order, into `out`

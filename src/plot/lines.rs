@@ -53,7 +53,8 @@ pub struct Axes {
     pub x_ticks: Option<Vec<f64>>,
 }
 
-const PALETTE: [RGBColor; 8] = [
+// Ten colours, so that the report's ten-sampler figures repeat none.
+const PALETTE: [RGBColor; 10] = [
     RGBColor(31, 119, 180),
     RGBColor(214, 39, 40),
     RGBColor(44, 160, 44),
@@ -62,6 +63,8 @@ const PALETTE: [RGBColor; 8] = [
     RGBColor(140, 86, 75),
     RGBColor(227, 119, 194),
     RGBColor(23, 190, 207),
+    RGBColor(188, 189, 34),
+    RGBColor(40, 40, 40),
 ];
 
 const REFERENCE_GREY: RGBColor = RGBColor(140, 140, 140);

@@ -25,7 +25,7 @@
 use super::{ErrorBudget, Form, Prediction, Route, SpectrumOrigin};
 use crate::budget::{Budget, Needs, COEFFICIENT_SECONDS};
 use crate::error::{invalid, Error, Result};
-use crate::integrand::Integrand;
+use crate::integrand::{Integrand, SeparableCoefficients};
 use crate::quadrature::CompensatedSum;
 use crate::randomization::Randomization;
 use crate::sampler::ClosedForm;
@@ -120,9 +120,16 @@ fn moments(f: &dyn Integrand, strata: &[usize], width: f64, budget: &Budget) -> 
         "lower N or widen the offsets",
     )?;
     let classes: usize = strata.iter().product();
-    let folded = |p: usize| folded_class(f, &axes, p);
-    let (aliased, _) = super::cell_moments::chunked_sum(classes, |p| (folded(p).norm_sqr(), 0.0));
-    let mean = folded(0).re;
+    let (aliased, mean) =
+        match f.separable_coefficients(&axes.iter().map(|a| a.kmax as usize).collect::<Vec<_>>()) {
+            Some(rows) => separable_folds(&rows, &axes),
+            None => {
+                let folded = |p: usize| folded_class(f, &axes, p);
+                let (aliased, _) =
+                    super::cell_moments::chunked_sum(classes, |p| (folded(p).norm_sqr(), 0.0));
+                (aliased, folded(0).re)
+            }
+        };
     let squares = square_sum(f, &axes)?;
     let i0 = f.integral();
     let n = classes as f64;
@@ -140,6 +147,86 @@ fn moments(f: &dyn Integrand, strata: &[usize], width: f64, budget: &Budget) -> 
         rounding,
         truncation,
         frequencies: frequencies as u64 + squares.terms,
+    })
+}
+
+/// The variance of Gaussian jitter of width `width` (in strata) on the grid `strata` under a
+/// uniform random shift, exactly up to the bounded truncation and rounding: with
+/// `E P(k) = 1 − φ(k)² + N φ(k)² [k ∈ mZ^d]`,
+/// `Var = (1/N) [∫f² − Σ_k |f̂(k)|² φ(k)²] + Σ_{ℓ≠0} |f̂(mℓ)|² φ(mℓ)²` (the first sum by
+/// Parseval, so no energy is counted as white beyond a lattice).
+fn shifted_moments(
+    f: &dyn Integrand,
+    strata: &[usize],
+    width: f64,
+    budget: &Budget,
+) -> Result<Moments> {
+    // φ² is the characteristic function of offsets √2 times wider.
+    let axes: Vec<Axis> = strata
+        .iter()
+        .map(|&m| Axis::new(m, width * std::f64::consts::SQRT_2))
+        .collect();
+    let sides: Vec<usize> = axes.iter().map(|a| (2 * a.kmax + 1) as usize).collect();
+    let frequencies: f64 = sides.iter().map(|&s| s as f64).product();
+    budget.check(
+        "Gaussian jitter's smoothed energy",
+        Needs {
+            memory_bytes: axes.iter().map(|a| 24.0 * a.weight.len() as f64).sum(),
+            work_seconds: frequencies * COEFFICIENT_SECONDS,
+        },
+        "lower N or widen the offsets",
+    )?;
+    let kmax: Vec<usize> = axes.iter().map(|a| a.kmax as usize).collect();
+    let smoothed = match f.separable_coefficients(&kmax) {
+        Some(rows) => {
+            rows.axes
+                .iter()
+                .zip(&axes)
+                .map(|(row, axis)| {
+                    let mut sum = CompensatedSum::default();
+                    for (c, w) in row.iter().zip(&axis.weight) {
+                        sum.add(c.norm_sqr() * w);
+                    }
+                    sum.value()
+                })
+                .product::<f64>()
+                * rows.height
+                * rows.height
+        }
+        None => {
+            let count = sides.iter().product();
+            let term = |i: usize| {
+                let (mut k, mut rest, mut weight) = ([0i64; 3], i, 1.0);
+                for (a, axis) in axes.iter().enumerate() {
+                    k[a] = (rest % sides[a]) as i64 - axis.kmax;
+                    rest /= sides[a];
+                    weight *= axis.weight[axis.index(k[a])];
+                }
+                (f.coefficient(&k[..axes.len()]).norm_sqr() * weight, 0.0)
+            };
+            super::cell_moments::chunked_sum(count, term).0
+        }
+    };
+    let replicas = replica_sum(&axes, |k, l| {
+        Ok(if l.iter().all(|&x| x == 0) {
+            0.0
+        } else {
+            f.coefficient(k).norm_sqr()
+        })
+    })?;
+    let n: f64 = strata.iter().map(|&m| m as f64).product();
+    let energy = f.integral_of_square();
+    let total: f64 = axes.iter().map(|a| a.inside + a.beyond).product();
+    let inside: f64 = axes.iter().map(|a| a.inside).product();
+    // |f̂(k)|² ≤ ‖f‖₂² on the unit cube.
+    let truncation = energy * (total - inside) / n + energy * replicas.beyond;
+    let rounding = COEFFICIENT_ROUNDING * ((energy + smoothed) / n + replicas.value);
+    Ok(Moments {
+        variance: ((energy - smoothed) / n + replicas.value).max(0.0),
+        bias: 0.0,
+        rounding,
+        truncation,
+        frequencies: frequencies as u64 + replicas.terms,
     })
 }
 
@@ -163,6 +250,29 @@ fn folded_class(f: &dyn Integrand, axes: &[Axis], p: usize) -> Complex64 {
         sum += f.coefficient(k) * weight;
     });
     sum
+}
+
+/// `(Σ_p |G(p)|², G(0))` for a separable integrand, whose folds factor by axis:
+/// `G(p) = height · Π_a G_a(p_a)`, so the sum over the `N` classes is a product of sums over
+/// each axis's `m_a` classes.
+fn separable_folds(rows: &SeparableCoefficients, axes: &[Axis]) -> (f64, f64) {
+    let (mut aliased, mut mean) = (rows.height * rows.height, rows.height);
+    for (row, axis) in rows.axes.iter().zip(axes) {
+        let fold = |p: usize| -> Complex64 {
+            axis.class(p)
+                .map(|k| {
+                    row[axis.index(k)] * axis.phase[axis.index(k)] * axis.weight[axis.index(k)]
+                })
+                .sum()
+        };
+        let mut squares = CompensatedSum::default();
+        for p in 0..axis.strata {
+            squares.add(fold(p).norm_sqr());
+        }
+        aliased *= squares.value();
+        mean *= fold(0).re;
+    }
+    (aliased, mean)
 }
 
 /// The bias `E μ − I` of `f`'s estimator with Gaussian jitter of width `width` (in strata) at
@@ -218,45 +328,38 @@ fn fold_class(
     }
 }
 
-/// `Σ_ℓ \hat{f²}(mℓ) φ(mℓ) (−1)^{Σ ℓ_a}` over `|m_a ℓ_a| ≤ kmax_a`, with a bound on the rest
-/// relative to `∫ f²`.
-struct SquareSum {
+/// A sum over the replicas `k = mℓ` with `|k_a| ≤ kmax_a`, with a bound on the rest relative
+/// to the largest term's size.
+struct ReplicaSum {
     value: f64,
     beyond: f64,
     terms: u64,
 }
 
-fn square_sum(f: &dyn Integrand, axes: &[Axis]) -> Result<SquareSum> {
+/// `Σ_ℓ term(mℓ, ℓ) φ(mℓ)` over the replicas inside the axes' extents, in order, and
+/// `Σ φ(mℓ)` over those outside, bounded: per axis `φ_a(m ℓ) = exp(−c m² ℓ²)`, whose tail past
+/// the extent is bounded like the full lattice's.
+fn replica_sum(
+    axes: &[Axis],
+    mut term: impl FnMut(&[i64], &[i64]) -> Result<f64>,
+) -> Result<ReplicaSum> {
     let d = axes.len();
     let extents: Vec<i64> = axes.iter().map(|a| a.kmax / a.strata as i64).collect();
     let count: usize = extents.iter().map(|&l| (2 * l + 1) as usize).product();
     let mut sum = CompensatedSum::default();
-    let mut k = [0i64; 3];
+    let (mut k, mut l) = ([0i64; 3], [0i64; 3]);
     for code in 0..count {
         let mut rest = code;
         let mut weight = 1.0;
         for (a, axis) in axes.iter().enumerate() {
             let side = (2 * extents[a] + 1) as usize;
-            let l = (rest % side) as i64 - extents[a];
+            l[a] = (rest % side) as i64 - extents[a];
             rest /= side;
-            k[a] = l * axis.strata as i64;
-            weight *= axis.weight[axis.index(k[a])] * if l % 2 == 0 { 1.0 } else { -1.0 };
+            k[a] = l[a] * axis.strata as i64;
+            weight *= axis.weight[axis.index(k[a])];
         }
-        let c = f
-            .square_coefficient(&k[..d])
-            .ok_or_else(|| Error::OutsideValidity {
-                route: "the aliased-pair form of Gaussian jitter".into(),
-                reason: format!(
-                    "{} has no closed-form Fourier coefficients of its square, which the points' \
-                 second moments need; measure it with `specvar mc --randomization none`, or \
-                 predict with --randomization shift",
-                    f.label()
-                ),
-            })?;
-        sum.add(c.re * weight);
+        sum.add(term(&k[..d], &l[..d])? * weight);
     }
-    // φ(mℓ) over the sublattice: per axis exp(−c m² ℓ²), whose tail past the extent is bounded
-    // like the full lattice's.
     let (total, inside) = axes
         .iter()
         .zip(&extents)
@@ -268,11 +371,63 @@ fn square_sum(f: &dyn Integrand, axes: &[Axis]) -> Result<SquareSum> {
             (inside + gaussian_tail(c, l), inside)
         })
         .fold((1.0, 1.0), |(t, i), (ta, ia)| (t * ta, i * ia));
-    Ok(SquareSum {
+    Ok(ReplicaSum {
         value: sum.value(),
         beyond: total - inside,
         terms: count as u64,
     })
+}
+
+/// `Σ_ℓ \hat{f²}(mℓ) φ(mℓ) (−1)^{Σ ℓ_a}`: the points' mean second moment.
+fn square_sum(f: &dyn Integrand, axes: &[Axis]) -> Result<ReplicaSum> {
+    replica_sum(axes, |k, l| {
+        let c = f
+            .square_coefficient(k)
+            .ok_or_else(|| Error::OutsideValidity {
+                route: "the aliased-pair form of Gaussian jitter".into(),
+                reason: format!(
+                    "{} has no closed-form Fourier coefficients of its square, which the points' \
+                 second moments need; measure it with `specvar mc --randomization none`, or \
+                 predict with --randomization shift",
+                    f.label()
+                ),
+            })?;
+        let sign = if l.iter().sum::<i64>() % 2 == 0 {
+            1.0
+        } else {
+            -1.0
+        };
+        Ok(c.re * sign)
+    })
+}
+
+/// The variance of `f`'s estimator with Gaussian jitter (`form`, at `n` on the grid `strata`)
+/// under a uniform random shift, exactly: the closed-form spectrum summed by Parseval rather
+/// than on a capped lattice.
+///
+/// # Errors
+/// A closed form other than Gaussian jitter's, or work beyond the budget.
+pub(crate) fn predict_gaussian_jitter_shifted(
+    f: &dyn Integrand,
+    form: ClosedForm,
+    strata: &[usize],
+    budget: &Budget,
+) -> Result<Prediction> {
+    let (width, d) = check_form(f, form, strata)?;
+    let m = shifted_moments(f, strata, width, budget)?;
+    let reason = format!(
+        "gjitter, randomly shifted: its closed-form spectrum 1 − φ² + N φ² [k ∈ m Z^d] summed \
+         exactly, the white part by Parseval ((∫f² − Σ_k |f̂|² φ²)/N) and the grid's replicas \
+         one by one, so no energy beyond a lattice is counted as white ({} grid)",
+        grid_label(strata)
+    );
+    Ok(exact_prediction(
+        m,
+        (Randomization::Shift, Form::Lattice, form),
+        reason,
+        strata,
+        d,
+    ))
 }
 
 /// The variance of `f`'s estimator with Gaussian jitter (`form`, at `n` on the grid
@@ -287,6 +442,27 @@ pub(crate) fn predict_gaussian_jitter_as_drawn(
     strata: &[usize],
     budget: &Budget,
 ) -> Result<Prediction> {
+    let (width, d) = check_form(f, form, strata)?;
+    let m = moments(f, strata, width, budget)?;
+    let reason = format!(
+        "gjitter used as drawn: independent points, each a Gaussian of {width} strata about its \
+         centre in the {} grid, so the variance is exact as a sum over the frequency pairs \
+         the strata alias together (bias E μ − I = {:.6e}, exact; it is not part of the \
+         variance)",
+        grid_label(strata),
+        m.bias
+    );
+    Ok(exact_prediction(
+        m,
+        (Randomization::None, Form::AliasedPairs, form),
+        reason,
+        strata,
+        d,
+    ))
+}
+
+/// Gaussian jitter's width, and the dimension, checked against the strata.
+fn check_form(f: &dyn Integrand, form: ClosedForm, strata: &[usize]) -> Result<(f64, usize)> {
     let ClosedForm::GaussianJitter { width } = form else {
         return Err(invalid("closed form", form.name(), "Gaussian jitter's"));
     };
@@ -297,25 +473,30 @@ pub(crate) fn predict_gaussian_jitter_as_drawn(
             strata.len()
         )));
     }
-    let m = moments(f, strata, width, budget)?;
-    let n: usize = strata.iter().product();
-    let grid = strata
+    Ok((width, d))
+}
+
+fn grid_label(strata: &[usize]) -> String {
+    strata
         .iter()
         .map(|s| s.to_string())
         .collect::<Vec<_>>()
-        .join(" × ");
-    let reason = format!(
-        "gjitter used as drawn: independent points, each a Gaussian of {width} strata about its \
-         centre in the {grid} grid, so the variance is exact as a sum over the frequency pairs \
-         the strata alias together (bias E μ − I = {:.6e}, exact; it is not part of the \
-         variance)",
-        m.bias
-    );
-    Ok(Prediction {
+        .join(" × ")
+}
+
+/// An exact route's prediction: rounding and truncation its only budget.
+fn exact_prediction(
+    m: Moments,
+    (randomization, shape, form): (Randomization, Form, ClosedForm),
+    reason: String,
+    strata: &[usize],
+    dimension: usize,
+) -> Prediction {
+    Prediction {
         variance: m.variance,
-        randomization: Randomization::None,
+        randomization,
         route: Route {
-            form: Form::AliasedPairs,
+            form: shape,
             spectrum: SpectrumOrigin::Closed(form),
         },
         reason,
@@ -324,10 +505,10 @@ pub(crate) fn predict_gaussian_jitter_as_drawn(
             truncation: m.truncation,
             ..Default::default()
         },
-        n,
-        dimension: d,
+        n: strata.iter().product(),
+        dimension,
         dc_term: 0.0,
         evaluations: m.frequencies,
         alternatives: Vec::new(),
-    })
+    }
 }

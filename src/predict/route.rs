@@ -347,6 +347,21 @@ pub(crate) fn predict_routed(
         (SpectrumChoice::Estimated, _) | (_, Patterns::PointSets(_)) => None,
         (_, Patterns::Sampler(s)) => s.closed_form(n),
     };
+    // Gaussian jitter's closed form summed exactly (by Parseval) rather than on a lattice,
+    // unless a form or an extent is asked for.
+    if let Some(form @ ClosedForm::GaussianJitter { .. }) = closed
+        && problem.randomization == Randomization::Shift
+        && params.form == FormChoice::Auto
+        && params.kmax.is_none()
+        && let Some(strata) = crate::sampler::strata(n, problem.integrand.dimension())
+    {
+        return super::gaussian_jitter::predict_gaussian_jitter_shifted(
+            problem.integrand,
+            form,
+            &strata,
+            &params.budget,
+        );
+    }
     let pairs_route = params.spectrum == SpectrumChoice::Auto
         && params.form != FormChoice::Polar
         && params.kmax.is_none()

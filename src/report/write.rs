@@ -248,7 +248,8 @@ fn estimators_markdown(config: &EstimatorsConfig, section: &EstimatorsSection) -
          measured both ways: shifted (`--randomization shift`: the spectral routes) and as used \
          (the default: as drawn for the strata and Owen-scrambled nets, by the cell form, exact \
          for jitter, Latin hypercube, multi-jitter and Sobol' (Owen's gains), its occupancy \
-         estimated from patterns for CMJ, orthogonal arrays and PMJ02; under a digital shift for \
+         estimated from patterns for CMJ, orthogonal arrays and PMJ02; Gaussian jitter as drawn \
+         by the aliased-pair form, exact, its bias stated apart; under a digital shift for \
          the unscrambled Sobol' net `sobol-ds`, by the Walsh form). Monte Carlo: {} evaluations \
          of the same estimator, 99% intervals; `z` as in the closure table.\n",
         section.integrand, config.trials
@@ -391,7 +392,9 @@ fn estimator_findings(section: &EstimatorsSection) -> String {
          jump there falls inside strata and costs what an interior edge would (its torus \
          coefficients fall like 1/|k| along the axes); strata and nets as drawn keep the faces \
          on their cell boundaries, where the jump costs nothing, and so does a digital shift, \
-         which permutes the dyadic cells. Latin hypercube stratifies only each axis's projection: its variance \
+         which permutes the dyadic cells. Gaussian jitter's offsets wrap across the faces, but \
+         the outer strata's centres lie two standard deviations of the offset from them, so as \
+         drawn its points rarely meet the jump and it keeps much of the strata's gain. Latin hypercube stratifies only each axis's projection: its variance \
          is mostly the integrand's interaction between the axes, which the seam barely touches. \
          The talk's rates above are the shifted estimator's; a renderer's samples are this \
          section's estimators as used.\n",
