@@ -287,7 +287,7 @@ fn shifted_is_the_closed_form_summed_and_agrees_with_monte_carlo() {
             f.as_ref(),
             n,
             &McParams {
-                patterns: 20_000,
+                patterns: 6_000,
                 seed: 13,
                 randomization: Randomization::Shift,
                 ..McParams::default()

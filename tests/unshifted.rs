@@ -621,3 +621,219 @@ fn scrambled_sobol_under_a_shift_is_its_gains_averaged_over_shifts() {
         + e.budget.model;
     assert!(gap < allowed, "{p:?} vs {e:?}");
 }
+
+/// A Gaussian that hides its separability: every sum over cells goes through the table of
+/// cells' moments, one box at a time, or (with `.1`) through its own sums over a grid's cells.
+struct Opaque(Gaussian, bool);
+
+impl Integrand for Opaque {
+    fn kind(&self) -> specvar::integrand::IntegrandKind {
+        self.0.kind()
+    }
+    fn label(&self) -> String {
+        format!("opaque {}", self.0.label())
+    }
+    fn is_isotropic(&self) -> bool {
+        self.0.is_isotropic()
+    }
+    fn dimension(&self) -> usize {
+        self.0.dimension()
+    }
+    fn eval(&self, x: &[f64]) -> f64 {
+        self.0.eval(x)
+    }
+    fn integral(&self) -> f64 {
+        self.0.integral()
+    }
+    fn integral_of_square(&self) -> f64 {
+        self.0.integral_of_square()
+    }
+    fn coefficient(&self, k: &[i64]) -> num_complex::Complex64 {
+        self.0.coefficient(k)
+    }
+    fn projection_energy(&self, axis: usize) -> f64 {
+        self.0.projection_energy(axis)
+    }
+    fn box_moments(&self, lo: &[f64], hi: &[f64]) -> Option<(f64, f64)> {
+        self.0.box_moments(lo, hi)
+    }
+    fn cell_sums(&self, grid: &[usize]) -> Option<specvar::integrand::CellSums> {
+        self.1.then(|| self.0.cell_sums(grid)).flatten()
+    }
+    fn fourier(&self, omega: &[f64]) -> num_complex::Complex64 {
+        self.0.fourier(omega)
+    }
+    fn autocorrelation_beyond(&self, distance: f64) -> Option<f64> {
+        self.0.autocorrelation_beyond(distance)
+    }
+    fn spectral_integral(&self) -> f64 {
+        self.0.spectral_integral()
+    }
+    fn spectral_energy(&self) -> f64 {
+        self.0.spectral_energy()
+    }
+    fn radial_power(&self, rho: f64) -> f64 {
+        self.0.radial_power(rho)
+    }
+    fn decay_exponent(&self) -> f64 {
+        self.0.decay_exponent()
+    }
+    fn panel_width(&self) -> f64 {
+        self.0.panel_width()
+    }
+    fn negligible_beyond(&self) -> f64 {
+        self.0.negligible_beyond()
+    }
+}
+
+/// Latin hypercube on a separable integrand from its rows alone (sums factored by axis)
+/// against the same integrand's table of `N^d` cells, in 2D and 3D; and at N = 16384, beyond
+/// the table's reach, against Monte Carlo of the estimator.
+#[test]
+fn separable_latin_hypercube_is_its_table_of_cells() {
+    let cases = [
+        (vec![0.3, 0.85], vec![16, 256, 1024]),
+        (vec![0.5, 0.45], vec![64]),
+        (vec![0.2, 0.7, 0.4], vec![8, 16, 32]),
+    ];
+    for (centre, ns) in cases {
+        let f = Gaussian::new(0.15, centre, 1.0).unwrap();
+        let table = Opaque(f.clone(), false);
+        for n in ns {
+            let rows = latin_hypercube_variance(&f, n, &Default::default()).unwrap();
+            let cells = latin_hypercube_variance(&table, n, &Default::default()).unwrap();
+            assert!(
+                (rows.variance - cells.variance).abs() <= rows.rounding + cells.rounding,
+                "{} N = {n}: rows {:.15e} vs cells {:.15e} (rounding {:.1e})",
+                f.label(),
+                rows.variance,
+                cells.variance,
+                rows.rounding + cells.rounding
+            );
+        }
+    }
+    let f = Gaussian::new(0.2, vec![0.2, 0.7], 1.0).unwrap();
+    let lhs = SamplerKind::LatinHypercube.build(2).unwrap();
+    let p = predict(
+        &Problem::new(lhs.as_ref(), &f, 16384).unwrap(),
+        &PredictParams::default(),
+    )
+    .unwrap();
+    assert_eq!(p.budget.spectrum_noise, 0.0, "exact: {}", p.reason);
+    let mc = empirical_variance(
+        lhs.as_ref(),
+        &f,
+        16384,
+        &McParams::for_sampler(
+            SamplerKind::LatinHypercube,
+            4000,
+            None,
+            17,
+            Randomization::None,
+        ),
+    )
+    .unwrap();
+    let z = p.z_beyond_bounds(&mc);
+    assert!(
+        z.abs() < Z_STRICT,
+        "predicted {:.4e}, measured {:.4e}, z = {z:.2}",
+        p.variance,
+        mc.variance
+    );
+}
+
+/// Sums over a grid's cells from the integrand's own forms (a disk visits only the cells its
+/// circle crosses, a Gaussian factors by axis) against every cell's moments one by one, on
+/// square and oblong grids, with disks inside the square and wrapped across its faces.
+#[test]
+fn cell_sums_are_the_cells_one_by_one() {
+    let integrands: Vec<Box<dyn Integrand>> = vec![
+        Box::new(Ball::new(0.25, vec![0.5, 0.5], 1.0).unwrap()),
+        Box::new(Ball::new(0.45, vec![0.9, 0.1], 2.0).unwrap()),
+        Box::new(Ball::new(0.05, vec![0.02, 0.5], 1.0).unwrap()),
+        Box::new(Ball::new(0.5, vec![0.5, 0.0], 1.0).unwrap()),
+        Box::new(Gaussian::new(0.15, vec![0.3, 0.85], 1.5).unwrap()),
+    ];
+    for f in &integrands {
+        for grid in [[1, 1], [7, 5], [64, 64], [300, 200], [1000, 999]] {
+            let sums = f.cell_sums(&grid).unwrap();
+            let cells = (grid[0] * grid[1]) as f64;
+            let (mut squares, mut within) = (0.0, 0.0);
+            for j in 0..grid[1] {
+                for i in 0..grid[0] {
+                    let lo = [i as f64 / grid[0] as f64, j as f64 / grid[1] as f64];
+                    let hi = [
+                        (i + 1) as f64 / grid[0] as f64,
+                        (j + 1) as f64 / grid[1] as f64,
+                    ];
+                    let (mass, square) = f.box_moments(&lo, &hi).unwrap();
+                    let mean = mass * cells;
+                    squares += mean * mean;
+                    within += (square * cells - mean * mean).max(0.0);
+                }
+            }
+            // Each cell's moments round at ROUNDING relative to the cell's second moment.
+            let tolerance = ROUNDING * (squares + within);
+            assert!(
+                (sums.mean_square - squares).abs() <= tolerance
+                    && (sums.within - within).abs() <= tolerance,
+                "{} on {grid:?}: ({:.15e}, {:.15e}) vs ({squares:.15e}, {within:.15e})",
+                f.label(),
+                sums.mean_square,
+                sums.within
+            );
+        }
+    }
+}
+
+/// Latin hypercube beyond the table of cells (N = 8192, `N²` above `2^24`): the 2D sums from
+/// the integrand's own cell sums and slabs against the separable rows' factored sums (two
+/// routes through different algebra), and a disk's against Monte Carlo of the estimator.
+#[test]
+fn latin_hypercube_beyond_the_table_is_exact() {
+    let n = 8192;
+    let f = Gaussian::new(0.15, vec![0.3, 0.85], 1.0).unwrap();
+    let rows = latin_hypercube_variance(&f, n, &Default::default()).unwrap();
+    let crossed = latin_hypercube_variance(&Opaque(f, true), n, &Default::default()).unwrap();
+    assert!(
+        (rows.variance - crossed.variance).abs() <= rows.rounding + crossed.rounding,
+        "rows {:.15e} vs crossed cells {:.15e}",
+        rows.variance,
+        crossed.variance
+    );
+    let lhs = SamplerKind::LatinHypercube.build(2).unwrap();
+    let disks = [
+        Ball::new(0.25, vec![0.5, 0.5], 1.0).unwrap(),
+        Ball::new(0.45, vec![0.9, 0.1], 1.0).unwrap(),
+    ];
+    let z_family = common::inverse_normal_tail(0.01 / disks.len() as f64 / 2.0);
+    for disk in &disks {
+        let p = predict(
+            &Problem::new(lhs.as_ref(), disk, n).unwrap(),
+            &PredictParams::default(),
+        )
+        .unwrap();
+        assert_eq!(p.budget.spectrum_noise, 0.0, "exact: {}", p.reason);
+        let mc = empirical_variance(
+            lhs.as_ref(),
+            disk,
+            n,
+            &McParams::for_sampler(
+                SamplerKind::LatinHypercube,
+                6000,
+                None,
+                19,
+                Randomization::None,
+            ),
+        )
+        .unwrap();
+        let z = p.z_beyond_bounds(&mc);
+        assert!(
+            z.abs() < z_family,
+            "{}: predicted {:.4e}, measured {:.4e}, z = {z:.2}",
+            disk.label(),
+            p.variance,
+            mc.variance
+        );
+    }
+}

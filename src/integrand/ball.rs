@@ -1,11 +1,14 @@
 //! The ball (the disk in 2D, an interval in 1D) of constant height, on the torus.
 
+use super::CellSums;
 use super::{
     check_parameters, shift_phase, unit_ball_volume, Integrand, IntegrandKind, RadialOscillation,
 };
 use crate::error::{invalid, Result};
 use crate::pointset::toroidal_distance_sq;
+use crate::quadrature::CompensatedSum;
 use num_complex::Complex64;
+use rayon::prelude::*;
 use std::f64::consts::PI;
 
 /// `f(x) = a` inside the ball `|x - x0| < R` on the torus (distances taken toroidally, so a ball
@@ -140,7 +143,89 @@ fn lens_2d_shape(x: f64, one_minus_x: f64) -> f64 {
     sum
 }
 
+impl Ball {
+    /// [`Integrand::cell_sums`] of a disk: a cell the circle (or one of its images across the
+    /// faces) does not cross has `F_c` equal to the height or 0 and no inner variance, so only
+    /// the crossed cells' moments are computed, column by column (`O(m)` of the `m²` cells).
+    fn disk_cell_sums(&self, grid: &[usize]) -> CellSums {
+        let (mx, my) = (grid[0], grid[1]);
+        let (r, a) = (self.radius, self.height);
+        let cells = (mx * my) as f64;
+        // The images that meet the square, as box_moments wraps them.
+        let offsets = |c: f64| -> Vec<f64> {
+            let mut o = vec![0.0];
+            if c + r > 1.0 {
+                o.push(-1.0);
+            }
+            if c < r {
+                o.push(1.0);
+            }
+            o
+        };
+        let images: Vec<[f64; 2]> = offsets(self.centre[0])
+            .iter()
+            .flat_map(|&ox| offsets(self.centre[1]).into_iter().map(move |oy| [ox, oy]))
+            .map(|[ox, oy]| [self.centre[0] + ox, self.centre[1] + oy])
+            .collect();
+        let column = |i: usize| -> (f64, f64, u64) {
+            let (x0, x1) = (i as f64 / mx as f64, (i + 1) as f64 / mx as f64);
+            let mut interior = 0usize;
+            let mut crossed: Vec<usize> = Vec::new();
+            for c in &images {
+                let half = |x: f64| (r * r - (x - c[0]).powi(2)).max(0.0).sqrt();
+                let nearest = c[0].clamp(x0, x1);
+                if (nearest - c[0]).abs() >= r {
+                    continue;
+                }
+                let (outer, inner) = (half(nearest), half(x0).min(half(x1)));
+                let to_cell = |y: f64| (y * my as f64).floor();
+                let first = to_cell(c[1] - outer).max(0.0) as usize;
+                let last = (to_cell(c[1] + outer).min(my as f64 - 1.0)).max(0.0) as usize;
+                // Cells strictly inside the inner chord, one cell of margin on either side so
+                // that rounding never calls a crossed cell whole.
+                let (lo, hi) = (to_cell(c[1] - inner) + 2.0, to_cell(c[1] + inner) - 2.0);
+                if inner > 0.0 && lo <= hi && lo <= last as f64 && hi >= first as f64 {
+                    let (lo, hi) = ((lo as usize).max(first), (hi as usize).min(last));
+                    interior += hi + 1 - lo;
+                    crossed.extend(first..lo);
+                    crossed.extend(hi + 1..=last);
+                } else {
+                    crossed.extend(first..=last);
+                }
+            }
+            crossed.sort_unstable();
+            crossed.dedup();
+            let (mut squares, mut within) = (CompensatedSum::default(), CompensatedSum::default());
+            squares.add(a * a * interior as f64);
+            for &j in &crossed {
+                let (y0, y1) = (j as f64 / my as f64, (j + 1) as f64 / my as f64);
+                let (mass, square) = self.box_moments(&[x0, y0], &[x1, y1]).unwrap_or((0.0, 0.0));
+                let mean = mass * cells;
+                squares.add(mean * mean);
+                within.add((square * cells - mean * mean).max(0.0));
+            }
+            (squares.value(), within.value(), crossed.len() as u64)
+        };
+        let columns: Vec<(f64, f64, u64)> = (0..mx).into_par_iter().map(column).collect();
+        let (mut squares, mut within, mut visited) =
+            (CompensatedSum::default(), CompensatedSum::default(), 0);
+        for (q, w, v) in columns {
+            squares.add(q);
+            within.add(w);
+            visited += v;
+        }
+        CellSums {
+            mean_square: squares.value(),
+            within: within.value(),
+            visited,
+        }
+    }
+}
+
 impl Integrand for Ball {
+    fn cell_sums(&self, grid: &[usize]) -> Option<CellSums> {
+        (self.d() == 2 && grid.len() == 2).then(|| self.disk_cell_sums(grid))
+    }
     fn box_moments(&self, lo: &[f64], hi: &[f64]) -> Option<(f64, f64)> {
         // The ball is wrapped around the torus: its images at the 3^d integer offsets of
         // {-1, 0, 1}^d (radius at most 1/2, so no farther image meets the cube) each meet the

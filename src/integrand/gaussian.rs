@@ -227,6 +227,30 @@ impl Integrand for Gaussian {
             square: rows(self.sigma / SQRT_2),
         })
     }
+    fn cell_sums(&self, grid: &[usize]) -> Option<super::CellSums> {
+        // F_c = a Π_l μ_l(i_l) and F_c² + V_c = a² Π_l s_l(i_l), with μ and s the rows' means
+        // of the axis factor and of its square: each sum over cells is a product of sums.
+        let rows = self.separable_cells(grid)?;
+        let (mut squares, mut seconds) = (1.0, 1.0);
+        for ((mass, square), &m) in rows.mass.iter().zip(&rows.square).zip(grid) {
+            let (mut q, mut s) = (
+                crate::quadrature::CompensatedSum::default(),
+                crate::quadrature::CompensatedSum::default(),
+            );
+            for (&a, &b) in mass.iter().zip(square) {
+                q.add((a * m as f64).powi(2));
+                s.add(b * m as f64);
+            }
+            squares *= q.value();
+            seconds *= s.value();
+        }
+        let h2 = self.height * self.height;
+        Some(super::CellSums {
+            mean_square: h2 * squares,
+            within: (h2 * (seconds - squares)).max(0.0),
+            visited: grid.iter().sum::<usize>() as u64,
+        })
+    }
     fn grid_masses(&self, grid: &[usize], t: &[f64]) -> Option<Vec<f64>> {
         // Separable: the mass of a cell is the height times its axes' masses, and a shifted
         // cell wraps axis by axis.

@@ -62,6 +62,18 @@ impl SeparableCells {
     }
 }
 
+/// Two sums over every cell `c` of a grid, with `F_c` the integrand's mean over the cell and
+/// `V_c` its variance inside it ([`Integrand::cell_sums`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CellSums {
+    /// `Σ_c F_c²`.
+    pub mean_square: f64,
+    /// `Σ_c V_c`.
+    pub within: f64,
+    /// Cells whose moments were computed (the rest were known without).
+    pub visited: u64,
+}
+
 /// The torus coefficients of a separable integrand, `f̂(k) = height · Π_a axes[a][k_a + K_a]`
 /// on `|k_a| ≤ K_a` ([`Integrand::separable_coefficients`]).
 #[derive(Debug, Clone, PartialEq)]
@@ -148,6 +160,15 @@ pub trait Integrand: Send + Sync {
     /// [`box_moments`](Self::box_moments) computes each from scratch. The products are the
     /// same operations in the same order as `box_moments`, so the two agree to the bit.
     fn separable_cells(&self, grid: &[usize]) -> Option<SeparableCells> {
+        let _ = grid;
+        None
+    }
+    /// [`CellSums`] over every cell of the regular grid with `grid[l]` cells on axis `l`, in
+    /// less work than one [`box_moments`](Self::box_moments) per cell, where the integrand has
+    /// such a form: a separable one factors the sums by axis, a disk is constant on every cell
+    /// its circle does not cross. `None` otherwise. The unshifted estimator of jitter and Latin
+    /// hypercube reads these sums at counts whose cells are too many to visit.
+    fn cell_sums(&self, grid: &[usize]) -> Option<CellSums> {
         let _ = grid;
         None
     }

@@ -10,7 +10,7 @@ use super::cell_moments::{
 };
 use crate::budget::Budget;
 use crate::error::{Error, Result};
-use crate::integrand::Integrand;
+use crate::integrand::{Integrand, SeparableCells};
 use crate::quadrature::CompensatedSum;
 
 /// The cells of an exact pair sum, `n^d`, within [`EXACT_CELL_BUDGET`] and the budget.
@@ -51,12 +51,27 @@ fn exact_cells(what: &str, n: usize, d: usize, budget: &Budget) -> Result<usize>
 pub fn latin_hypercube_variance(f: &dyn Integrand, n: usize, budget: &Budget) -> Result<CellSum> {
     check_box_moments(f)?;
     let d = f.dimension();
+    if f.separable_cells(&vec![1; d]).is_some() {
+        budget.check(
+            "the Latin hypercube's rows",
+            crate::budget::Needs {
+                memory_bytes: super::cell_moments::separable_row_bytes(&vec![n; d]),
+                work_seconds: (d * n) as f64 * super::cell_moments::CELL_SECONDS,
+            },
+            "lower N",
+        )?;
+        if let Some(rows) = f.separable_cells(&vec![n; d]) {
+            return Ok(separable_latin_hypercube(&rows, n));
+        }
+    }
+    if d == 2 && n.saturating_mul(n) > EXACT_CELL_BUDGET && f.cell_sums(&[1, 1]).is_some() {
+        return crossed_latin_hypercube(f, n, budget);
+    }
     let cells = exact_cells("the Latin hypercube's pair sum", n, d, budget)?;
     let grid = vec![n; d];
     let integral = f.integral();
     let table = CellTable::new(&CellMoments::new(f, &grid), n);
-    let (nf, norm) = (n as f64, 1.0 / (n as f64 * n as f64));
-    let occupied = nf.powi(1 - d as i32);
+    let nf = n as f64;
     let mut squares = CompensatedSum::default();
     let mut scale = 0.0;
     for &g in &table.deviation {
@@ -85,19 +100,154 @@ pub fn latin_hypercube_variance(f: &dyn Integrand, n: usize, budget: &Budget) ->
         };
         pairs.add(sign * sum);
     }
+    Ok(latin_hypercube_sum(
+        (n, d),
+        within,
+        squares.value(),
+        pairs.value(),
+        scale,
+    ))
+}
+
+/// Whether [`latin_hypercube_variance`] answers `f` at any N: separable, or in 2D with sums
+/// over a grid's cells of its own ([`Integrand::cell_sums`]).
+pub(crate) fn latin_hypercube_at_any_n(f: &dyn Integrand) -> bool {
+    let d = f.dimension();
+    f.separable_cells(&vec![1; d]).is_some() || (d == 2 && f.cell_sums(&[1, 1]).is_some())
+}
+
+/// [`latin_hypercube_variance`] in 2D from the integrand's sums over the `N × N` cells
+/// ([`Integrand::cell_sums`]: a disk visits only the cells its circle crosses) and its `2N`
+/// slabs: with `G = F − I`, `Σ_c G_c² = Σ_c F_c² − N² I²`, and the pairs' sum is
+/// `Σ_c G_c² − S_0 − S_1`, `S_a = Σ_i (Σ_{c in slab i of axis a} G_c)² = N² Σ_i (N M_i − I)²`
+/// with `M_i` the slab's integral.
+fn crossed_latin_hypercube(f: &dyn Integrand, n: usize, budget: &Budget) -> Result<CellSum> {
+    budget.check(
+        "the Latin hypercube's crossed cells",
+        crate::budget::Needs {
+            memory_bytes: 0.0,
+            work_seconds: 10.0 * n as f64 * super::cell_moments::CELL_SECONDS,
+        },
+        "lower N",
+    )?;
+    let sums = f
+        .cell_sums(&[n, n])
+        .ok_or_else(|| Error::Mismatch(format!("{} has no sums over a grid's cells", f.label())))?;
+    let nf = n as f64;
+    let integral = f.integral();
+    let slabs = |axis: usize| -> f64 {
+        let mut sum = CompensatedSum::default();
+        for i in 0..n {
+            let (mut lo, mut hi) = ([0.0, 0.0], [1.0, 1.0]);
+            lo[axis] = i as f64 / nf;
+            hi[axis] = (i + 1) as f64 / nf;
+            let mass = f.box_moments(&lo, &hi).map_or(0.0, |m| m.0);
+            sum.add((nf * mass - integral).powi(2));
+        }
+        nf * nf * sum.value()
+    };
+    let squares = sums.mean_square - nf * nf * integral * integral;
+    let pairs = squares - slabs(0) - slabs(1);
+    Ok(latin_hypercube_sum(
+        (n, 2),
+        sums.within,
+        squares,
+        pairs,
+        sums.mean_square + sums.within,
+    ))
+}
+
+/// The Latin hypercube's variance from its three sums over the `N^d` cells: the cells' inner
+/// variances `Σ_c V_c`, `Σ_c G_c²`, and the pairs' inclusion–exclusion sum; `scale` bounds the
+/// terms' size for the rounding.
+fn latin_hypercube_sum(
+    (n, d): (usize, usize),
+    within: f64,
+    squares: f64,
+    pairs: f64,
+    scale: f64,
+) -> CellSum {
+    let nf = n as f64;
+    let norm = 1.0 / (nf * nf);
+    let occupied = nf.powi(1 - d as i32);
     let pair_probability = nf * (nf - 1.0) * (nf * (nf - 1.0)).powi(-(d as i32));
     let variance = norm
         * (occupied * within
-            + occupied * squares.value()
-            + if n > 1 {
-                pair_probability * pairs.value()
-            } else {
-                0.0
-            });
-    Ok(CellSum {
+            + occupied * squares
+            + if n > 1 { pair_probability * pairs } else { 0.0 });
+    CellSum {
         variance: variance.max(0.0),
         rounding: CELL_ROUNDING * norm * scale * (1usize << d) as f64,
-    })
+    }
+}
+
+/// [`latin_hypercube_variance`] for a separable integrand `f = h Π_a f_a`, from its rows alone
+/// in `O(dN)`: with `μ_a(i)` the mean of `f_a` over row `i`, `I_a` their mean and
+/// `R_a = Σ_i (μ_a(i) − I_a)²`, the sums over cells that agree on the axes `A` factor,
+/// `Σ_{c_A} (Σ_{c ∖ c_A} G_c)² = N^{2(d−|A|)} h² Π_{a∉A} I_a² · E(A)` with
+/// `E(A) = Π_{a∈A} Σ_i μ_a(i)² − Π_{a∈A} N I_a² = Σ_{∅≠T⊆A} Π_{a∈T} R_a Π_{a∈A∖T} N I_a²`
+/// (a sum of positive terms, so no cancellation), and `Σ_c G_c² = h² E(all)`.
+fn separable_latin_hypercube(rows: &SeparableCells, n: usize) -> CellSum {
+    let d = rows.mass.len();
+    let nf = n as f64;
+    let h2 = rows.height * rows.height;
+    // Per axis: I_a, R_a, Σ μ², Σ (mean of f_a² over the row).
+    let axes: Vec<[f64; 4]> = rows
+        .mass
+        .iter()
+        .zip(&rows.square)
+        .map(|(mass, square)| {
+            let (mut total, mut squares) = (CompensatedSum::default(), CompensatedSum::default());
+            mass.iter().for_each(|&m| total.add(m));
+            square.iter().for_each(|&q| squares.add(nf * q));
+            let mean = total.value();
+            let (mut spread, mut second) = (CompensatedSum::default(), CompensatedSum::default());
+            for &m in mass {
+                spread.add((nf * m - mean).powi(2));
+                second.add((nf * m).powi(2));
+            }
+            [mean, spread.value(), second.value(), squares.value()]
+        })
+        .collect();
+    let excess = |set: usize| -> f64 {
+        let mut sum = CompensatedSum::default();
+        for part in 1..=set {
+            if part & !set != 0 || part & set != part {
+                continue;
+            }
+            let term: f64 = (0..d)
+                .filter(|a| set >> a & 1 == 1)
+                .map(|a| {
+                    if part >> a & 1 == 1 {
+                        axes[a][1]
+                    } else {
+                        nf * axes[a][0] * axes[a][0]
+                    }
+                })
+                .product();
+            sum.add(term);
+        }
+        sum.value()
+    };
+    let all = (1usize << d) - 1;
+    let squares = h2 * excess(all);
+    let second: f64 = axes.iter().map(|a| a[2]).product();
+    let within = h2 * (axes.iter().map(|a| a[3]).product::<f64>() - second);
+    let mut pairs = CompensatedSum::default();
+    for shared in 1..=all {
+        let outside: f64 = (0..d)
+            .filter(|a| shared >> a & 1 == 0)
+            .map(|a| axes[a][0] * axes[a][0])
+            .product();
+        let k = d - shared.count_ones() as usize;
+        let sign = if shared.count_ones() % 2 == 0 {
+            1.0
+        } else {
+            -1.0
+        };
+        pairs.add(sign * nf.powi(2 * k as i32) * h2 * outside * excess(shared));
+    }
+    latin_hypercube_sum((n, d), within, squares, pairs.value(), h2 * second + within)
 }
 
 /// The sums of `G_c = F_c − I` (`deviation`) over the cells that agree on the axes in

@@ -20,7 +20,7 @@
 
 use super::cell_moments::{
     check_box_moments, check_cells, chunked_sum, seconds_per_cell, separable_row_bytes,
-    CellMoments, CellSum, CellTable, CELL_ROUNDING, EXACT_CELL_BUDGET,
+    CellMoments, CellSum, CellTable, CELL_ROUNDING, CELL_SECONDS, EXACT_CELL_BUDGET,
 };
 use super::{ErrorBudget, Form, FormChoice, Prediction, Route, SpectrumChoice, SpectrumOrigin};
 use crate::budget::{Budget, Needs};
@@ -167,14 +167,31 @@ pub fn fixed_strata_variance(
             format!("{} axes whose cells divide N", f.dimension()),
         ));
     }
-    check_cells("the per-stratum sum", cells, budget)?;
     let per_cell = (n / cells) as f64;
+    let norm = per_cell / (n as f64 * n as f64);
+    // Beyond the cells a sum visits, the integrand's own sums over the grid, where it has them.
+    if cells > EXACT_CELL_BUDGET {
+        budget.check(
+            "the per-stratum sum over the crossed cells",
+            Needs {
+                memory_bytes: 0.0,
+                work_seconds: 8.0 * grid.iter().sum::<usize>() as f64 * CELL_SECONDS,
+            },
+            "lower N",
+        )?;
+        if let Some(sums) = f.cell_sums(grid) {
+            return Ok(CellSum {
+                variance: sums.within * norm,
+                rounding: CELL_ROUNDING * (sums.within + sums.mean_square) * norm,
+            });
+        }
+    }
+    check_cells("the per-stratum sum", cells, budget)?;
     let moments = CellMoments::new(f, grid);
     let (sum, scale) = chunked_sum(cells, |i| {
         let (mean, var) = moments.mean_and_variance(i);
         (var, var + mean * mean)
     });
-    let norm = per_cell / (n as f64 * n as f64);
     Ok(CellSum {
         variance: sum * norm,
         rounding: CELL_ROUNDING * scale * norm,
@@ -504,9 +521,12 @@ pub(crate) fn predict_cells(
         }
         _ => None,
     }
-    .filter(|_| {
-        n.checked_pow(d as u32)
-            .is_some_and(|c| c <= EXACT_CELL_BUDGET)
+    .filter(|&kind| {
+        // A separable integrand's Latin hypercube sums factor by axis, and a disk's need only
+        // the cells its circle crosses: exact at any N.
+        (kind == SamplerKind::LatinHypercube && super::cell_pairs::latin_hypercube_at_any_n(f))
+            || n.checked_pow(d as u32)
+                .is_some_and(|c| c <= EXACT_CELL_BUDGET)
     });
     // Owen-scrambled Sobol' has its pairs of points by Owen's gains.
     let scrambled = match source {
