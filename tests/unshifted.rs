@@ -13,7 +13,7 @@ use specvar::predict::{
     fixed_strata_variance, latin_hypercube_variance, multi_jitter_variance, predict, Form,
     PredictParams, Problem, SpectrumChoice,
 };
-use specvar::quadrature::GaussLegendre;
+use specvar::quadrature::{CompensatedSum, GaussLegendre};
 use specvar::randomization::Randomization;
 use specvar::sampler::SamplerKind;
 use std::f64::consts::PI;
@@ -622,9 +622,10 @@ fn scrambled_sobol_under_a_shift_is_its_gains_averaged_over_shifts() {
     assert!(gap < allowed, "{p:?} vs {e:?}");
 }
 
-/// A Gaussian that hides its separability: every sum over cells goes through the table of
-/// cells' moments, one box at a time, or (with `.1`) through its own sums over a grid's cells.
-struct Opaque(Gaussian, bool);
+/// An integrand that hides its separability and its own sums over a grid's cells: every sum
+/// over cells goes through the table of cells' moments, one box at a time, or (with `.1`)
+/// through the integrand's sums over a grid's cells.
+struct Opaque(Box<dyn Integrand>, bool);
 
 impl Integrand for Opaque {
     fn kind(&self) -> specvar::integrand::IntegrandKind {
@@ -698,7 +699,7 @@ fn separable_latin_hypercube_is_its_table_of_cells() {
     ];
     for (centre, ns) in cases {
         let f = Gaussian::new(0.15, centre, 1.0).unwrap();
-        let table = Opaque(f.clone(), false);
+        let table = Opaque(Box::new(f.clone()), false);
         for n in ns {
             let rows = latin_hypercube_variance(&f, n, &Default::default()).unwrap();
             let cells = latin_hypercube_variance(&table, n, &Default::default()).unwrap();
@@ -709,6 +710,25 @@ fn separable_latin_hypercube_is_its_table_of_cells() {
                 rows.variance,
                 cells.variance,
                 rows.rounding + cells.rounding
+            );
+        }
+    }
+    // A disk's crossed cells and a tabulated pixel's classes against their tables.
+    let others: [Box<dyn Integrand>; 2] = [
+        Box::new(Ball::new(0.45, vec![0.9, 0.1], 1.0).unwrap()),
+        integrands_2d().pop().unwrap(),
+    ];
+    for f in others {
+        let table = Opaque(f, false);
+        for n in [16, 100, 256] {
+            let own = latin_hypercube_variance(table.0.as_ref(), n, &Default::default()).unwrap();
+            let cells = latin_hypercube_variance(&table, n, &Default::default()).unwrap();
+            assert!(
+                (own.variance - cells.variance).abs() <= own.rounding + cells.rounding,
+                "{} N = {n}: own sums {:.15e} vs cells {:.15e}",
+                table.0.label(),
+                own.variance,
+                cells.variance
             );
         }
     }
@@ -753,12 +773,18 @@ fn cell_sums_are_the_cells_one_by_one() {
         Box::new(Ball::new(0.05, vec![0.02, 0.5], 1.0).unwrap()),
         Box::new(Ball::new(0.5, vec![0.5, 0.0], 1.0).unwrap()),
         Box::new(Gaussian::new(0.15, vec![0.3, 0.85], 1.5).unwrap()),
+        // Tabulated pixels: cells larger and smaller than the values', aligned or not.
+        integrands_2d().pop().unwrap(),
+        Box::new(
+            GridIntegrand::new(5, 3, (0..15).map(|i| (i * i % 7) as f64 - 2.0).collect()).unwrap(),
+        ),
     ];
     for f in &integrands {
-        for grid in [[1, 1], [7, 5], [64, 64], [300, 200], [1000, 999]] {
+        for grid in [[1, 1], [7, 5], [12, 12], [64, 64], [300, 200], [1000, 999]] {
             let sums = f.cell_sums(&grid).unwrap();
             let cells = (grid[0] * grid[1]) as f64;
-            let (mut squares, mut within) = (0.0, 0.0);
+            // Summed with compensation: a plain sum of 10^6 terms drifts by 1e-11.
+            let (mut squares, mut within) = (CompensatedSum::default(), CompensatedSum::default());
             for j in 0..grid[1] {
                 for i in 0..grid[0] {
                     let lo = [i as f64 / grid[0] as f64, j as f64 / grid[1] as f64];
@@ -768,10 +794,11 @@ fn cell_sums_are_the_cells_one_by_one() {
                     ];
                     let (mass, square) = f.box_moments(&lo, &hi).unwrap();
                     let mean = mass * cells;
-                    squares += mean * mean;
-                    within += (square * cells - mean * mean).max(0.0);
+                    squares.add(mean * mean);
+                    within.add((square * cells - mean * mean).max(0.0));
                 }
             }
+            let (squares, within) = (squares.value(), within.value());
             // Each cell's moments round at ROUNDING relative to the cell's second moment.
             let tolerance = ROUNDING * (squares + within);
             assert!(
@@ -788,13 +815,15 @@ fn cell_sums_are_the_cells_one_by_one() {
 
 /// Latin hypercube beyond the table of cells (N = 8192, `N²` above `2^24`): the 2D sums from
 /// the integrand's own cell sums and slabs against the separable rows' factored sums (two
-/// routes through different algebra), and a disk's against Monte Carlo of the estimator.
+/// routes through different algebra), and disks' and a tabulated pixel's against Monte Carlo
+/// of the estimator.
 #[test]
 fn latin_hypercube_beyond_the_table_is_exact() {
     let n = 8192;
     let f = Gaussian::new(0.15, vec![0.3, 0.85], 1.0).unwrap();
     let rows = latin_hypercube_variance(&f, n, &Default::default()).unwrap();
-    let crossed = latin_hypercube_variance(&Opaque(f, true), n, &Default::default()).unwrap();
+    let crossed =
+        latin_hypercube_variance(&Opaque(Box::new(f), true), n, &Default::default()).unwrap();
     assert!(
         (rows.variance - crossed.variance).abs() <= rows.rounding + crossed.rounding,
         "rows {:.15e} vs crossed cells {:.15e}",
@@ -802,12 +831,14 @@ fn latin_hypercube_beyond_the_table_is_exact() {
         crossed.variance
     );
     let lhs = SamplerKind::LatinHypercube.build(2).unwrap();
-    let disks = [
-        Ball::new(0.25, vec![0.5, 0.5], 1.0).unwrap(),
-        Ball::new(0.45, vec![0.9, 0.1], 1.0).unwrap(),
+    let pixel = integrands_2d().pop().unwrap();
+    let disks: [&dyn Integrand; 3] = [
+        &Ball::new(0.25, vec![0.5, 0.5], 1.0).unwrap(),
+        &Ball::new(0.45, vec![0.9, 0.1], 1.0).unwrap(),
+        pixel.as_ref(),
     ];
     let z_family = common::inverse_normal_tail(0.01 / disks.len() as f64 / 2.0);
-    for disk in &disks {
+    for disk in disks {
         let p = predict(
             &Problem::new(lhs.as_ref(), disk, n).unwrap(),
             &PredictParams::default(),

@@ -272,7 +272,80 @@ impl GridIntegrand {
     }
 }
 
+/// The cells of one axis of a sampling grid, grouped by how they overlap the value grid's
+/// columns (or rows): a run of cells inside one value cell is one class, weighted by its length.
+struct OverlapClass {
+    multiplicity: f64,
+    /// `(value cell, fraction of the sampling cell's width)`.
+    weights: Vec<(usize, f64)>,
+}
+
+impl GridIntegrand {
+    /// The classes of `cells` sampling cells on an axis of `m` value cells.
+    fn overlap_classes(cells: usize, m: usize) -> Vec<OverlapClass> {
+        let mut classes: Vec<OverlapClass> = Vec::new();
+        for i in 0..cells {
+            let (lo, hi) = (i as f64 / cells as f64, (i + 1) as f64 / cells as f64);
+            let mut weights: Vec<(usize, f64)> = Self::overlaps(lo, hi, m)
+                .map(|(v, len)| (v, len * cells as f64))
+                .collect();
+            if let [(only, _)] = weights[..] {
+                // Inside one value cell: its weight is 1 exactly.
+                weights = vec![(only, 1.0)];
+                if let Some(last) = classes.last_mut()
+                    && last.weights[..] == [(only, 1.0)]
+                {
+                    last.multiplicity += 1.0;
+                    continue;
+                }
+            }
+            classes.push(OverlapClass {
+                multiplicity: 1.0,
+                weights,
+            });
+        }
+        classes
+    }
+}
+
 impl Integrand for GridIntegrand {
+    fn cell_sums(&self, grid: &[usize]) -> Option<super::CellSums> {
+        // A sampling cell's mean and mean square are weighted sums of the values it overlaps,
+        // and the weights factor by axis: every cell of one class pair has the same moments,
+        // so the sums run over the pairs of classes (a few per value cell), not the cells.
+        if grid.len() != 2 {
+            return None;
+        }
+        let columns = Self::overlap_classes(grid[0], self.width);
+        let rows = Self::overlap_classes(grid[1], self.height);
+        let (mut squares, mut within) = (
+            crate::quadrature::CompensatedSum::default(),
+            crate::quadrature::CompensatedSum::default(),
+        );
+        for row in &rows {
+            for column in &columns {
+                let (mut mean, mut second) = (0.0, 0.0);
+                for &(y, wy) in &row.weights {
+                    for &(x, wx) in &column.weights {
+                        let v = self.values[y * self.width + x];
+                        mean += wx * wy * v;
+                        second += wx * wy * v * v;
+                    }
+                }
+                let count = row.multiplicity * column.multiplicity;
+                squares.add(count * mean * mean);
+                // One value: no inner variance, exactly.
+                if row.weights.len() > 1 || column.weights.len() > 1 {
+                    within.add(count * (second - mean * mean).max(0.0));
+                }
+            }
+        }
+        Some(super::CellSums {
+            mean_square: squares.value(),
+            within: within.value(),
+            visited: (rows.len() * columns.len()) as u64,
+        })
+    }
     fn box_moments(&self, lo: &[f64], hi: &[f64]) -> Option<(f64, f64)> {
         // Piecewise constant: each cell's value times the area it shares with the box.
         let (mut mass, mut square) = (0.0, 0.0);
