@@ -34,8 +34,13 @@ fn exact_cells(what: &str, n: usize, d: usize, budget: &Budget) -> Result<usize>
 /// inclusion–exclusion over the axes they share, `Σ_A (−1)^{|A|} Σ (marginal of G over the
 /// axes outside A)²` with `G = F − I`.
 ///
+/// A separable integrand ([`Integrand::separable_cells`]) is summed from its rows, and in 2D one
+/// with its own sums over a grid's cells ([`Integrand::cell_sums`]: disks, tabulated grids) from
+/// those and its slabs, at any N; the others over the table of the `N^d` cells.
+///
 /// # Errors
-/// An integrand without box moments, or `N^d` cells beyond the budget or above `2^24`.
+/// An integrand without box moments, or work beyond the budget; for an integrand summed over
+/// its table, `N^d` cells above `2^24`.
 ///
 /// # Examples
 /// ```
