@@ -124,10 +124,17 @@ fn moments(f: &dyn Integrand, strata: &[usize], width: f64, budget: &Budget) -> 
         match f.separable_coefficients(&axes.iter().map(|a| a.kmax as usize).collect::<Vec<_>>()) {
             Some(rows) => separable_folds(&rows, &axes),
             None => {
-                let folded = |p: usize| folded_class(f, &axes, p);
-                let (aliased, _) =
-                    super::cell_moments::chunked_sum(classes, |p| (folded(p).norm_sqr(), 0.0));
-                (aliased, folded(0).re)
+                // f is real, so G(−p) = G(p)*: each pair of opposite classes is summed once.
+                let term = |p: usize| {
+                    let opposite = opposite_class(&axes, p);
+                    match p.cmp(&opposite) {
+                        std::cmp::Ordering::Less => 2.0 * folded_class(f, &axes, p).norm_sqr(),
+                        std::cmp::Ordering::Equal => folded_class(f, &axes, p).norm_sqr(),
+                        std::cmp::Ordering::Greater => 0.0,
+                    }
+                };
+                let (aliased, _) = super::cell_moments::chunked_sum(classes, |p| (term(p), 0.0));
+                (aliased, folded_class(f, &axes, 0).re)
             }
         };
     let squares = square_sum(f, &axes)?;
@@ -194,9 +201,16 @@ fn shifted_moments(
                 * rows.height
         }
         None => {
-            let count = sides.iter().product();
+            let count: usize = sides.iter().product();
+            // The box is symmetric and |f̂(−k)| = |f̂(k)|: frequency `count − 1 − i` is `−k`,
+            // so each opposite pair is evaluated once.
             let term = |i: usize| {
-                let (mut k, mut rest, mut weight) = ([0i64; 3], i, 1.0);
+                let multiplicity = match i.cmp(&(count - 1 - i)) {
+                    std::cmp::Ordering::Less => 2.0,
+                    std::cmp::Ordering::Equal => 1.0,
+                    std::cmp::Ordering::Greater => return (0.0, 0.0),
+                };
+                let (mut k, mut rest, mut weight) = ([0i64; 3], i, multiplicity);
                 for (a, axis) in axes.iter().enumerate() {
                     k[a] = (rest % sides[a]) as i64 - axis.kmax;
                     rest /= sides[a];
@@ -273,6 +287,18 @@ fn separable_folds(rows: &SeparableCoefficients, axes: &[Axis]) -> (f64, f64) {
         mean *= fold(0).re;
     }
     (aliased, mean)
+}
+
+/// The index of the class `−p` (modulo each axis's strata; axis 0 fastest).
+fn opposite_class(axes: &[Axis], p: usize) -> usize {
+    let (mut rest, mut index, mut stride) = (p, 0, 1);
+    for axis in axes {
+        let residue = rest % axis.strata;
+        rest /= axis.strata;
+        index += ((axis.strata - residue) % axis.strata) * stride;
+        stride *= axis.strata;
+    }
+    index
 }
 
 /// The bias `E μ − I` of `f`'s estimator with Gaussian jitter of width `width` (in strata) at
