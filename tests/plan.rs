@@ -192,3 +192,27 @@ fn a_sampler_out_of_reach_is_a_row_beside_those_that_reach() {
         "{e}"
     );
 }
+
+/// Gaussian jitter as drawn is biased: a plan, which reads the variance as the squared error,
+/// refuses it with the kind and words of the refusal, and plans it under a shift.
+#[test]
+fn a_biased_estimator_is_refused_with_its_reason() {
+    let disk = specvar::integrand::Ball::new(0.25, vec![0.5, 0.5], 1.0).unwrap();
+    let jitter = specvar::sampler::GaussianJitter::new(2).unwrap();
+    let params = PlanParams::new(Target::Rmse(1e-3));
+    let e = plan(&jitter, &disk, &params, &Silent).unwrap_err();
+    assert!(matches!(e, Error::OutsideValidity { .. }), "{e:?}");
+    let message = e.to_string();
+    assert!(
+        message.contains("biased") && message.contains("--randomization shift"),
+        "{message}"
+    );
+    let shifted = PlanParams {
+        randomization: specvar::randomization::RandomizationChoice::Given(
+            specvar::randomization::Randomization::Shift,
+        ),
+        ..params
+    };
+    let p = plan(&jitter, &disk, &shifted, &Silent).unwrap();
+    assert!(p.rmse <= 1e-3);
+}
