@@ -27,6 +27,7 @@ mod cell_pairs;
 mod cells;
 mod gaussian_jitter;
 mod lattice;
+mod measured_tail;
 mod owen_gains;
 mod pair;
 mod polar;
@@ -115,6 +116,18 @@ pub enum SpectrumOrigin {
         /// The lattice extent.
         kmax: usize,
     },
+    /// Each pattern's own transform on the lattice `|k_i| ≤ kmax`, and beyond it the residual
+    /// of its error at `shifts` shifts each, over `patterns` patterns of `n` points.
+    MeasuredTail {
+        /// The N of the patterns.
+        n: usize,
+        /// Patterns averaged.
+        patterns: usize,
+        /// The lattice extent.
+        kmax: usize,
+        /// Shifts per pattern at which the residual beyond the lattice was measured.
+        shifts: usize,
+    },
 }
 
 impl fmt::Display for SpectrumOrigin {
@@ -134,6 +147,16 @@ impl fmt::Display for SpectrumOrigin {
             } => write!(
                 f,
                 "estimated at N = {n} ({realizations} realizations, |k_i| ≤ {kmax})"
+            ),
+            SpectrumOrigin::MeasuredTail {
+                n,
+                patterns,
+                kmax,
+                shifts,
+            } => write!(
+                f,
+                "{patterns} patterns at N = {n} on |k_i| ≤ {kmax}, the tail measured at \
+                 {shifts} shifts each"
             ),
         }
     }

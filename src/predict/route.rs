@@ -866,7 +866,14 @@ fn estimated_lattice_many(
                 Some(wider) => queue.entry(wider).or_insert_with(Vec::new).push(i),
                 None => {
                     let asked = params.spectrum == SpectrumChoice::Estimated;
-                    done[i] = Some(estimated_reason(p, (kind, asked), &what, n, kmax));
+                    let p = estimated_reason(p, (kind, asked), &what, n, kmax);
+                    done[i] = Some(if needs_measured_tail(&p, params) {
+                        let why = why_estimated((kind, asked), &what, n);
+                        let tail = MeasuredTail { source, kmax, why };
+                        with_measured_tail(problems[i].integrand, &tail, p, params, progress)?
+                    } else {
+                        p
+                    });
                 }
             }
         }
@@ -894,6 +901,67 @@ fn wider_lattice(p: &Prediction, kmax: usize, d: usize, params: &PredictParams) 
     Some(wider)
 }
 
+/// Whether the white-tail bound of `p`, on the widest lattice it could take, is still above
+/// [`ESTIMATED_TAIL_SHARE`] of its variance, and no lattice was asked for: the tail is then
+/// measured instead ([`with_measured_tail`]).
+fn needs_measured_tail(p: &Prediction, params: &PredictParams) -> bool {
+    params.kmax.is_none() && p.budget.truncation > ESTIMATED_TAIL_SHARE * p.variance
+}
+
+/// A lattice form whose tail is to be measured: the patterns, the lattice extent, and why the
+/// spectrum is estimated.
+struct MeasuredTail<'a> {
+    source: PatternSource<'a>,
+    kmax: usize,
+    why: String,
+}
+
+/// The lattice form on `|k_i| ≤ kmax` with the energy beyond it measured at shifts of each
+/// pattern, `white` (the same lattice with the white-tail bound) as its alternative; `white`
+/// itself where the measurement would exceed the budget.
+fn with_measured_tail(
+    f: &dyn Integrand,
+    tail: &MeasuredTail<'_>,
+    white: Prediction,
+    params: &PredictParams,
+    progress: &dyn Progress,
+) -> Result<Prediction> {
+    let measured = super::measured_tail::predict_measured_tail(
+        f,
+        tail.source,
+        tail.kmax,
+        params,
+        progress,
+    );
+    let mut p = match measured {
+        Err(Error::TooLarge { .. }) => return Ok(white),
+        other => other?,
+    };
+    p.reason = format!(
+        "{}: the lattice form on |k_i| ≤ {}, each pattern's own transform there; beyond it, \
+         where the white-tail bound is {:.0}% of the variance even on the widest lattice, the \
+         energy is measured: each pattern's variance under the shift is its lattice part plus \
+         the mean square, at {} uniform shifts, of its error less that part (the modes are \
+         orthogonal over shifts, so this is unbiased and nothing is modelled beyond the \
+         lattice); noise from the patterns' spread",
+        tail.why,
+        tail.kmax,
+        100.0 * white.budget.truncation / white.variance,
+        super::measured_tail::SHIFTS_PER_PATTERN,
+    );
+    p.alternatives.push(alternative(&white));
+    Ok(p)
+}
+
+/// Why a spectrum is estimated: no closed form is known, or an estimate was asked for.
+fn why_estimated((kind, asked): (Option<SamplerKind>, bool), what: &str, n: usize) -> String {
+    match kind {
+        None => format!("{what}: no closed form is known"),
+        Some(k) if asked => format!("the estimated spectrum of {k} was asked for"),
+        Some(k) => format!("{k} has no closed form at N = {n}"),
+    }
+}
+
 fn estimated_reason(
     p: Prediction,
     (kind, asked): (Option<SamplerKind>, bool),
@@ -903,16 +971,13 @@ fn estimated_reason(
 ) -> Prediction {
     let realizations = match p.route.spectrum {
         SpectrumOrigin::Estimated { realizations, .. } => realizations,
+        SpectrumOrigin::MeasuredTail { patterns, .. } => patterns,
         SpectrumOrigin::Closed(_)
         | SpectrumOrigin::Cells(_)
         | SpectrumOrigin::Walsh(_)
         | SpectrumOrigin::Pairs { .. } => 0,
     };
-    let why = match kind {
-        None => format!("{what}: no closed form is known"),
-        Some(k) if asked => format!("the estimated spectrum of {k} was asked for"),
-        Some(k) => format!("{k} has no closed form at N = {n}"),
-    };
+    let why = why_estimated((kind, asked), what, n);
     with_reason(
         p,
         format!(

@@ -24,6 +24,10 @@ fn route_short(p: &Prediction) -> String {
         SpectrumOrigin::Estimated { realizations, .. } => {
             format!("{}, estimated at N ({realizations} patterns)", p.route.form)
         }
+        SpectrumOrigin::MeasuredTail { patterns, .. } => format!(
+            "{}, estimated at N with a measured tail ({patterns} patterns)",
+            p.route.form
+        ),
         SpectrumOrigin::Cells(c) => format!("{}, {c}", p.route.form),
         SpectrumOrigin::Walsh(w) => format!("{}, {w}", p.route.form),
         SpectrumOrigin::Pairs { sets } => {
