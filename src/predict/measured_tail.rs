@@ -146,7 +146,10 @@ fn pattern_term(
     let mut tail = CompensatedSum::default();
     for s in 0..shifts {
         let t = toroidal_shift(d, seed, first_unit + s as u64);
-        for (out, x) in shifted.chunks_exact_mut(d).zip(pattern.coords().chunks_exact(d)) {
+        for (out, x) in shifted
+            .chunks_exact_mut(d)
+            .zip(pattern.coords().chunks_exact(d))
+        {
             for a in 0..d {
                 let y = x[a] + t[a];
                 out[a] = if y >= 1.0 { y - 1.0 } else { y };
@@ -180,12 +183,13 @@ pub(crate) fn predict_measured_tail(
     progress: &dyn Progress,
 ) -> Result<Prediction> {
     let (n, d) = (source.points(), source.dimension());
+    let shifts = SHIFTS_PER_PATTERN;
     let lattice = Lattice { dimension: d, kmax };
     let len = lattice.len() as f64;
     let plan = NufftPlan::new(d, kmax, n, TRANSFORM_TOLERANCE)?;
     let grid = (plan.grid_size() as f64).powi(d as i32);
     let per_pattern = (n as f64 * TRANSFORM_SECONDS_PER_POINT + grid * 3e-8)
-        + SHIFTS_PER_PATTERN as f64 * (n as f64 * EVALUATION_SECONDS + len * LATTICE_TERM_SECONDS);
+        + shifts as f64 * (n as f64 * EVALUATION_SECONDS + len * LATTICE_TERM_SECONDS);
     let (initial, max) = terms_within_budget(params, per_pattern, (INITIAL_PATTERNS, MAX_PATTERNS));
     let threads = rayon::current_num_threads() as f64;
     params.budget.check(
@@ -206,7 +210,7 @@ pub(crate) fn predict_measured_tail(
         0.0,
         |i| {
             let pattern = source.realization(sets.map_or(i, |m| i % m))?;
-            let units = (params.seed, (i * SHIFTS_PER_PATTERN) as u64, SHIFTS_PER_PATTERN);
+            let units = (params.seed, (i * shifts) as u64, shifts);
             let term = pattern_term(f, &coefficients, &plan, &pattern, units)?;
             Ok(term.lattice_part + term.tail)
         },
@@ -220,8 +224,9 @@ pub(crate) fn predict_measured_tail(
     // |r| at most √(the tail) ≤ √(the variance).
     let eps = plan.error_bound();
     let moved = eps * coefficients.absolute_sum;
-    let quadrature =
-        eps * (2.0 + eps) * coefficients.energy + 2.0 * moved * variance.max(0.0).sqrt() + moved * moved;
+    let quadrature = eps * (2.0 + eps) * coefficients.energy
+        + 2.0 * moved * variance.max(0.0).sqrt()
+        + moved * moved;
     Ok(Prediction {
         variance,
         randomization: Randomization::Shift,
@@ -231,7 +236,7 @@ pub(crate) fn predict_measured_tail(
                 n,
                 patterns: estimate.patterns,
                 kmax,
-                shifts: SHIFTS_PER_PATTERN,
+                shifts,
             },
         },
         reason: String::new(),
@@ -243,7 +248,7 @@ pub(crate) fn predict_measured_tail(
         n,
         dimension: d,
         dc_term: 0.0,
-        evaluations: (estimate.patterns * SHIFTS_PER_PATTERN * n) as u64,
+        evaluations: (estimate.patterns * shifts * n) as u64,
         alternatives: Vec::new(),
     })
 }
@@ -279,8 +284,9 @@ mod tests {
                 realizations: Some(256),
                 ..Default::default()
             };
-            let p = predict_measured_tail(f.as_ref(), PatternSource::Sets(sets), 8, &params, &Silent)
-                .unwrap();
+            let p =
+                predict_measured_tail(f.as_ref(), PatternSource::Sets(sets), 8, &params, &Silent)
+                    .unwrap();
             let gap = (p.variance - exact).abs() - p.budget.quadrature;
             assert!(
                 gap <= Z * p.budget.spectrum_noise,
@@ -289,7 +295,11 @@ mod tests {
                 p.budget.spectrum_noise
             );
             // Informative: the tail is most of the variance at K = 8, and is measured to a few %.
-            assert!(p.budget.spectrum_noise < 0.05 * exact, "{text}: {:?}", p.budget);
+            assert!(
+                p.budget.spectrum_noise < 0.05 * exact,
+                "{text}: {:?}",
+                p.budget
+            );
         }
     }
 }

@@ -862,19 +862,23 @@ fn estimated_lattice_many(
             .collect::<Result<Vec<_>>>()?;
         let predictions = predict_on_patterns_many(&powers, source, &plan(kmax), progress)?;
         for (&i, p) in group.iter().zip(predictions) {
+            let asked = params.spectrum == SpectrumChoice::Estimated;
+            let p = estimated_reason(p, (kind, asked), &what, n, kmax);
+            // A measured tail needs no wider lattice: it replaces the widening where the
+            // budget allows it.
+            if needs_measured_tail(&p, params) {
+                let why = why_estimated((kind, asked), &what, n);
+                let tail = MeasuredTail { source, kmax, why };
+                if let Some(m) =
+                    with_measured_tail(problems[i].integrand, &tail, &p, params, progress)?
+                {
+                    done[i] = Some(m);
+                    continue;
+                }
+            }
             match wider_lattice(&p, kmax, d, params) {
                 Some(wider) => queue.entry(wider).or_insert_with(Vec::new).push(i),
-                None => {
-                    let asked = params.spectrum == SpectrumChoice::Estimated;
-                    let p = estimated_reason(p, (kind, asked), &what, n, kmax);
-                    done[i] = Some(if needs_measured_tail(&p, params) {
-                        let why = why_estimated((kind, asked), &what, n);
-                        let tail = MeasuredTail { source, kmax, why };
-                        with_measured_tail(problems[i].integrand, &tail, p, params, progress)?
-                    } else {
-                        p
-                    });
-                }
+                None => done[i] = Some(p),
             }
         }
     }
@@ -917,31 +921,26 @@ struct MeasuredTail<'a> {
 }
 
 /// The lattice form on `|k_i| ≤ kmax` with the energy beyond it measured at shifts of each
-/// pattern, `white` (the same lattice with the white-tail bound) as its alternative; `white`
-/// itself where the measurement would exceed the budget.
+/// pattern, `white` (the same lattice with the white-tail bound) as its alternative; `None`
+/// where the measurement would exceed the budget.
 fn with_measured_tail(
     f: &dyn Integrand,
     tail: &MeasuredTail<'_>,
-    white: Prediction,
+    white: &Prediction,
     params: &PredictParams,
     progress: &dyn Progress,
-) -> Result<Prediction> {
-    let measured = super::measured_tail::predict_measured_tail(
-        f,
-        tail.source,
-        tail.kmax,
-        params,
-        progress,
-    );
+) -> Result<Option<Prediction>> {
+    let measured =
+        super::measured_tail::predict_measured_tail(f, tail.source, tail.kmax, params, progress);
     let mut p = match measured {
-        Err(Error::TooLarge { .. }) => return Ok(white),
+        Err(Error::TooLarge { .. }) => return Ok(None),
         other => other?,
     };
     p.reason = format!(
         "{}: the lattice form on |k_i| ≤ {}, each pattern's own transform there; beyond it, \
-         where the white-tail bound is {:.0}% of the variance even on the widest lattice, the \
-         energy is measured: each pattern's variance under the shift is its lattice part plus \
-         the mean square, at {} uniform shifts, of its error less that part (the modes are \
+         where the white-tail bound is {:.0}% of the variance, the energy is measured rather \
+         than the lattice widened: each pattern's variance under the shift is its lattice part \
+         plus the mean square, at {} uniform shifts, of its error less that part (the modes are \
          orthogonal over shifts, so this is unbiased and nothing is modelled beyond the \
          lattice); noise from the patterns' spread",
         tail.why,
@@ -949,8 +948,8 @@ fn with_measured_tail(
         100.0 * white.budget.truncation / white.variance,
         super::measured_tail::SHIFTS_PER_PATTERN,
     );
-    p.alternatives.push(alternative(&white));
-    Ok(p)
+    p.alternatives.push(alternative(white));
+    Ok(Some(p))
 }
 
 /// Why a spectrum is estimated: no closed form is known, or an estimate was asked for.
