@@ -19,7 +19,8 @@
 //!
 //! [`plan_pixels`] plans an image: the samples per pixel whose image RMSE, the root of the mean
 //! of the pixels' variances, reaches the target. [`plan_many`] and [`plan_pixels_many`] plan
-//! several samplers, a sampler out of reach being a row that says so.
+//! several samplers, a sampler out of reach being a row that says so, and one whose estimator
+//! has no valid route a [`Refusal`].
 
 use crate::error::{invalid, Error, Result};
 use crate::integrand::Integrand;
@@ -404,31 +405,71 @@ fn unreachable(plan: &Plan) -> Error {
     }
 }
 
-/// `rows` if at least one reaches its target (or there are none), else the first one's error.
-fn some_reached(rows: Vec<Plan>) -> Result<Vec<Plan>> {
-    match rows.iter().any(|p| p.reached) || rows.is_empty() {
-        true => Ok(rows),
-        false => Err(unreachable(&rows[0])),
+/// A sampler that a plan of several has no prediction for: the estimator asked for has no
+/// route (Halton used as drawn) or is one a plan refuses (Gaussian jitter as drawn, biased).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Refusal {
+    /// The sampler's name.
+    pub sampler: String,
+    /// The refusal, in the words of its error: what is not valid and what to do instead.
+    pub reason: String,
+}
+
+/// The rows of a plan of several samplers: those planned (reached or not), in order, and those
+/// refused.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Plans {
+    /// The samplers planned, in the order given.
+    pub rows: Vec<Plan>,
+    /// The samplers refused, in the order given.
+    pub refused: Vec<Refusal>,
+}
+
+/// The rows of `samplers` planned by `row`: a sampler whose estimator has no valid route is a
+/// refusal beside the others. An error when no sampler is planned (the first refusal's) or
+/// none reaches the target (the first row's), or any other error of a row.
+fn plan_rows(
+    samplers: &[&dyn Sampler],
+    row: impl Fn(&dyn Sampler) -> Result<Plan>,
+) -> Result<Plans> {
+    let (mut rows, mut refused, mut first_refusal) = (Vec::new(), Vec::new(), None);
+    for sampler in samplers {
+        match row(*sampler) {
+            Ok(plan) => rows.push(plan),
+            Err(e @ Error::OutsideValidity { .. }) => {
+                refused.push(Refusal {
+                    sampler: sampler.name().to_string(),
+                    reason: e.to_string(),
+                });
+                first_refusal.get_or_insert(e);
+            }
+            Err(e) => return Err(e),
+        }
     }
+    if let (true, Some(e)) = (rows.is_empty(), first_refusal) {
+        return Err(e);
+    }
+    if !rows.is_empty() && !rows.iter().any(|p| p.reached) {
+        return Err(unreachable(&rows[0]));
+    }
+    Ok(Plans { rows, refused })
 }
 
 /// Plans several samplers on one integrand ([`plan`] for each, in order). A sampler that does
 /// not reach the target within the limit is a row with `reached: false` (its largest N and
-/// the RMSE there), so that the others still answer.
+/// the RMSE there), and one whose estimator has no valid route is a [`Refusal`], so that the
+/// others still answer.
 ///
 /// # Errors
-/// As [`plan`], except that a target out of reach is an error only when no sampler reaches it.
+/// As [`plan`], except that a target out of reach is an error only when no sampler reaches it,
+/// and a refusal only when every sampler is refused.
 pub fn plan_many(
     samplers: &[&dyn Sampler],
     integrand: &dyn Integrand,
     params: &PlanParams,
     progress: &dyn Progress,
-) -> Result<Vec<Plan>> {
-    let rows = samplers
-        .iter()
-        .map(|s| plan_row(*s, integrand, params, progress))
-        .collect::<Result<Vec<Plan>>>()?;
-    some_reached(rows)
+) -> Result<Plans> {
+    plan_rows(samplers, |s| plan_row(s, integrand, params, progress))
 }
 
 /// Plans several samplers on an image ([`plan_pixels`] for each), rows as [`plan_many`]'s.
@@ -440,12 +481,8 @@ pub fn plan_pixels_many(
     stack: &PixelStack,
     params: &PlanParams,
     progress: &dyn Progress,
-) -> Result<Vec<Plan>> {
-    let rows = samplers
-        .iter()
-        .map(|s| plan_pixels_row(*s, stack, params, progress))
-        .collect::<Result<Vec<Plan>>>()?;
-    some_reached(rows)
+) -> Result<Plans> {
+    plan_rows(samplers, |s| plan_pixels_row(s, stack, params, progress))
 }
 
 /// The plan whose prediction at N is `hit`'s (reached unless the caller says otherwise).

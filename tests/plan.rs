@@ -176,7 +176,8 @@ fn a_sampler_out_of_reach_is_a_row_beside_those_that_reach() {
         &params,
         &Silent,
     )
-    .unwrap();
+    .unwrap()
+    .rows;
     assert!(!rows[0].reached && rows[0].n == 4096 && rows[0].limit.is_some());
     assert!(rows[0].rmse > 1e-3);
     assert!(rows[1].reached && rows[1].rmse <= 1e-3 && rows[1].limit.is_none());
@@ -215,4 +216,27 @@ fn a_biased_estimator_is_refused_with_its_reason() {
     };
     let p = plan(&jitter, &disk, &shifted, &Silent).unwrap();
     assert!(p.rmse <= 1e-3);
+}
+
+/// Several samplers: one whose estimator has no route (Halton used as drawn) is a refusal with
+/// its reason, and the others still answer; all refused is the first refusal's error.
+#[test]
+fn a_refused_sampler_is_a_refusal_beside_those_planned() {
+    use specvar::plan::plan_many;
+    let disk = specvar::integrand::Ball::new(0.25, vec![0.5, 0.5], 1.0).unwrap();
+    let halton = SamplerKind::Halton.build(2).unwrap();
+    let jitter = SamplerKind::Jitter.build(2).unwrap();
+    let params = PlanParams::new(Target::Rmse(1e-3));
+    let plans = plan_many(&[halton.as_ref(), jitter.as_ref()], &disk, &params, &Silent).unwrap();
+    assert_eq!(plans.rows.len(), 1);
+    assert!(plans.rows[0].sampler == "jitter" && plans.rows[0].reached);
+    assert_eq!(plans.refused.len(), 1);
+    assert_eq!(plans.refused[0].sampler, "halton");
+    assert!(
+        plans.refused[0].reason.contains("--randomization shift"),
+        "{:?}",
+        plans.refused
+    );
+    let e = plan_many(&[halton.as_ref()], &disk, &params, &Silent).unwrap_err();
+    assert!(matches!(e, Error::OutsideValidity { .. }), "{e}");
 }

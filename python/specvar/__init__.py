@@ -21,6 +21,7 @@ import functools
 import inspect
 import json
 import math
+import warnings
 from dataclasses import dataclass, field, fields
 from typing import Any, Callable, Literal, Optional, Sequence, Union
 
@@ -642,8 +643,10 @@ def plan(
     search follows the predictions' own rate, a handful of predictions per sampler. A sampler
     that no N up to ``max_n`` (default 2^20 in 2D) brings to the target is a row with
     ``reached=False``, its largest N and the RMSE there, and ``limit`` saying what stopped it.
-    Raises ``ValueError`` for a target that is not positive and finite, or one that no sampler
-    reaches, naming that N and its RMSE."""
+    A sampler whose estimator has no valid route (Halton used as drawn) is left out with a
+    ``UserWarning`` that gives the reason. Raises ``ValueError`` for a target that is not
+    positive and finite, one that no sampler reaches (naming that N and its RMSE), or when
+    every sampler is refused."""
     if callable(integrand):
         integrand = tabulate_adaptive(integrand, resolution=256).values
     spec, pixels = _integrand(integrand), None
@@ -661,7 +664,9 @@ def plan(
         cache,
         pixels,
     )
-    return [_build(Plan, r, rmse_interval=tuple(r["rmse_interval"])) for r in raw]
+    for refusal in raw["refused"]:
+        warnings.warn(f"{refusal['sampler']} is not planned: {refusal['reason']}", stacklevel=2)
+    return [_build(Plan, r, rmse_interval=tuple(r["rmse_interval"])) for r in raw["rows"]]
 
 
 @dataclass(frozen=True)

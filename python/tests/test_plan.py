@@ -42,7 +42,18 @@ def test_the_same_plan_as_the_command_line(cli):
     done = cli("plan", "-f", "edge:theta=30", "--rmse", "0.02", "--relative",
                "--samplers", "jitter,sobol", "--json")
     theirs = json.loads(done.stdout)
-    assert [(p.sampler, p.n, p.rmse) for p in ours] == [(t["sampler"], t["n"], t["rmse"]) for t in theirs]
+    assert theirs["refused"] == []
+    assert [(p.sampler, p.n, p.rmse) for p in ours] == [
+        (t["sampler"], t["n"], t["rmse"]) for t in theirs["rows"]
+    ]
+
+
+def test_a_sampler_without_a_route_is_a_warning_beside_the_others():
+    with pytest.warns(UserWarning, match="halton is not planned: .*--randomization shift"):
+        (p,) = specvar.plan("disk", rmse=1e-3, samplers=["halton", "jitter"])
+    assert p.sampler == "jitter" and p.reached
+    with pytest.raises(ValueError, match="halton patterns used as drawn"):
+        specvar.plan("disk", rmse=1e-3, samplers=["halton"])
 
 
 @pytest.mark.parametrize("bad", [0.0, -0.01, float("nan"), float("inf")])

@@ -3,7 +3,9 @@
 use specvar::integrand::IntegrandSpec;
 use specvar::pilot::{plan_pilot, Pilot, PilotModel};
 use specvar::pixels::PixelStack;
-use specvar::plan::{default_samplers, plan_many, plan_pixels_many, Plan, PlanParams, Target};
+use specvar::plan::{
+    default_samplers, plan_many, plan_pixels_many, Plan, PlanParams, Plans, Target,
+};
 use specvar::predict::PredictParams;
 use specvar::randomization::RandomizationChoice;
 use specvar::sampler::{Sampler, SamplerKind};
@@ -109,7 +111,14 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
                 v.variance,
                 v.standard_error
             );
-            (label, vec![plan_pilot(*sampler, &pilot, &params, &bars)?])
+            let rows = vec![plan_pilot(*sampler, &pilot, &params, &bars)?];
+            (
+                label,
+                Plans {
+                    rows,
+                    refused: Vec::new(),
+                },
+            )
         }
         (Some(path), None) => {
             let stack = PixelStack::read(path)?;
@@ -136,7 +145,8 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
     Ok(())
 }
 
-fn print_text(integrand: &str, target: Target, plans: &[Plan]) -> Result<()> {
+fn print_text(integrand: &str, target: Target, table: &Plans) -> Result<()> {
+    let plans: &[Plan] = &table.rows;
     let absolute = plans.first().map_or(0.0, |p| p.target);
     outln!("plan for {target} (RMSE {absolute:.4e}) on {integrand}")?;
     outln!(
@@ -183,6 +193,9 @@ fn print_text(integrand: &str, target: Target, plans: &[Plan]) -> Result<()> {
             p.sampler,
             p.limit.as_deref().unwrap_or("the limit")
         )?;
+    }
+    for r in &table.refused {
+        outln!("{} is not planned: {}", r.sampler, r.reason)?;
     }
     Ok(())
 }
