@@ -866,7 +866,7 @@ fn estimated_lattice_many(
             let p = estimated_reason(p, (kind, asked), &what, n, kmax);
             // A measured tail needs no wider lattice: it replaces the widening where the
             // budget allows it.
-            if needs_measured_tail(&p, params) {
+            if needs_measured_tail(&p, kind, params) {
                 let why = why_estimated((kind, asked), &what, n);
                 let tail = MeasuredTail { source, kmax, why };
                 if let Some(m) =
@@ -905,11 +905,15 @@ fn wider_lattice(p: &Prediction, kmax: usize, d: usize, params: &PredictParams) 
     Some(wider)
 }
 
-/// Whether the white-tail bound of `p`, on the widest lattice it could take, is still above
-/// [`ESTIMATED_TAIL_SHARE`] of its variance, and no lattice was asked for: the tail is then
-/// measured instead ([`with_measured_tail`]).
-fn needs_measured_tail(p: &Prediction, params: &PredictParams) -> bool {
-    params.kmax.is_none() && p.budget.truncation > ESTIMATED_TAIL_SHARE * p.variance
+/// Whether the white-tail bound of `p` is above [`ESTIMATED_TAIL_SHARE`] of its variance, no
+/// lattice was asked for, and the sampler's patterns are cheap enough to measure the tail on
+/// (not CCVT or Gaussian blue noise, whose few affordable patterns leave a measured tail
+/// noisier than their bound, and whose spectra do settle to white): the tail is then measured
+/// ([`with_measured_tail`]).
+fn needs_measured_tail(p: &Prediction, kind: Option<SamplerKind>, params: &PredictParams) -> bool {
+    params.kmax.is_none()
+        && p.budget.truncation > ESTIMATED_TAIL_SHARE * p.variance
+        && !kind.is_some_and(|k| k.is_costly())
 }
 
 /// A lattice form whose tail is to be measured: the patterns, the lattice extent, and why the
@@ -920,9 +924,10 @@ struct MeasuredTail<'a> {
     why: String,
 }
 
-/// The lattice form on `|k_i| ≤ kmax` with the energy beyond it measured at shifts of each
-/// pattern, `white` (the same lattice with the white-tail bound) as its alternative; `None`
-/// where the measurement would exceed the budget.
+/// The lattice form with the energy beyond it measured at shifts of each pattern, `white`
+/// (the lattice form with the white-tail bound) as its alternative, or `white` with the
+/// measured one as its alternative where that has the narrower 99% budget; `None` where the
+/// measurement would exceed the budget.
 fn with_measured_tail(
     f: &dyn Integrand,
     tail: &MeasuredTail<'_>,
@@ -936,18 +941,30 @@ fn with_measured_tail(
         Err(Error::TooLarge { .. }) => return Ok(None),
         other => other?,
     };
+    let SpectrumOrigin::MeasuredTail { kmax, .. } = p.route.spectrum else {
+        return Err(Error::Mismatch("a measured tail of another origin".into()));
+    };
     p.reason = format!(
-        "{}: the lattice form on |k_i| ≤ {}, each pattern's own transform there; beyond it, \
+        "{}: the lattice form on |k_i| ≤ {kmax}, each pattern's own transform there; beyond it, \
          where the white-tail bound is {:.0}% of the variance, the energy is measured rather \
          than the lattice widened: each pattern's variance under the shift is its lattice part \
          plus the mean square, at {} uniform shifts, of its error less that part (the modes are \
          orthogonal over shifts, so this is unbiased and nothing is modelled beyond the \
          lattice); noise from the patterns' spread",
         tail.why,
-        tail.kmax,
         100.0 * white.budget.truncation / white.variance,
         super::measured_tail::SHIFTS_PER_PATTERN,
     );
+    let width = |p: &Prediction| p.budget.half_width(crate::montecarlo::Z_99);
+    if width(&p) >= width(white) {
+        let mut kept = white.clone();
+        kept.reason = format!(
+            "{}; the tail measured instead (the alternative) has a wider budget here",
+            kept.reason
+        );
+        kept.alternatives.push(alternative(&p));
+        return Ok(Some(kept));
+    }
     p.alternatives.push(alternative(white));
     Ok(Some(p))
 }

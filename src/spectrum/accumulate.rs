@@ -59,7 +59,7 @@ impl PatternSource<'_> {
     }
 
     /// The memory and time of one pattern (none for given sets).
-    fn pattern_needs(&self) -> crate::budget::Needs {
+    pub(crate) fn pattern_needs(&self) -> crate::budget::Needs {
         match self {
             PatternSource::Sampler { sampler, n, .. } => match sampler.kind() {
                 Some(kind) => kind.pattern_needs(*n, sampler.dimension()),
