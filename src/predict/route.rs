@@ -845,6 +845,7 @@ fn estimated_lattice_many(
         symmetric: kind.is_some_and(|k| k.is_symmetric_at(n, d)),
     };
     let mut done: Vec<Option<Prediction>> = vec![None; problems.len()];
+    let mut tail_tried = vec![false; problems.len()];
     // Lattice sizes still to estimate, each with the problems that need it.
     let mut queue = std::collections::BTreeMap::new();
     queue.insert(
@@ -865,8 +866,10 @@ fn estimated_lattice_many(
             let asked = params.spectrum == SpectrumChoice::Estimated;
             let p = estimated_reason(p, (kind, asked), &what, n, kmax);
             // A measured tail needs no wider lattice: it replaces the widening where the
-            // budget allows it.
-            if needs_measured_tail(&p, kind, params) {
+            // budget allows it and its budget is the narrower (tried once per problem: its
+            // lattice does not follow the widening).
+            if !tail_tried[i] && needs_measured_tail(&p, kind, params) {
+                tail_tried[i] = true;
                 let why = why_estimated((kind, asked), &what, n);
                 let tail = MeasuredTail { source, kmax, why };
                 if let Some(m) =
@@ -925,9 +928,9 @@ struct MeasuredTail<'a> {
 }
 
 /// The lattice form with the energy beyond it measured at shifts of each pattern, `white`
-/// (the lattice form with the white-tail bound) as its alternative, or `white` with the
-/// measured one as its alternative where that has the narrower 99% budget; `None` where the
-/// measurement would exceed the budget.
+/// (the lattice form with the white-tail bound) as its alternative; `None` where the
+/// measurement would exceed the budget or its 99% budget is not the narrower (the white-tail
+/// form is then widened as before).
 fn with_measured_tail(
     f: &dyn Integrand,
     tail: &MeasuredTail<'_>,
@@ -957,13 +960,7 @@ fn with_measured_tail(
     );
     let width = |p: &Prediction| p.budget.half_width(crate::montecarlo::Z_99);
     if width(&p) >= width(white) {
-        let mut kept = white.clone();
-        kept.reason = format!(
-            "{}; the tail measured instead (the alternative) has a wider budget here",
-            kept.reason
-        );
-        kept.alternatives.push(alternative(&p));
-        return Ok(Some(kept));
+        return Ok(None);
     }
     p.alternatives.push(alternative(white));
     Ok(Some(p))
