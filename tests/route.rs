@@ -263,16 +263,25 @@ fn every_sampler_gets_a_valid_route() {
         let n = kind.nearest_count(64, 2);
         let p = predict_default(sampler.as_ref(), &f, n);
         // Owen-scrambled Sobol' under the shift: its gains averaged over shifts, in space;
-        // the samplers with cells and no closed form: their cell form over patterns and shifts.
+        // the samplers with cells and no closed form: the lattice form with a measured tail.
         let form = match kind {
-            SamplerKind::Sobol
-            | SamplerKind::MultiJitter
-            | SamplerKind::Cmj
-            | SamplerKind::OrthogonalArray
-            | SamplerKind::Pmj02 => Form::Cells,
+            SamplerKind::Sobol => Form::Cells,
             _ => Form::Lattice,
         };
         assert_eq!(p.route.form, form, "{kind}");
+        let strata = [
+            SamplerKind::MultiJitter,
+            SamplerKind::Cmj,
+            SamplerKind::OrthogonalArray,
+            SamplerKind::Pmj02,
+        ];
+        if strata.contains(&kind) {
+            assert!(
+                matches!(p.route.spectrum, SpectrumOrigin::MeasuredTail { .. }),
+                "{kind}: {}",
+                p.route
+            );
+        }
         let closed = matches!(p.route.spectrum, SpectrumOrigin::Closed(_));
         assert_eq!(
             closed,

@@ -1,12 +1,15 @@
 //! Samplers with cells under a random shift (multi-jitter, CMJ, orthogonal arrays, PMJ02): the
-//! default route averages each pattern's cell form on the shifted integrand over patterns and
-//! shifts, checked against Monte Carlo of the shifted estimator and against the lattice form.
+//! default route, the lattice form with a measured tail, and the cell form (`--form cells`),
+//! each pattern's cells on the shifted integrand averaged over patterns and shifts, checked
+//! against Monte Carlo of the shifted estimator and against each other.
 
 mod common;
 
 use specvar::integrand::{Gaussian, Integrand, Polygon};
 use specvar::montecarlo::{empirical_variance, McParams};
-use specvar::predict::{predict, Form, PredictParams, Problem, SpectrumChoice, SpectrumOrigin};
+use specvar::predict::{
+    predict, Form, FormChoice, PredictParams, Problem, SpectrumChoice, SpectrumOrigin,
+};
 use specvar::predict::{CellOrigin, Occupancy};
 use specvar::randomization::Randomization;
 use specvar::sampler::SamplerKind;
@@ -24,8 +27,15 @@ fn shifted(
     predict(&problem, params).unwrap()
 }
 
+fn cell_form() -> PredictParams {
+    PredictParams {
+        form: FormChoice::Cells,
+        ..Default::default()
+    }
+}
+
 #[test]
-fn the_default_route_agrees_with_monte_carlo_across_the_faces() {
+fn both_routes_agree_with_monte_carlo_across_the_faces() {
     let seam = Gaussian::new(0.2, vec![0.2, 0.7], 1.0).unwrap();
     let edge = Polygon::edge(30.0, 0.4, 1.0).unwrap();
     let kinds = [
@@ -37,20 +47,26 @@ fn the_default_route_agrees_with_monte_carlo_across_the_faces() {
     for kind in kinds {
         for f in [&seam as &dyn Integrand, &edge] {
             let n = kind.nearest_count(256, 2);
-            let p = shifted(kind, f, n, &PredictParams::default());
-            assert_eq!(p.route.form, Form::Cells, "{kind}");
+            let default = shifted(kind, f, n, &PredictParams::default());
+            assert_eq!(default.route.form, Form::Lattice, "{kind}");
+            assert!(
+                matches!(default.route.spectrum, SpectrumOrigin::MeasuredTail { .. }),
+                "{kind}: {}",
+                default.route
+            );
+            let cells = shifted(kind, f, n, &cell_form());
+            assert_eq!(cells.route.form, Form::Cells, "{kind}");
             assert!(
                 matches!(
-                    p.route.spectrum,
+                    cells.route.spectrum,
                     SpectrumOrigin::Cells(CellOrigin {
                         occupancy: Occupancy::EstimatedOverShifts { .. },
                         ..
                     })
                 ),
                 "{kind}: {}",
-                p.route
+                cells.route
             );
-            assert_eq!(p.budget.truncation, 0.0);
             let sampler = kind.build(2).unwrap();
             let mc = empirical_variance(
                 sampler.as_ref(),
@@ -59,12 +75,15 @@ fn the_default_route_agrees_with_monte_carlo_across_the_faces() {
                 &McParams::pooled(kind, 30_000, 17, Randomization::Shift),
             )
             .unwrap();
-            common::assert_agrees(
-                &p,
-                &mc,
-                common::Z_LOOSE,
-                &format!("{kind} on {}", f.label()),
-            );
+            for p in [&default, &cells] {
+                assert_eq!(p.budget.truncation, 0.0);
+                common::assert_agrees(
+                    p,
+                    &mc,
+                    common::Z_LOOSE,
+                    &format!("{kind} on {} by the {}", f.label(), p.route),
+                );
+            }
         }
     }
 }
@@ -72,7 +91,7 @@ fn the_default_route_agrees_with_monte_carlo_across_the_faces() {
 #[test]
 fn the_lattice_form_stays_available_and_agrees_at_small_n() {
     let seam = Gaussian::new(0.2, vec![0.2, 0.7], 1.0).unwrap();
-    let cells = shifted(SamplerKind::Cmj, &seam, 256, &PredictParams::default());
+    let cells = shifted(SamplerKind::Cmj, &seam, 256, &cell_form());
     let lattice = shifted(
         SamplerKind::Cmj,
         &seam,
@@ -105,6 +124,20 @@ fn the_lattice_form_stays_available_and_agrees_at_small_n() {
 fn the_same_bits_on_any_thread_count() {
     let edge = Polygon::edge(30.0, 0.4, 1.0).unwrap();
     common::assert_thread_count_invariant(|| {
-        shifted(SamplerKind::Cmj, &edge, 64, &PredictParams::default()).variance
+        let default = shifted(SamplerKind::Cmj, &edge, 64, &PredictParams::default());
+        let cells = shifted(SamplerKind::Cmj, &edge, 64, &cell_form());
+        (default.variance, cells.variance)
     });
+}
+
+/// The cell form is refused, with its reason, for an estimator that has none.
+#[test]
+fn the_cell_form_is_refused_where_there_is_none() {
+    let seam = Gaussian::new(0.2, vec![0.2, 0.7], 1.0).unwrap();
+    let halton = SamplerKind::Halton.build(2).unwrap();
+    let problem = Problem::new(halton.as_ref(), &seam, 256)
+        .unwrap()
+        .with_randomization(Randomization::Shift);
+    let e = predict(&problem, &cell_form()).unwrap_err();
+    assert!(e.to_string().contains("has no cell form"), "{e}");
 }

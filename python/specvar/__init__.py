@@ -77,7 +77,7 @@ PythonIntegrand = Callable[[np.ndarray], Any]
 RandomizationName = Literal["native", "shift", "digital-shift", "none"]
 CellsName = Literal["strata", "rows", "dyadic", "whole"]
 SpectrumName = Literal["auto", "closed", "estimated"]
-FormName = Literal["auto", "lattice", "polar"]
+FormName = Literal["auto", "lattice", "polar", "cells"]
 EngineName = Literal["auto", "direct", "fast"]
 
 
@@ -467,8 +467,8 @@ def predict(
     ``edge:theta=30``, … as on the command line, or cell values ``values[y, x]`` on the unit
     square such as :func:`tabulate` gives) with ``n`` points of ``sampler``, or with the
     patterns ``points`` of your own. The library chooses a valid route unless ``spectrum``
-    (``auto``, ``closed``, ``estimated``) or ``form`` (``auto``, ``lattice``, ``polar``) say
-    otherwise. ``randomization`` names the estimator: ``native`` (the default: the sampler's
+    (``auto``, ``closed``, ``estimated``) or ``form`` (``auto``, ``lattice``, ``polar``,
+    ``cells``) say otherwise. ``randomization`` names the estimator: ``native`` (the default: the sampler's
     own use, so strata, N-rooks samplers and scrambled nets as drawn, predicted by the cell
     form in space; fixed rules under a shift; given ``points`` as given, which no route
     predicts), ``shift`` (the randomly shifted, homogenized one of the spectral routes),

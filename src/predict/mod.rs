@@ -523,6 +523,11 @@ pub enum FormChoice {
     Lattice,
     /// The polar form, where it is valid (an error otherwise).
     Polar,
+    /// The cell form, where the estimator has one (an error otherwise): strata and nets as
+    /// drawn, and under a shift the samplers with cells (multi-jitter, CMJ, orthogonal
+    /// arrays and PMJ02 by each pattern's cells on the shifted integrand; Sobol' by Owen's
+    /// gains), averaged over patterns and shifts.
+    Cells,
 }
 
 /// Which spectrum [`predict`] uses.
@@ -544,6 +549,7 @@ impl fmt::Display for FormChoice {
             FormChoice::Auto => "auto",
             FormChoice::Lattice => "lattice",
             FormChoice::Polar => "polar",
+            FormChoice::Cells => "cells",
         })
     }
 }
@@ -560,13 +566,14 @@ impl fmt::Display for SpectrumChoice {
 
 impl std::str::FromStr for FormChoice {
     type Err = Error;
-    /// `auto`, `lattice` or `polar`.
+    /// `auto`, `lattice`, `polar` or `cells`.
     fn from_str(s: &str) -> Result<Self> {
         match s.trim() {
             "auto" => Ok(FormChoice::Auto),
             "lattice" => Ok(FormChoice::Lattice),
             "polar" => Ok(FormChoice::Polar),
-            other => Err(invalid("form", other, "auto, lattice or polar")),
+            "cells" => Ok(FormChoice::Cells),
+            other => Err(invalid("form", other, "auto, lattice, polar or cells")),
         }
     }
 }

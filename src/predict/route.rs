@@ -241,12 +241,9 @@ fn shifted_scrambled_net<'a>(
     params: &PredictParams,
 ) -> Option<&'a dyn Sampler> {
     let d = problem.integrand.dimension();
-    let defaults = params.spectrum == SpectrumChoice::Auto
-        && params.form == FormChoice::Auto
-        && params.kmax.is_none();
     match problem.patterns {
         Patterns::Sampler(sampler)
-            if defaults
+            if cell_form_allowed(params)
                 && problem.randomization == Randomization::Shift
                 && problem.kind() == Some(SamplerKind::Sobol)
                 && d <= 3
@@ -258,25 +255,42 @@ fn shifted_scrambled_net<'a>(
     }
 }
 
+/// Whether the parameters leave the route to the cell form: no spectrum, lattice extent or
+/// other form asked for.
+fn cell_form_allowed(params: &PredictParams) -> bool {
+    params.spectrum == SpectrumChoice::Auto
+        && matches!(params.form, FormChoice::Auto | FormChoice::Cells)
+        && params.kmax.is_none()
+}
+
 /// A random sampler with cells and no closed-form spectrum (multi-jitter, CMJ, orthogonal
 /// arrays, PMJ02) under a random shift, on an integrand with moments over boxes of at most 3
-/// axes, by default: each pattern's cell form on the shifted integrand, averaged over patterns
-/// and shifts, predicts it without truncation (the estimated spectrum stays available as a
-/// check). Returns the sampler, its kind and its cells at N.
+/// axes, with `--form cells`: each pattern's cell form on the shifted integrand, averaged over
+/// patterns and shifts, predicts it without truncation. Returns the sampler, its kind and its
+/// cells at N.
 fn shifted_cells<'a>(
     problem: &Problem<'a>,
     params: &PredictParams,
 ) -> Option<(&'a dyn Sampler, SamplerKind, Vec<usize>)> {
+    if params.form != FormChoice::Cells {
+        return None;
+    }
+    shifted_strata(problem, params)
+}
+
+/// A random sampler with cells and no closed-form spectrum under a random shift, on an
+/// integrand with moments over boxes of at most 3 axes, with the route left to the cell form.
+fn shifted_strata<'a>(
+    problem: &Problem<'a>,
+    params: &PredictParams,
+) -> Option<(&'a dyn Sampler, SamplerKind, Vec<usize>)> {
     let d = problem.integrand.dimension();
-    let defaults = params.spectrum == SpectrumChoice::Auto
-        && params.form == FormChoice::Auto
-        && params.kmax.is_none();
     let Patterns::Sampler(sampler) = problem.patterns else {
         return None;
     };
     let kind = problem.kind()?;
     let facts = kind.facts();
-    let eligible = defaults
+    let eligible = cell_form_allowed(params)
         && problem.randomization == Randomization::Shift
         && kind != SamplerKind::Sobol
         && !kind.is_deterministic()
@@ -333,6 +347,11 @@ pub(crate) fn predict_routed(
             progress,
         );
     }
+    if params.form == FormChoice::Auto
+        && let Some((sampler, kind, _)) = shifted_strata(problem, params)
+    {
+        return shifted_strata_measured(problem, (sampler, kind), params, progress);
+    }
     if let Some((sampler, kind, grid)) = shifted_cells(problem, params) {
         return super::shifted_cells::predict_shifted_cells(
             problem.integrand,
@@ -342,6 +361,18 @@ pub(crate) fn predict_routed(
             params,
             progress,
         );
+    }
+    if params.form == FormChoice::Cells {
+        return Err(Error::OutsideValidity {
+            route: "the cell form".into(),
+            reason: format!(
+                "{} used {} has no cell form: it is the form of strata and nets used as drawn, \
+                 and under a shift of multi-jitter, CMJ, orthogonal arrays, PMJ02 and Sobol' on \
+                 integrands with moments over boxes (no spectrum or lattice asked for)",
+                kind.map_or("given point sets".to_string(), |k| k.to_string()),
+                problem.randomization.estimator()
+            ),
+        });
     }
     let closed = match (params.spectrum, problem.patterns) {
         (SpectrumChoice::Estimated, _) | (_, Patterns::PointSets(_)) => None,
@@ -397,6 +428,50 @@ pub(crate) fn predict_routed(
         (None, FormChoice::Polar) => rescaled_polar(problem, kind, params, progress),
         (None, _) => estimated_lattice(problem, kind, params, progress),
     }
+}
+
+/// The default for strata under a shift: the lattice form with a measured tail. Their
+/// spectra along the axes are far below white (their projections are stratified), which a
+/// white tail overcounts, and per unit of noise it costs 5 to 60 times less than their cell
+/// form averaged over patterns and shifts (`--form cells`, the alternative route).
+fn shifted_strata_measured(
+    problem: &Problem<'_>,
+    (sampler, kind): (&dyn Sampler, SamplerKind),
+    params: &PredictParams,
+    progress: &dyn Progress,
+) -> Result<Prediction> {
+    let (n, d) = (problem.n, problem.dimension());
+    let source = PatternSource::Sampler {
+        sampler,
+        n,
+        seed: params.seed,
+    };
+    let kmax = initial_kmax(n, d, 6.0, ESTIMATED_LATTICE_BUDGET);
+    let p = super::measured_tail::predict_measured_tail(
+        problem.integrand,
+        source,
+        kmax,
+        params,
+        progress,
+    )?;
+    let SpectrumOrigin::MeasuredTail {
+        kmax,
+        patterns,
+        shifts,
+        ..
+    } = p.route.spectrum
+    else {
+        return Err(Error::Mismatch("a measured tail of another origin".into()));
+    };
+    let reason = format!(
+        "{kind} under a random shift has no closed form: the lattice form on |k_i| ≤ {kmax} \
+         with each of {patterns} patterns' own transform, and beyond it the mean square, at \
+         {shifts} uniform shifts, of each pattern's error less its lattice part (unbiased, \
+         nothing modelled beyond the lattice: a white tail would overcount its axes, along \
+         which its projections are stratified); noise from the patterns' spread; the cell form \
+         under shifts is --form cells"
+    );
+    Ok(with_reason(p, reason))
 }
 
 fn with_reason(mut p: Prediction, reason: String) -> Prediction {
@@ -1037,7 +1112,7 @@ pub(crate) fn predict_routed_many(
         || uses_walsh(first)
         || kind.is_some_and(|k| k.is_deterministic())
         || problems.iter().any(|p| {
-            shifted_scrambled_net(p, params).is_some() || shifted_cells(p, params).is_some()
+            shifted_scrambled_net(p, params).is_some() || shifted_strata(p, params).is_some()
         })
         || params.form == FormChoice::Polar
         || params.spectrum == SpectrumChoice::Closed

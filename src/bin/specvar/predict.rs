@@ -18,7 +18,9 @@ pub struct Args {
     #[arg(long, default_value_t = SpectrumChoice::default())]
     pub spectrum: SpectrumChoice,
     /// Form: auto (the lattice form, exact on the torus, with the polar form beside it where
-    /// valid), lattice, or polar (where it is valid).
+    /// valid; the cell form for strata and nets as drawn), lattice, polar (where it is valid),
+    /// or cells (where the estimator has a cell form: strata and nets as drawn, and strata and
+    /// Sobol' under a shift).
     #[arg(long, default_value_t = FormChoice::default())]
     pub form: FormChoice,
     /// The polar form's reference N for an estimated spectrum, rescaled to N.
