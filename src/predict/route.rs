@@ -921,6 +921,12 @@ fn estimated_lattice_many(
     };
     let mut done: Vec<Option<Prediction>> = vec![None; problems.len()];
     let mut tail_tried = vec![false; problems.len()];
+    // Whether a first look at the initial patterns can be cheaper than the full estimate: the
+    // tail may be measured, and the realizations are not fixed.
+    let may_probe = params.kmax.is_none()
+        && params.realizations.is_none()
+        && matches!(source, PatternSource::Sampler { .. })
+        && !kind.is_some_and(|k| k.is_costly());
     // Lattice sizes still to estimate, each with the problems that need it.
     let mut queue = std::collections::BTreeMap::new();
     queue.insert(
@@ -936,7 +942,14 @@ fn estimated_lattice_many(
                 LatticePower::of_within(problems[i].integrand, lattice(d, kmax), &params.budget)
             })
             .collect::<Result<Vec<_>>>()?;
-        let predictions = predict_on_patterns_many(&powers, source, &plan(kmax), progress)?;
+        // A first look from the initial patterns alone decides whether to measure the tail;
+        // the problems it does not settle are estimated in full on the same lattice after.
+        let probing = may_probe && group.iter().any(|&i| !tail_tried[i]);
+        let mut full = plan(kmax);
+        if probing {
+            full.max_realizations = full.initial.min(full.max_realizations);
+        }
+        let predictions = predict_on_patterns_many(&powers, source, &full, progress)?;
         for (&i, p) in group.iter().zip(predictions) {
             let asked = params.spectrum == SpectrumChoice::Estimated;
             let p = estimated_reason(p, (kind, asked), &what, n, kmax);
@@ -953,6 +966,11 @@ fn estimated_lattice_many(
                     done[i] = Some(m);
                     continue;
                 }
+            }
+            if probing {
+                tail_tried[i] = true;
+                queue.entry(kmax).or_insert_with(Vec::new).push(i);
+                continue;
             }
             match wider_lattice(&p, kmax, d, params) {
                 Some(wider) => queue.entry(wider).or_insert_with(Vec::new).push(i),
