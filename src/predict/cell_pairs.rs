@@ -56,23 +56,24 @@ fn exact_cells(what: &str, n: usize, d: usize, budget: &Budget) -> Result<usize>
 pub fn latin_hypercube_variance(f: &dyn Integrand, n: usize, budget: &Budget) -> Result<CellSum> {
     check_box_moments(f)?;
     let d = f.dimension();
-    if f.separable_cells(&vec![1; d]).is_some() {
-        budget.check(
-            "the Latin hypercube's rows",
-            crate::budget::Needs {
-                memory_bytes: super::cell_moments::separable_row_bytes(&vec![n; d]),
-                work_seconds: (d * n) as f64 * super::cell_moments::CELL_SECONDS,
-            },
-            "lower N",
-        )?;
-        if let Some(rows) = f.separable_cells(&vec![n; d]) {
-            return Ok(separable_latin_hypercube(&rows, n));
+    match LatinHypercubeSum::of(f) {
+        LatinHypercubeSum::Separable => {
+            budget.check(
+                "the Latin hypercube's rows",
+                crate::budget::Needs {
+                    memory_bytes: super::cell_moments::separable_row_bytes(&vec![n; d]),
+                    work_seconds: (d * n) as f64 * super::cell_moments::CELL_SECONDS,
+                },
+                "lower N",
+            )?;
+            if let Some(rows) = f.separable_cells(&vec![n; d]) {
+                return Ok(separable_latin_hypercube(&rows, n));
+            }
         }
-    }
-    // In 2D an integrand's own sums over the cells (a disk's crossed cells, a grid's classes)
-    // replace the table of N² cells at every N.
-    if d == 2 && f.cell_sums(&[1, 1]).is_some() {
-        return crossed_latin_hypercube(f, n, budget);
+        // In 2D an integrand's own sums over the cells (a disk's crossed cells, a grid's
+        // classes) replace the table of N² cells at every N.
+        LatinHypercubeSum::Crossed => return crossed_latin_hypercube(f, n, budget),
+        LatinHypercubeSum::Table => {}
     }
     let cells = exact_cells("the Latin hypercube's pair sum", n, d, budget)?;
     let grid = vec![n; d];
@@ -116,11 +117,34 @@ pub fn latin_hypercube_variance(f: &dyn Integrand, n: usize, budget: &Budget) ->
     ))
 }
 
+/// How [`latin_hypercube_variance`] sums over the `N^d` cells of an integrand.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum LatinHypercubeSum {
+    /// From one row of cells per axis, `O(dN)`: a product of functions of one coordinate.
+    Separable,
+    /// In 2D from the integrand's own sums over the cells and its `2N` slabs.
+    Crossed,
+    /// From the table of the `N^d` cells, within the cell budget.
+    Table,
+}
+
+impl LatinHypercubeSum {
+    fn of(f: &dyn Integrand) -> Self {
+        let d = f.dimension();
+        if f.separable_cells(&vec![1; d]).is_some() {
+            Self::Separable
+        } else if d == 2 && f.cell_sums(&[1, 1]).is_some() {
+            Self::Crossed
+        } else {
+            Self::Table
+        }
+    }
+}
+
 /// Whether [`latin_hypercube_variance`] answers `f` at any N: separable, or in 2D with sums
 /// over a grid's cells of its own ([`Integrand::cell_sums`]).
 pub(crate) fn latin_hypercube_at_any_n(f: &dyn Integrand) -> bool {
-    let d = f.dimension();
-    f.separable_cells(&vec![1; d]).is_some() || (d == 2 && f.cell_sums(&[1, 1]).is_some())
+    LatinHypercubeSum::of(f) != LatinHypercubeSum::Table
 }
 
 /// [`latin_hypercube_variance`] in 2D from the integrand's sums over the `N × N` cells
