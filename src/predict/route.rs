@@ -923,10 +923,9 @@ fn estimated_lattice_many(
     let mut tail_tried = vec![false; problems.len()];
     // Whether a first look at the initial patterns can be cheaper than the full estimate: the
     // tail may be measured, and the realizations are not fixed.
-    let may_probe = params.kmax.is_none()
+    let may_probe = may_measure_tail(kind, params)
         && params.realizations.is_none()
-        && matches!(source, PatternSource::Sampler { .. })
-        && !kind.is_some_and(|k| k.is_costly());
+        && matches!(source, PatternSource::Sampler { .. });
     // Lattice sizes still to estimate, each with the problems that need it.
     let mut queue = std::collections::BTreeMap::new();
     queue.insert(
@@ -1007,9 +1006,12 @@ fn wider_lattice(p: &Prediction, kmax: usize, d: usize, params: &PredictParams) 
 /// noisier than their bound, and whose spectra do settle to white): the tail is then measured
 /// ([`with_measured_tail`]).
 fn needs_measured_tail(p: &Prediction, kind: Option<SamplerKind>, params: &PredictParams) -> bool {
-    params.kmax.is_none()
-        && p.budget.truncation > ESTIMATED_TAIL_SHARE * p.variance
-        && !kind.is_some_and(|k| k.is_costly())
+    may_measure_tail(kind, params) && p.budget.truncation > ESTIMATED_TAIL_SHARE * p.variance
+}
+
+/// Whether the tail may be measured at all: no lattice asked for, and patterns cheap enough.
+fn may_measure_tail(kind: Option<SamplerKind>, params: &PredictParams) -> bool {
+    params.kmax.is_none() && !kind.is_some_and(|k| k.is_costly())
 }
 
 /// A lattice form whose tail is to be measured: the patterns, the lattice extent, and why the
