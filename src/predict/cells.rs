@@ -60,6 +60,12 @@ pub enum Occupancy {
         /// Shifts averaged.
         shifts: usize,
     },
+    /// Owen's gains of a net whose law nested uniform scrambling leaves unchanged, averaged
+    /// over `patterns` patterns whose pair counts differ.
+    GainsOverPatterns {
+        /// Patterns averaged.
+        patterns: usize,
+    },
     /// Estimated from `patterns` patterns of the sampler.
     Estimated {
         /// Patterns drawn.
@@ -103,6 +109,11 @@ impl fmt::Display for CellOrigin {
                 f,
                 "Owen's gains averaged over {shifts} random shifts ({} cells of dyadic grids \
                  each)",
+                self.cells
+            ),
+            Occupancy::GainsOverPatterns { patterns } => write!(
+                f,
+                "Owen's gains averaged over {patterns} patterns ({} cells of dyadic grids)",
                 self.cells
             ),
             Occupancy::Estimated { patterns } => write!(
@@ -309,6 +320,38 @@ pub fn occupancy_variance(
     estimate.variance += within;
     Ok(estimate)
 }
+
+/// How a scrambled net's pair counts are known.
+#[derive(Clone, Copy)]
+enum NetPairs {
+    /// Scrambling permutes one fixed net's cells: any pattern has its counts.
+    OneNet,
+    /// Every pattern is a `(0,m,2)`-net, whose counts the net property fixes.
+    EveryNet,
+    /// The counts differ between patterns, each drawn at this many nanoseconds a point.
+    PerPattern(f64),
+}
+
+/// A sampler's drawing cost at `n` points, in nanoseconds a point (given sets cost nothing).
+fn kind_cost(source: CellSource<'_>, n: usize) -> f64 {
+    match source {
+        CellSource::Sampler(_, kind) => kind.cost_per_point_ns_at(n),
+        CellSource::Sets(..) => 0.0,
+    }
+}
+
+/// Seconds a point of a pattern takes to be counted on one dyadic grid.
+const PAIR_COUNT_SECONDS: f64 = 2e-9;
+
+/// The dyadic grids of at most `4N` cells whose pair counts a pattern of `N` points is read on.
+fn dyadic_grids(n: usize) -> f64 {
+    let m = (usize::BITS - n.leading_zeros()) as f64;
+    (m + 2.0) * (m + 3.0) / 2.0
+}
+
+/// Patterns Owen's gains over patterns start from: their spread is small, so fewer than the
+/// occupancy estimate's.
+const INITIAL_NETS: usize = 16;
 
 /// The fewest terms an estimate rests on when the work budget cannot afford its usual first
 /// batch (a costly pattern at a large N): as many as a Monte Carlo interval rests on.
@@ -528,13 +571,25 @@ pub(crate) fn predict_cells(
             || n.checked_pow(d as u32)
                 .is_some_and(|c| c <= EXACT_CELL_BUDGET)
     });
-    // Owen-scrambled Sobol' has its pairs of points by Owen's gains.
+    // Owen-scrambled Sobol' has its pairs of points by Owen's gains, read from any one
+    // pattern. So has PMJ02, whose law nested uniform scrambling leaves unchanged: from one
+    // pattern at a power of two (every such prefix is a (0,m,2)-net, whose pair counts the net
+    // property fixes), from the mean over patterns between two.
     let scrambled = match source {
-        CellSource::Sampler(sampler, SamplerKind::Sobol) => Some(sampler),
+        CellSource::Sampler(sampler, SamplerKind::Sobol) => Some((sampler, NetPairs::OneNet)),
+        CellSource::Sampler(sampler, SamplerKind::Pmj02) if n.is_power_of_two() => {
+            Some((sampler, NetPairs::EveryNet))
+        }
+        CellSource::Sampler(sampler, SamplerKind::Pmj02) => {
+            Some((sampler, NetPairs::PerPattern(kind_cost(source, n))))
+        }
         _ => None,
-    };
+    }
+    .filter(|_| params.spectrum != SpectrumChoice::Estimated);
     let exact = params.spectrum != SpectrumChoice::Estimated
-        && (rule.is_fixed() || pairs.is_some() || scrambled.is_some());
+        && (rule.is_fixed()
+            || pairs.is_some()
+            || scrambled.is_some_and(|(_, p)| !matches!(p, NetPairs::PerPattern(_))));
     check_choices(params, &name, exact)?;
     let cells: usize = grid.iter().product();
     let strata = grid
@@ -561,14 +616,58 @@ pub(crate) fn predict_cells(
             cells,
             why,
         )
-    } else if let (true, Some(sampler)) = (exact, scrambled) {
+    } else if let Some((sampler, NetPairs::PerPattern(cost_ns))) = scrambled {
+        let per_pattern = n as f64 * (cost_ns * 1e-9 + PAIR_COUNT_SECONDS * dyadic_grids(n));
+        let counts = terms_within_budget(params, per_pattern, (INITIAL_NETS, MAX_PATTERNS));
+        params.budget.check(
+            "Owen's gains over patterns",
+            Needs {
+                memory_bytes: 48.0 * n as f64,
+                work_seconds: counts.0 as f64 * per_pattern,
+            },
+            "lower N or the realizations",
+        )?;
+        let law = super::owen_gains::scrambled_law_variance(
+            f,
+            |i| sampler.sample(n, params.seed, i as u64),
+            counts,
+            params.target_noise,
+            &params.budget,
+            progress,
+        )?;
+        let e = law.estimate;
+        let why = format!(
+            "{name}, as drawn: a progressive (0,2) sequence whose law nested uniform scrambling \
+             leaves unchanged, so its variance is the mean over patterns of each one's \
+             scrambled variance, Owen's gains (from its pair counts on dyadic grids) times the \
+             integrand's variance at each dyadic level, exact given the pattern; the mean of {} \
+             patterns (their pair counts differ between powers of two), nothing truncated",
+            e.patterns
+        );
+        let budget = ErrorBudget {
+            spectrum_noise: e.standard_error,
+            quadrature: law.rounding,
+            ..Default::default()
+        };
+        let occupancy = Occupancy::GainsOverPatterns {
+            patterns: e.patterns,
+        };
+        (e.variance, budget, occupancy, law.cells, why)
+    } else if let (true, Some((sampler, pairs))) = (exact, scrambled) {
         let pattern = sampler.sample(n, params.seed, 0)?;
         let (s, read) = super::owen_gains::scrambled_net_variance(f, &pattern, &params.budget)?;
+        let whose = match pairs {
+            NetPairs::EveryNet => format!(
+                "{name}, as drawn: every prefix of 2^m points is a (0,m,2)-net, whose pair counts \
+                 on dyadic grids the net property fixes, and the sequence's law is unchanged by \
+                 nested uniform scrambling, so its variance is that of any such net scrambled"
+            ),
+            _ => format!("{name}, as drawn: a net under nested uniform scrambling"),
+        };
         let why = format!(
-            "{name}, as drawn: a net under nested uniform scrambling, whose variance is Owen's \
-             gains (read from the net's pair counts on dyadic grids) times the integrand's \
-             variance at each dyadic level (from its cells' integrals), exact: nothing is \
-             truncated, every level left out has gain 1"
+            "{whose}: Owen's gains (read from the net's pair counts on dyadic grids) times the \
+             integrand's variance at each dyadic level (from its cells' integrals), exact: \
+             nothing is truncated, every level left out has gain 1"
         );
         (
             s.variance,
@@ -622,7 +721,10 @@ pub(crate) fn predict_cells(
             spectrum: SpectrumOrigin::Cells(CellOrigin {
                 cells_per_axis: grid.iter().copied().max().unwrap_or(1),
                 // Owen's gains read the cells of many dyadic grids.
-                cells: if occupancy == Occupancy::Gains {
+                cells: if matches!(
+                    occupancy,
+                    Occupancy::Gains | Occupancy::GainsOverPatterns { .. }
+                ) {
                     evaluations
                 } else {
                     cells

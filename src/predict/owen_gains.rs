@@ -28,12 +28,15 @@
 //! nets by levels").
 
 use super::cell_moments::{cell_masses, chunked_sum, CellSum, CELL_ROUNDING, CELL_SECONDS};
+use super::cells::{mean_to_target_noise, OccupancyEstimate};
 use crate::budget::{Budget, Needs};
 use crate::error::{Error, Result};
 use crate::integrand::Integrand;
 use crate::pointset::PointSet;
+use crate::progress::Progress;
 use crate::quadrature::CompensatedSum;
 use std::collections::HashMap;
+use std::sync::Mutex;
 
 /// The most axes a grid of box moments has.
 const MAX_AXES: usize = 3;
@@ -267,6 +270,8 @@ pub(crate) struct ScrambledNet {
     n: usize,
     d: usize,
     excess: Vec<(Levels, f64)>,
+    /// Every level whose gain may differ from 1, its gain 1 or not.
+    levels: Vec<Levels>,
     tops: Vec<Levels>,
     /// The cells whose integrals one variance reads.
     pub(crate) cells: usize,
@@ -308,6 +313,7 @@ impl ScrambledNet {
             n: pattern.len(),
             d,
             excess,
+            levels,
             tops,
             cells,
         })
@@ -317,19 +323,55 @@ impl ScrambledNet {
     /// (`f_t(x) = f(x + t mod 1)`; `t = 0`: of `f` itself), and its rounding bound.
     ///
     /// # Errors
-    /// An integrand without moments over boxes.
+    /// An integrand of another dimension than the net's, or without moments over boxes.
     pub(crate) fn variance(&self, f: &dyn Integrand, t: &[f64]) -> Result<CellSum> {
-        let d = self.d;
-        let s = squared_means(f, &self.tops, d, t);
+        if f.dimension() != self.d {
+            return Err(Error::Mismatch(format!(
+                "a {}D net's gains for a {}D integrand",
+                self.d,
+                f.dimension()
+            )));
+        }
+        SquaredMeans::new(f, &self.tops, t)?.variance(self)
+    }
+}
+
+/// An integrand's `S(a) = ‖P_a f‖²` on the grids a net's levels read, with `∫f²`: what the
+/// variance of any net whose levels read no other grid follows from.
+struct SquaredMeans {
+    d: usize,
+    s: HashMap<Levels, (f64, f64)>,
+    whole: f64,
+}
+
+impl SquaredMeans {
+    /// `S` on the grids of the columns `tops` for `f` shifted by `t`.
+    fn new(f: &dyn Integrand, tops: &[Levels], t: &[f64]) -> Result<Self> {
+        let d = f.dimension();
         let (_, whole) = f
             .box_moments(&vec![0.0; d], &vec![1.0; d])
             .ok_or_else(|| Error::Mismatch(format!("{} has no moments over boxes", f.label())))?;
-        let integral_sq = s[&[0; MAX_AXES]].0;
+        Ok(Self {
+            d,
+            s: squared_means(f, tops, d, t),
+            whole,
+        })
+    }
+
+    /// `(1/N) [(∫f² − I²) + Σ_k (Γ_k − 1) σ²_k]` for `net`'s gains, and its rounding bound.
+    ///
+    /// # Errors
+    /// A level of `net` that reads a grid these means do not have.
+    fn variance(&self, net: &ScrambledNet) -> Result<CellSum> {
+        let d = self.d;
+        let missing =
+            || Error::Mismatch("a net's levels read a grid its integrand's means lack".into());
+        let integral_sq = self.s.get(&[0; MAX_AXES]).ok_or_else(missing)?.0;
         let mut total = CompensatedSum::default();
-        total.add(whole);
+        total.add(self.whole);
         total.add(-integral_sq);
-        let mut rounding = CELL_ROUNDING * whole;
-        for &(k, excess) in &self.excess {
+        let mut rounding = CELL_ROUNDING * self.whole;
+        for &(k, excess) in &net.excess {
             let axes: Vec<usize> = (0..d).filter(|&l| k[l] > 0).collect();
             let mut sigma = CompensatedSum::default();
             let mut sigma_rounding = 0.0;
@@ -339,7 +381,7 @@ impl ScrambledNet {
                     .enumerate()
                     .filter(|(bit, _)| e >> bit & 1 == 1)
                     .for_each(|(_, &l)| g[l] -= 1);
-                let (value, r) = s[&g];
+                let (value, r) = *self.s.get(&g).ok_or_else(missing)?;
                 sigma.add(if e.count_ones() % 2 == 0 {
                     value
                 } else {
@@ -350,7 +392,7 @@ impl ScrambledNet {
             total.add(excess * sigma.value());
             rounding += excess.abs() * sigma_rounding;
         }
-        let nf = self.n as f64;
+        let nf = net.n as f64;
         Ok(CellSum {
             variance: total.value().max(0.0) / nf,
             rounding: rounding / nf,
@@ -373,6 +415,65 @@ pub(crate) fn scrambled_net_variance(
     let d = f.dimension();
     let net = ScrambledNet::new(pattern, d, budget)?;
     Ok((net.variance(f, &[0.0; MAX_AXES][..d])?, net.cells))
+}
+
+/// What [`scrambled_law_variance`] finds: the mean of the patterns' scrambled variances and
+/// its standard error, the largest rounding bound of a pattern's, and the cells one pattern's
+/// variance reads.
+pub(crate) struct ScrambledLawEstimate {
+    pub(crate) estimate: OccupancyEstimate,
+    pub(crate) rounding: f64,
+    pub(crate) cells: usize,
+}
+
+/// The variance of a base-2 net whose law nested uniform scrambling leaves unchanged, while its
+/// pair counts differ between patterns (a progressive (0,2) sequence's prefix between two
+/// powers of two): a scrambled pattern has the law of the patterns, so the variance is
+/// `E_P Var[μ | P scrambled]`, the mean over patterns of each one's variance by Owen's gains,
+/// exact given the pattern. The integrand's means are computed once, on the grids every level
+/// of the first pattern may read; a later pattern whose levels read another grid is an error
+/// (a (0,2) sequence's prefix of `N` points shares cells on the grids of at most
+/// `2^⌊log2 N⌋` cells, whichever the pattern).
+///
+/// # Errors
+/// An integrand of more than 3 axes or without box moments, a pattern that fails to draw or
+/// whose points coincide, work beyond `budget`.
+pub(crate) fn scrambled_law_variance(
+    f: &dyn Integrand,
+    pattern: impl Fn(usize) -> Result<PointSet> + Sync,
+    counts: (usize, usize),
+    target_noise: f64,
+    budget: &Budget,
+    progress: &dyn Progress,
+) -> Result<ScrambledLawEstimate> {
+    let d = f.dimension();
+    let first = ScrambledNet::new(&pattern(0)?, d, budget)?;
+    let tops = columns(&grids_read(&first.levels, d), d);
+    let means = SquaredMeans::new(f, &tops, &vec![0.0; d])?;
+    let rounding = Mutex::new(0.0f64);
+    let estimate = mean_to_target_noise(
+        "scrambled variances of patterns",
+        counts,
+        target_noise,
+        0.0,
+        |i| {
+            let s = if i == 0 {
+                means.variance(&first)?
+            } else {
+                means.variance(&ScrambledNet::new(&pattern(i)?, d, budget)?)?
+            };
+            let mut largest = rounding.lock().unwrap_or_else(|e| e.into_inner());
+            *largest = largest.max(s.rounding);
+            Ok(s.variance)
+        },
+        progress,
+    )?;
+    let rounding = rounding.into_inner().unwrap_or_else(|e| e.into_inner());
+    Ok(ScrambledLawEstimate {
+        estimate,
+        rounding,
+        cells: tops.iter().map(|g| cells_of(g, d)).sum(),
+    })
 }
 
 #[cfg(test)]
