@@ -333,6 +333,9 @@ pub fn multi_jitter_variance(f: &dyn Integrand, n: usize, budget: &Budget) -> Re
             "2 for multi-jitter",
         ));
     }
+    if let Some(sum) = separable_shuffles(f, n, Shuffles::Independent, budget)? {
+        return Ok(sum);
+    }
     exact_cells("the multi-jittered pair sum", n, 2, budget)?;
     let (m, r) = crate::sampler::near_square_factors(n);
     let table = CellTable::new(&CellMoments::new(f, &[n, n]), n);
@@ -388,6 +391,202 @@ pub fn multi_jitter_variance(f: &dyn Integrand, n: usize, budget: &Budget) -> Re
     })
 }
 
+/// The variance of Kensler's correlated multi-jittered estimator of `n` points in 2D,
+/// unshifted, exactly, for a separable integrand `f = h f_0(x) f_1(y)` (a Gaussian), at any N.
+/// With `N = m × r` (`m` columns of `r` sub-columns, `r` rows of `m` sub-rows), point `(i, j)`
+/// takes sub-column `σ(j)` of column `i` and sub-row `τ(i)` of row `j`, for two uniform
+/// permutations `σ` and `τ` shared by every column and row: two points of one column take
+/// distinct sub-columns and one sub-row position, two of one row the reverse, two in different
+/// columns and rows distinct positions on both axes. Each pair's expectation factors by axis, so
+/// the sum over pairs is four products of sums over the rows of cells of each axis
+/// (`docs/theory.md`, "Strata in space").
+///
+/// # Errors
+/// A dimension other than 2, an integrand without box moments or that is not separable (its
+/// occupancy is estimated from patterns instead), or work beyond the budget.
+///
+/// # Examples
+/// ```
+/// use specvar::integrand::Gaussian;
+/// use specvar::predict::{correlated_multi_jitter_variance, predict, PredictParams, Problem, SpectrumChoice};
+/// use specvar::sampler::CorrelatedMultiJitter;
+/// let bump = Gaussian::new(0.2, vec![0.2, 0.7], 1.0)?;
+/// let exact = correlated_multi_jitter_variance(&bump, 96, &Default::default())?;
+/// // The occupancy estimated from patterns agrees within its noise.
+/// let cmj = CorrelatedMultiJitter::new(2)?;
+/// let params = PredictParams { spectrum: SpectrumChoice::Estimated, ..Default::default() };
+/// let e = predict(&Problem::new(&cmj, &bump, 96)?, &params)?;
+/// assert!((e.variance - exact.variance).abs() < 5.0 * e.budget.spectrum_noise);
+/// # Ok::<(), specvar::Error>(())
+/// ```
+pub fn correlated_multi_jitter_variance(
+    f: &dyn Integrand,
+    n: usize,
+    budget: &Budget,
+) -> Result<CellSum> {
+    check_box_moments(f)?;
+    if f.dimension() != 2 {
+        return Err(crate::error::invalid(
+            "dimension",
+            f.dimension(),
+            "2 for correlated multi-jitter",
+        ));
+    }
+    separable_shuffles(f, n, Shuffles::Correlated, budget)?.ok_or_else(|| Error::OutsideValidity {
+        route: "correlated multi-jitter's pairs in closed form".into(),
+        reason: format!(
+            "{} is not a product of functions of one coordinate each; its occupancy is \
+                 estimated from patterns",
+            f.label()
+        ),
+    })
+}
+
+/// Whether the multi-jittered samplers' pairs are in closed form for `f` at any N: a product
+/// of functions of one coordinate each.
+pub(crate) fn shuffles_at_any_n(f: &dyn Integrand) -> bool {
+    f.dimension() == 2 && f.separable_cells(&[1, 1]).is_some()
+}
+
+/// How the two multi-jittered samplers shuffle their sub-strata.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Shuffles {
+    /// Chiu et al.: each column's sub-columns and each row's sub-rows independently.
+    Independent,
+    /// Kensler: one permutation for every column's sub-columns, one for every row's sub-rows.
+    Correlated,
+}
+
+/// One axis of a separable integrand on the `N` fine cells of an N-rooks sampler, grouped in
+/// `blocks` blocks of `size` positions (x: the columns' sub-columns; y: the rows' sub-rows):
+/// the sums over pairs of cells that the pair expectations read, of the centred means
+/// `ũ = u − ū` of the axis factor over the cells. Each sum comes with a bound on its magnitude
+/// (its terms' absolute values), for the rounding bound.
+struct AxisPairs {
+    /// `Σ_{k, s} ũ(k, s)² / L`: one point with itself.
+    own: f64,
+    /// `Σ_{k≠k'} Σ_s ũ(k, s) ũ(k', s) / L`: two blocks, one position.
+    same_position: (f64, f64),
+    /// `Σ_k Σ_{s≠s'} ũ(k, s) ũ(k, s') / (L (L − 1))`: one block, distinct positions.
+    same_block: (f64, f64),
+    /// `Σ_{k≠k'} Σ_{s≠s'} ũ(k, s) ũ(k', s') / (L (L − 1))`: two blocks, distinct positions.
+    distinct: (f64, f64),
+    /// `Σ_{k≠k'} (Σ_s ũ(k, s)) (Σ_s ũ(k', s)) / L²`: two blocks, independent positions.
+    independent: (f64, f64),
+    /// `Σ u²` and `Σ w` over the cells, with `w` the factor's variance inside a cell: the
+    /// within-cell term's parts.
+    raw_squares: f64,
+    inner: f64,
+}
+
+impl AxisPairs {
+    /// From the integrals of the factor and of its square over the `blocks × size` cells
+    /// (block `k`'s position `s` at `k · size + s`).
+    fn new(mass: &[f64], square: &[f64], blocks: usize, size: usize) -> Self {
+        let cells = (blocks * size) as f64;
+        let means: Vec<f64> = mass.iter().map(|&m| m * cells).collect();
+        let mut total = CompensatedSum::default();
+        means.iter().for_each(|&u| total.add(u));
+        let centre = total.value() / cells;
+        let dev: Vec<f64> = means.iter().map(|&u| u - centre).collect();
+        let sum_sq = |values: &mut dyn Iterator<Item = f64>| {
+            let mut s = CompensatedSum::default();
+            values.for_each(|v| s.add(v * v));
+            s.value()
+        };
+        let squares = sum_sq(&mut dev.iter().copied());
+        let block_squares = sum_sq(&mut dev.chunks(size).map(|b| b.iter().sum::<f64>()));
+        let position_squares =
+            sum_sq(&mut (0..size).map(|s| (0..blocks).map(|k| dev[k * size + s]).sum::<f64>()));
+        let (l, pairs) = (size as f64, (size * size.saturating_sub(1)) as f64);
+        // Σ_{k≠k'} U_k U_k' = (Σ U)² − Σ U², and Σ U = Σ ũ = 0.
+        let per_pair = |value: f64, magnitude: f64| {
+            if pairs == 0.0 {
+                (0.0, 0.0)
+            } else {
+                (value / pairs, magnitude / pairs)
+            }
+        };
+        let raw_squares = sum_sq(&mut means.iter().copied());
+        let mut inner = CompensatedSum::default();
+        for (&q, &u) in square.iter().zip(&means) {
+            inner.add((q * cells - u * u).max(0.0));
+        }
+        Self {
+            own: squares / l,
+            same_position: (
+                (position_squares - squares) / l,
+                (position_squares + squares) / l,
+            ),
+            same_block: per_pair(block_squares - squares, block_squares + squares),
+            distinct: per_pair(
+                squares - block_squares - position_squares,
+                squares + block_squares + position_squares,
+            ),
+            independent: (-block_squares / (l * l), block_squares / (l * l)),
+            raw_squares,
+            inner: inner.value(),
+        }
+    }
+}
+
+/// `Var[μ_N]` of the multi-jittered samplers' unshifted estimator for a separable `f`, from one
+/// row of cells per axis, in `O(N)`; `None` when `f` is not separable. Both are N-rooks (one
+/// point in every fine column and every fine row), so `Σ_p ũ(X_p) = Σ_p ṽ(Y_p) = 0` and
+/// `M − I = (h/N) Σ_p ũ(X_p) ṽ(Y_p)`: the pairs' expectations are products of one sum per axis.
+fn separable_shuffles(
+    f: &dyn Integrand,
+    n: usize,
+    shuffles: Shuffles,
+    budget: &Budget,
+) -> Result<Option<CellSum>> {
+    if !shuffles_at_any_n(f) {
+        return Ok(None);
+    }
+    budget.check(
+        "the multi-jittered samplers' rows",
+        crate::budget::Needs {
+            memory_bytes: 3.0 * super::cell_moments::separable_row_bytes(&[n, n]),
+            work_seconds: (2 * n) as f64 * super::cell_moments::CELL_SECONDS,
+        },
+        "lower N",
+    )?;
+    let Some(rows) = f.separable_cells(&[n, n]) else {
+        return Ok(None);
+    };
+    let (m, r) = crate::sampler::near_square_factors(n);
+    let x = AxisPairs::new(&rows.mass[0], &rows.square[0], m, r);
+    let y = AxisPairs::new(&rows.mass[1], &rows.square[1], r, m);
+    // One column: its points' x in one block; one row: their y in one block.
+    let (column, row, apart) = match shuffles {
+        Shuffles::Independent => (
+            (x.same_block, y.independent),
+            (x.independent, y.same_block),
+            (x.independent, y.independent),
+        ),
+        Shuffles::Correlated => (
+            (x.same_block, y.same_position),
+            (x.same_position, y.same_block),
+            (x.distinct, y.distinct),
+        ),
+    };
+    let mut pairs = CompensatedSum::default();
+    pairs.add(x.own * y.own);
+    let mut magnitude = x.own * y.own;
+    for ((a, a_mag), (b, b_mag)) in [column, row, apart] {
+        pairs.add(a * b);
+        magnitude += a_mag * b_mag;
+    }
+    let (h2, nf) = (rows.height * rows.height, n as f64);
+    let within_sum = h2 * (x.raw_squares * y.inner + x.inner * y.raw_squares + x.inner * y.inner);
+    let within = within_sum / (nf * nf * nf);
+    let variance = h2 * pairs.value() / (nf * nf) + within;
+    Ok(Some(CellSum {
+        variance: variance.max(0.0),
+        rounding: CELL_ROUNDING * (h2 * magnitude / (nf * nf) + within),
+    }))
+}
+
 /// The mean over a line's pairs of distinct blocks `k ≠ k'` (its `len` blocks) and distinct
 /// positions `s ≠ s'` across it of `profile(k, s) profile(k', s')`, summed over the pairs of
 /// blocks: `[Σ_{k≠k'} a_k a_k' − Σ_s Σ_{k≠k'} profile(k, s) profile(k', s)] / (len (len − 1))`
@@ -407,4 +606,141 @@ fn line_pairs(len: usize, profile: impl Fn(usize, usize) -> f64) -> f64 {
         .map(|s| distinct(&mut (0..len).map(|k| profile(k, s))))
         .sum();
     (whole - same) / (len * (len - 1)) as f64
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::integrand::Gaussian;
+
+    /// Every permutation of `0..n`.
+    fn permutations(n: usize) -> Vec<Vec<usize>> {
+        if n == 0 {
+            return vec![Vec::new()];
+        }
+        let mut all = Vec::new();
+        for p in permutations(n - 1) {
+            for at in 0..n {
+                let mut q = p.clone();
+                q.insert(at, n - 1);
+                all.push(q);
+            }
+        }
+        all
+    }
+
+    /// Every tuple of `count` permutations of `0..len`.
+    fn tuples(len: usize, count: usize) -> Vec<Vec<Vec<usize>>> {
+        let each = permutations(len);
+        (0..count).fold(vec![Vec::new()], |acc, _| {
+            acc.iter()
+                .flat_map(|t| {
+                    each.iter().map(move |p| {
+                        let mut u = t.clone();
+                        u.push(p.clone());
+                        u
+                    })
+                })
+                .collect()
+        })
+    }
+
+    /// The variance by enumeration of every equally likely choice of the sub-strata: for each,
+    /// `(M − I)² + (1/N²) Σ_p V_{c_p}` from the `N × N` cells' moments, averaged.
+    fn enumerated(f: &dyn Integrand, n: usize, choices: &[Vec<(usize, usize)>]) -> f64 {
+        let nf = n as f64;
+        // Each cell's moments from its box, not from the integrand's rows.
+        let moments = |x: usize, y: usize| {
+            let lo = [x as f64 / nf, y as f64 / nf];
+            let hi = [(x + 1) as f64 / nf, (y + 1) as f64 / nf];
+            let (mass, square) = f.box_moments(&lo, &hi).unwrap();
+            let mean = mass * nf * nf;
+            (mean, square * nf * nf - mean * mean)
+        };
+        let integral = f.integral();
+        let mut total = CompensatedSum::default();
+        for choice in choices {
+            let (mut mean, mut within) = (CompensatedSum::default(), CompensatedSum::default());
+            for &(x, y) in choice {
+                let (f_c, v_c) = moments(x, y);
+                mean.add(f_c / nf);
+                within.add(v_c / (nf * nf));
+            }
+            total.add((mean.value() - integral).powi(2) + within.value());
+        }
+        total.value() / choices.len() as f64
+    }
+
+    fn integrands() -> Vec<Gaussian> {
+        vec![
+            Gaussian::new(0.2, vec![0.2, 0.7], 1.0).unwrap(),
+            Gaussian::new(0.1, vec![0.9, 0.15], 2.0).unwrap(),
+        ]
+    }
+
+    /// Correlated multi-jitter's pair sums against every choice of its two permutations, at
+    /// counts whose `m × r` include a single column (`N = 7`).
+    #[test]
+    fn correlated_shuffles_are_their_enumeration() {
+        for f in integrands() {
+            for n in [6, 7, 8, 9, 12] {
+                let (m, r) = crate::sampler::near_square_factors(n);
+                let mut choices = Vec::new();
+                for sigma in permutations(r) {
+                    for tau in permutations(m) {
+                        choices.push(
+                            (0..r)
+                                .flat_map(|j| {
+                                    let (sigma, tau) = (&sigma, &tau);
+                                    (0..m).map(move |i| (i * r + sigma[j], j * m + tau[i]))
+                                })
+                                .collect(),
+                        );
+                    }
+                }
+                let truth = enumerated(&f, n, &choices);
+                let s = correlated_multi_jitter_variance(&f, n, &Budget::default()).unwrap();
+                let tolerance = s.rounding + CELL_ROUNDING * truth;
+                assert!(
+                    (s.variance - truth).abs() <= tolerance,
+                    "N = {n}: {:e} vs {truth:e}",
+                    s.variance
+                );
+            }
+        }
+    }
+
+    /// Multi-jitter's pair sums from the rows of a separable integrand against every choice of
+    /// its independent shuffles.
+    #[test]
+    fn independent_shuffles_are_their_enumeration() {
+        for f in integrands() {
+            for n in [6, 7, 8, 9] {
+                let (m, r) = crate::sampler::near_square_factors(n);
+                let mut choices = Vec::new();
+                for columns in tuples(r, m) {
+                    for rows in tuples(m, r) {
+                        choices.push(
+                            (0..r)
+                                .flat_map(|j| {
+                                    let (columns, rows) = (&columns, &rows);
+                                    (0..m).map(move |i| (i * r + columns[i][j], j * m + rows[j][i]))
+                                })
+                                .collect(),
+                        );
+                    }
+                }
+                let truth = enumerated(&f, n, &choices);
+                let s = separable_shuffles(&f, n, Shuffles::Independent, &Budget::default())
+                    .unwrap()
+                    .expect("a Gaussian is separable");
+                let tolerance = s.rounding + CELL_ROUNDING * truth;
+                assert!(
+                    (s.variance - truth).abs() <= tolerance,
+                    "N = {n}: {:e} vs {truth:e}",
+                    s.variance
+                );
+            }
+        }
+    }
 }

@@ -557,19 +557,27 @@ pub(crate) fn predict_cells(
     if let CellSource::Sets(sets, _) = source {
         check_sets_occupy(sets, rule, &grid)?;
     }
-    // Latin hypercube and multi-jitter have their pairs of cells in closed form.
+    // Latin hypercube and the multi-jittered samplers have their pairs of cells in closed form.
     let pairs = match source {
-        CellSource::Sampler(_, kind @ (SamplerKind::LatinHypercube | SamplerKind::MultiJitter)) => {
-            Some(kind)
-        }
+        CellSource::Sampler(
+            _,
+            kind @ (SamplerKind::LatinHypercube | SamplerKind::MultiJitter | SamplerKind::Cmj),
+        ) => Some(kind),
         _ => None,
     }
     .filter(|&kind| {
-        // A separable integrand's Latin hypercube sums factor by axis, and a disk's need only
-        // the cells its circle crosses: exact at any N.
-        (kind == SamplerKind::LatinHypercube && super::cell_pairs::latin_hypercube_at_any_n(f))
-            || n.checked_pow(d as u32)
-                .is_some_and(|c| c <= EXACT_CELL_BUDGET)
+        // A separable integrand's sums factor by axis, and a disk's Latin hypercube needs only
+        // the cells its circle crosses: exact at any N. Otherwise the table of cells.
+        let tabulated = n
+            .checked_pow(d as u32)
+            .is_some_and(|c| c <= EXACT_CELL_BUDGET);
+        match kind {
+            SamplerKind::LatinHypercube => {
+                super::cell_pairs::latin_hypercube_at_any_n(f) || tabulated
+            }
+            SamplerKind::MultiJitter => super::cell_pairs::shuffles_at_any_n(f) || tabulated,
+            _ => super::cell_pairs::shuffles_at_any_n(f),
+        }
     });
     // Owen-scrambled Sobol' has its pairs of points by Owen's gains, read from any one
     // pattern. So has PMJ02, whose law nested uniform scrambling leaves unchanged: from one
@@ -680,6 +688,9 @@ pub(crate) fn predict_cells(
         let s = match pairs {
             Some(SamplerKind::MultiJitter) => {
                 super::cell_pairs::multi_jitter_variance(f, n, &params.budget)?
+            }
+            Some(SamplerKind::Cmj) => {
+                super::cell_pairs::correlated_multi_jitter_variance(f, n, &params.budget)?
             }
             _ => super::cell_pairs::latin_hypercube_variance(f, n, &params.budget)?,
         };

@@ -40,7 +40,9 @@ mod walsh;
 
 pub use bias::{bias_of_pattern, regular_grid_bias, sampler_bias, BiasMethod, SpectralBias};
 pub use cell_moments::CellSum;
-pub use cell_pairs::{latin_hypercube_variance, multi_jitter_variance};
+pub use cell_pairs::{
+    correlated_multi_jitter_variance, latin_hypercube_variance, multi_jitter_variance,
+};
 pub use cells::{
     fixed_strata_variance, occupancy_variance, CellOrigin, Occupancy, OccupancyEstimate,
 };
