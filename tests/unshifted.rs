@@ -839,6 +839,45 @@ fn cell_sums_are_the_cells_one_by_one() {
         Box::new(
             GridIntegrand::new(5, 3, (0..15).map(|i| (i * i % 7) as f64 - 2.0).collect()).unwrap(),
         ),
+        // Polygons: edges at angles, on the square's faces and on the grids' lines (0.25, 0.5),
+        // a concave one, and one whose vertex sits on a column's centre line (x = 0.5 / 7 · 3).
+        Box::new(Polygon::edge(30.0, 0.4, 1.0).unwrap()),
+        Box::new(Polygon::edge(90.0, 0.5, 2.0).unwrap()),
+        Box::new(Polygon::edge(-60.0, 0.3, 1.0).unwrap()),
+        Box::new(
+            Polygon::new(
+                vec![[0.25, 0.25], [0.75, 0.25], [0.75, 0.5], [0.25, 0.5]],
+                1.0,
+            )
+            .unwrap(),
+        ),
+        Box::new(
+            Polygon::new(
+                vec![
+                    [0.1, 0.1],
+                    [0.9, 0.1],
+                    [0.9, 0.9],
+                    [0.5, 0.4],
+                    [3.5 / 7.0, 0.95],
+                    [0.1, 0.9],
+                ],
+                1.5,
+            )
+            .unwrap(),
+        ),
+        Box::new(
+            Polygon::new(
+                (0..40)
+                    .map(|k| {
+                        let t = k as f64 * std::f64::consts::TAU / 40.0;
+                        let r = 0.3 + 0.15 * (5.0 * t).cos();
+                        [0.5 + r * t.cos(), 0.5 + r * t.sin()]
+                    })
+                    .collect(),
+                1.0,
+            )
+            .unwrap(),
+        ),
     ];
     for f in &integrands {
         for grid in [[1, 1], [7, 5], [12, 12], [64, 64], [300, 200], [1000, 999]] {
@@ -876,8 +915,8 @@ fn cell_sums_are_the_cells_one_by_one() {
 
 /// Latin hypercube beyond the table of cells (N = 8192, `N²` above `2^24`): the 2D sums from
 /// the integrand's own cell sums and slabs against the separable rows' factored sums (two
-/// routes through different algebra), and disks' and a tabulated pixel's against Monte Carlo
-/// of the estimator.
+/// routes through different algebra), and disks', a tabulated pixel's and polygons' against
+/// Monte Carlo of the estimator.
 #[test]
 fn latin_hypercube_beyond_the_table_is_exact() {
     let n = 8192;
@@ -893,10 +932,12 @@ fn latin_hypercube_beyond_the_table_is_exact() {
     );
     let lhs = SamplerKind::LatinHypercube.build(2).unwrap();
     let pixel = integrands_2d().pop().unwrap();
-    let disks: [&dyn Integrand; 3] = [
+    let disks: [&dyn Integrand; 5] = [
         &Ball::new(0.25, vec![0.5, 0.5], 1.0).unwrap(),
         &Ball::new(0.45, vec![0.9, 0.1], 1.0).unwrap(),
         pixel.as_ref(),
+        &Polygon::edge(30.0, 0.4, 1.0).unwrap(),
+        &Polygon::new(vec![[0.1, 0.2], [0.8, 0.1], [0.4, 0.9]], 2.0).unwrap(),
     ];
     let z_family = common::inverse_normal_tail(0.01 / disks.len() as f64 / 2.0);
     for disk in disks {
