@@ -22,6 +22,7 @@ use super::cell_moments::{
     check_box_moments, check_cells, chunked_sum, seconds_per_cell, separable_row_bytes,
     CellMoments, CellSum, CellTable, CELL_ROUNDING, CELL_SECONDS, EXACT_CELL_BUDGET,
 };
+use super::term_mean::{mean_to_target_noise, terms_within_budget, OccupancyEstimate};
 use super::{ErrorBudget, Form, FormChoice, Prediction, Route, SpectrumChoice, SpectrumOrigin};
 use crate::budget::{Budget, Needs};
 use crate::error::{Error, Result};
@@ -32,7 +33,6 @@ use crate::quadrature::CompensatedSum;
 use crate::randomization::Randomization;
 use crate::sampler::{CellRule, Sampler, SamplerKind};
 use crate::spectrum::PatternSource;
-use rayon::prelude::*;
 use serde::Serialize;
 use std::fmt;
 
@@ -209,17 +209,6 @@ pub fn fixed_strata_variance(
     })
 }
 
-/// An estimate of the unshifted variance from the occupancy of patterns.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct OccupancyEstimate {
-    /// The variance.
-    pub variance: f64,
-    /// Its standard error.
-    pub standard_error: f64,
-    /// Patterns drawn.
-    pub patterns: usize,
-}
-
 /// What one pattern contributes, whose mean over patterns is the unshifted variance: with a
 /// table, `(M − I)²` (the within-cell term is added once, exactly); without, also the pattern's
 /// own within-cell term `(1/N²) Σ_j V_{c_j}`.
@@ -352,80 +341,6 @@ fn dyadic_grids(n: usize) -> f64 {
 /// Patterns Owen's gains over patterns start from: their spread is small, so fewer than the
 /// occupancy estimate's.
 const INITIAL_NETS: usize = 16;
-
-/// The fewest terms an estimate rests on when the work budget cannot afford its usual first
-/// batch (a costly pattern at a large N): as many as a Monte Carlo interval rests on.
-pub(crate) const MIN_TERMS: usize = crate::montecarlo::MIN_UNITS;
-
-/// How many terms an estimate starts with and may reach: the ones `params.realizations` fixes,
-/// else `initial` first and as many as `params.work_budget_seconds` affords at `per_term`
-/// seconds each, within `[initial, most]`; where the budget affords fewer than `initial`,
-/// as many as it affords, but never fewer than [`MIN_TERMS`].
-pub(crate) fn terms_within_budget(
-    params: &super::PredictParams,
-    per_term: f64,
-    (initial, most): (usize, usize),
-) -> (usize, usize) {
-    let affordable = (params.work_budget_seconds / per_term.max(f64::MIN_POSITIVE)) as usize;
-    let initial = initial.min(affordable.max(MIN_TERMS));
-    let max = params
-        .realizations
-        .unwrap_or_else(|| affordable.clamp(initial, most));
-    (params.realizations.unwrap_or(initial).min(max), max)
-}
-
-/// The mean of `term(0), term(1), …` and its standard error: `counts.0` terms first, then as
-/// many as the spread so far says the relative standard error `target_noise` of `offset` plus
-/// the mean needs, up to `counts.1`. Terms are computed in parallel and kept in index order, so
-/// the result depends only on the final count.
-pub(crate) fn mean_to_target_noise(
-    label: &str,
-    (initial, max): (usize, usize),
-    target_noise: f64,
-    offset: f64,
-    term: impl Fn(usize) -> Result<f64> + Sync,
-    progress: &dyn Progress,
-) -> Result<OccupancyEstimate> {
-    let mut terms: Vec<f64> = Vec::new();
-    let mut want = initial.min(max);
-    loop {
-        let start = terms.len();
-        let more = stage(progress, label, (want - start) as u64, || {
-            (start..want)
-                .into_par_iter()
-                .map(|i| {
-                    let t = term(i);
-                    progress.advance(1);
-                    t
-                })
-                .collect::<Result<Vec<f64>>>()
-        })?;
-        terms.extend(more);
-        let estimate = summarize(&terms);
-        let relative = estimate.standard_error / (offset + estimate.variance);
-        // A zero variance (relative NaN) needs no more terms.
-        let quiet = relative.is_nan() || relative <= target_noise;
-        if quiet || terms.len() >= max {
-            return Ok(estimate);
-        }
-        // The standard error falls like 1/√R: ask for what the spread so far says is needed,
-        // a tenth more, at least half again as many.
-        let needed = terms.len() as f64 * (relative / target_noise).powi(2) * 1.1;
-        want = (needed.ceil() as usize)
-            .max(terms.len() + terms.len() / 2)
-            .min(max);
-    }
-}
-
-/// The mean of `terms` and its standard error (from their spread, widened for heavy tails).
-fn summarize(terms: &[f64]) -> OccupancyEstimate {
-    let (variance, standard_error) = crate::spread::mean_and_standard_error(terms);
-    OccupancyEstimate {
-        variance,
-        standard_error,
-        patterns: terms.len(),
-    }
-}
 
 /// Whose patterns a cell-form prediction is for: a sampler of this crate (its cells from its
 /// facts) or given point sets with the cells their producer declares.

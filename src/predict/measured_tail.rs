@@ -17,7 +17,7 @@
 //! stratified (Halton, nets) have spectra far below white along the axes, where the energy of
 //! an integrand that jumps across the cube's faces lies (`docs/theory.md`, "A measured tail").
 
-use super::cells::{mean_to_target_noise, terms_within_budget};
+use super::term_mean::{mean_to_target_noise, terms_within_budget};
 use super::{ErrorBudget, Form, PredictParams, Prediction, Route, SpectrumOrigin};
 use crate::budget::{try_filled, Needs, COEFFICIENT_SECONDS};
 use crate::error::{finite, Result};

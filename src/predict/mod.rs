@@ -36,6 +36,7 @@ mod route;
 mod shifted_cells;
 mod shifted_gains;
 mod space;
+mod term_mean;
 mod walsh;
 
 pub use bias::{bias_of_pattern, regular_grid_bias, sampler_bias, BiasMethod, SpectralBias};
@@ -43,9 +44,7 @@ pub use cell_moments::CellSum;
 pub use cell_pairs::{
     correlated_multi_jitter_variance, latin_hypercube_variance, multi_jitter_variance,
 };
-pub use cells::{
-    fixed_strata_variance, occupancy_variance, CellOrigin, Occupancy, OccupancyEstimate,
-};
+pub use cells::{fixed_strata_variance, occupancy_variance, CellOrigin, Occupancy};
 pub use gaussian_jitter::gaussian_jitter_bias;
 pub use lattice::{
     predict_from_power, predict_lattice, predict_on_patterns, LatticePower, PatternPlan,
@@ -56,6 +55,7 @@ pub use route::{default_kmax, default_reference_n, polar_validity};
 pub use space::{
     kronecker_variance, pattern_shift_variance, rank1_lattice_variance, regular_grid_variance,
 };
+pub use term_mean::OccupancyEstimate;
 pub use walsh::WalshOrigin;
 
 use crate::error::{finite, invalid, Error, Result};

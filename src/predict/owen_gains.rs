@@ -28,7 +28,7 @@
 //! nets by levels").
 
 use super::cell_moments::{cell_masses, chunked_sum, CellSum, CELL_ROUNDING, CELL_SECONDS};
-use super::cells::{mean_to_target_noise, OccupancyEstimate};
+use super::term_mean::{mean_to_target_noise, OccupancyEstimate};
 use crate::budget::{Budget, Needs};
 use crate::error::{Error, Result};
 use crate::integrand::Integrand;

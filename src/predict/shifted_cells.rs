@@ -18,8 +18,9 @@
 //! across the faces, more so as N grows (`docs/theory.md`, "Strata under a shift").
 
 use super::cell_moments::{check_box_moments, shifted_cell_mean_and_variance, CELL_SECONDS};
-use super::cells::{cell_of, mean_to_target_noise, terms_within_budget, CellOrigin, Occupancy};
+use super::cells::{cell_of, CellOrigin, Occupancy};
 use super::shifted_gains::shifted_prediction;
+use super::term_mean::{mean_to_target_noise, terms_within_budget};
 use super::{PredictParams, Prediction};
 use crate::budget::Needs;
 use crate::error::{Error, Result};

@@ -17,10 +17,9 @@
 //! more so as N grows (`docs/theory.md`, "Scrambled nets under a shift").
 
 use super::cell_moments::{check_box_moments, CELL_SECONDS};
-use super::cells::{
-    mean_to_target_noise, terms_within_budget, CellOrigin, Occupancy, OccupancyEstimate,
-};
+use super::cells::{CellOrigin, Occupancy};
 use super::owen_gains::ScrambledNet;
+use super::term_mean::{mean_to_target_noise, terms_within_budget, OccupancyEstimate};
 use super::{ErrorBudget, Form, PredictParams, Prediction, Route, SpectrumOrigin};
 use crate::error::Result;
 use crate::integrand::Integrand;

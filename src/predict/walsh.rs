@@ -24,7 +24,8 @@
 use super::cell_moments::{
     cell_masses, check_box_moments, chunked_sum, CELL_ROUNDING, CELL_SECONDS,
 };
-use super::cells::{cell_of, mean_to_target_noise};
+use super::cells::cell_of;
+use super::term_mean::mean_to_target_noise;
 use super::{
     ErrorBudget, Form, FormChoice, Patterns, PredictParams, Prediction, Problem, Route,
     SpectrumChoice, SpectrumOrigin,
