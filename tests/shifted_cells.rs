@@ -46,7 +46,11 @@ fn both_routes_agree_with_monte_carlo_across_the_faces() {
     ];
     for kind in kinds {
         for f in [&seam as &dyn Integrand, &edge] {
-            let n = kind.nearest_count(256, 2);
+            // PMJ02 between two powers of two: at one, Owen's gains over shifts answer it.
+            let n = match kind {
+                SamplerKind::Pmj02 => 200,
+                _ => kind.nearest_count(256, 2),
+            };
             let default = shifted(kind, f, n, &PredictParams::default());
             assert_eq!(default.route.form, Form::Lattice, "{kind}");
             assert!(

@@ -601,6 +601,54 @@ fn pmj02_by_owen_gains_is_sobol_at_powers_of_two_and_its_occupancy_between() {
     }
 }
 
+/// PMJ02 at a power of two under a random shift: Owen's gains over shifts, as for Sobol', and
+/// under a digital shift: its law as drawn (no fixed flip of digits changes it), each against
+/// Monte Carlo of the same estimator.
+#[test]
+fn pmj02_under_shifts_is_its_gains() {
+    use specvar::predict::{Occupancy, SpectrumOrigin};
+    let pmj = SamplerKind::Pmj02.build(2).unwrap();
+    let integrands: [Box<dyn Integrand>; 2] = [
+        Box::new(Gaussian::new(0.2, vec![0.2, 0.7], 1.0).unwrap()),
+        Box::new(Polygon::edge(30.0, 0.4, 1.0).unwrap()),
+    ];
+    let z_family = common::inverse_normal_tail(0.01 / 4.0 / 2.0);
+    for f in &integrands {
+        let n = 256;
+        let as_drawn = predict(
+            &Problem::new(pmj.as_ref(), f.as_ref(), n).unwrap(),
+            &PredictParams::default(),
+        )
+        .unwrap();
+        for randomization in [Randomization::Shift, Randomization::DigitalShift] {
+            let problem = Problem::new(pmj.as_ref(), f.as_ref(), n)
+                .unwrap()
+                .with_randomization(randomization);
+            let p = predict(&problem, &PredictParams::default()).unwrap();
+            let SpectrumOrigin::Cells(c) = p.route.spectrum else {
+                panic!("{:?}", p.route)
+            };
+            match randomization {
+                Randomization::Shift => {
+                    assert!(matches!(c.occupancy, Occupancy::GainsOverShifts { .. }))
+                }
+                _ => {
+                    assert_eq!(c.occupancy, Occupancy::Gains);
+                    assert_eq!(p.variance, as_drawn.variance);
+                }
+            }
+            let mc = empirical_variance(
+                pmj.as_ref(),
+                f.as_ref(),
+                n,
+                &McParams::for_sampler(SamplerKind::Pmj02, 20_000, None, 7, randomization),
+            )
+            .unwrap();
+            common::assert_agrees(&p, &mc, z_family, &format!("{randomization} {}", f.label()));
+        }
+    }
+}
+
 /// Owen-scrambled Sobol' under a random shift by default: Owen's gains averaged over shifts,
 /// against Monte Carlo of the same estimator and, at a small N where its lattice reaches the
 /// white tail, the estimated spectrum's lattice form. The Gaussian is cut by the faces (the

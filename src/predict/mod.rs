@@ -737,7 +737,8 @@ fn for_estimator(p: Prediction, problem: &Problem<'_>) -> Prediction {
         Randomization::Shift => None,
         _ if route::scrambling_absorbs_shift(problem) => Some((
             "the law as drawn",
-            "a digital shift of an Owen-scrambled net is again nested uniform scrambling",
+            "a digital shift of an Owen-scrambled net is again nested uniform scrambling, and \
+             leaves PMJ02's law, which no fixed flip of digits changes, as it is",
         )),
         _ => problem
             .kind()

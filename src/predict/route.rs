@@ -226,16 +226,20 @@ fn gaussian_jitter_as_drawn(
 
 /// Whether `problem` is Owen-scrambled Sobol' under a digital shift, whose law is Owen's
 /// scrambling as drawn (each node's flip composed with the shift's digit is again a uniform
-/// flip, independent across nodes).
+/// flip, independent across nodes), or PMJ02 under one, whose law no fixed flip of digits
+/// changes.
 pub(crate) fn scrambling_absorbs_shift(problem: &Problem<'_>) -> bool {
     problem.randomization == Randomization::DigitalShift
         && matches!(problem.patterns, Patterns::Sampler(_))
-        && problem.kind() == Some(SamplerKind::Sobol)
+        && matches!(
+            problem.kind(),
+            Some(SamplerKind::Sobol | SamplerKind::Pmj02)
+        )
 }
 
-/// Owen-scrambled Sobol' under a random shift, on an integrand with moments over boxes of at
-/// most 3 axes, by default: Owen's gains averaged over shifts predict it without truncation
-/// (the estimated spectrum stays available as a check).
+/// Owen-scrambled Sobol' (and PMJ02 at a power of two) under a random shift, on an integrand
+/// with moments over boxes of at most 3 axes, by default: Owen's gains averaged over shifts
+/// predict it without truncation (the estimated spectrum stays available as a check).
 fn shifted_scrambled_net<'a>(
     problem: &Problem<'a>,
     params: &PredictParams,
@@ -245,7 +249,9 @@ fn shifted_scrambled_net<'a>(
         Patterns::Sampler(sampler)
             if cell_form_allowed(params)
                 && problem.randomization == Randomization::Shift
-                && problem.kind() == Some(SamplerKind::Sobol)
+                && (problem.kind() == Some(SamplerKind::Sobol)
+                    // Every 2^m prefix of PMJ02 is a (0,m,2)-net, whose gains every pattern has.
+                    || (problem.kind() == Some(SamplerKind::Pmj02) && problem.n.is_power_of_two()))
                 && d <= 3
                 && super::cell_moments::check_box_moments(problem.integrand).is_ok() =>
         {

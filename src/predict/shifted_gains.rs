@@ -25,7 +25,7 @@ use crate::error::Result;
 use crate::integrand::Integrand;
 use crate::progress::Progress;
 use crate::randomization::{toroidal_shift, Randomization};
-use crate::sampler::{CellRule, Sampler};
+use crate::sampler::{CellRule, Sampler, SamplerKind};
 
 /// Shifts the average starts with: enough for the spread that decides how many more it needs.
 const INITIAL_SHIFTS: usize = 16;
@@ -63,9 +63,16 @@ pub(crate) fn predict_shifted_net(
         },
         progress,
     )?;
+    let whose = match sampler.kind() {
+        Some(SamplerKind::Pmj02) => {
+            " (every prefix of 2^m points is a (0,m,2)-net, whose pair counts the net property \
+             fixes, and its law is unchanged by scrambling)"
+        }
+        _ => "",
+    };
     let reason = format!(
-        "{}, randomly shifted: each shift of the integrand has its exact variance under nested \
-         uniform scrambling by Owen's gains (the net's pair counts on dyadic grids times the \
+        "{}, randomly shifted{whose}: each shift of the integrand has its exact variance under \
+         nested uniform scrambling by Owen's gains (the net's pair counts on dyadic grids times the \
          shifted integrand's variance at each dyadic level, from its cells' integrals), and the \
          variance is their mean over {} independent uniform shifts (unbiased; the noise is its \
          standard error; nothing is truncated, so jumps at the faces cost nothing extra)",
