@@ -251,6 +251,33 @@ impl Integrand for Gaussian {
             visited: grid.iter().sum::<usize>() as u64,
         })
     }
+    fn shifted_separable_cells(&self, grid: &[usize], t: &[f64]) -> Option<super::SeparableCells> {
+        if grid.len() != self.centre.len() || t.len() != grid.len() {
+            return None;
+        }
+        let rows = |width: f64| -> Vec<Vec<f64>> {
+            grid.iter()
+                .zip(t)
+                .zip(&self.centre)
+                .map(|((&m, &shift), &c)| {
+                    (0..m)
+                        .map(|i| {
+                            let cell = (i as f64 / m as f64, (i + 1) as f64 / m as f64);
+                            wrapped_interval(cell.0, cell.1, shift)
+                                .iter()
+                                .map(|&(a, b)| axis_mass(a, b, c, width))
+                                .fold(0.0, |sum, piece| sum + piece)
+                        })
+                        .collect()
+                })
+                .collect()
+        };
+        Some(super::SeparableCells {
+            height: self.height,
+            mass: rows(self.sigma),
+            square: rows(self.sigma / SQRT_2),
+        })
+    }
     fn grid_masses(&self, grid: &[usize], t: &[f64]) -> Option<Vec<f64>> {
         // Separable: the mass of a cell is the height times its axes' masses, and a shifted
         // cell wraps axis by axis.

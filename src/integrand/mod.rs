@@ -163,6 +163,14 @@ pub trait Integrand: Send + Sync {
         let _ = grid;
         None
     }
+    /// [`separable_cells`](Self::separable_cells) of the integrand shifted by `t` on the torus
+    /// (`f(x + t mod 1)`): a cell's axis integrals are summed over its pieces on either side
+    /// of a face. `None` where the integrand is not separable. The randomly shifted estimator
+    /// of the multi-jittered samplers reads one such set of rows per shift.
+    fn shifted_separable_cells(&self, grid: &[usize], t: &[f64]) -> Option<SeparableCells> {
+        let _ = (grid, t);
+        None
+    }
     /// [`CellSums`] over every cell of the regular grid with `grid[l]` cells on axis `l`, in
     /// less work than one [`box_moments`](Self::box_moments) per cell, where the integrand has
     /// such a form: a separable one factors the sums by axis, a disk is constant on every cell

@@ -551,9 +551,35 @@ fn separable_shuffles(
         },
         "lower N",
     )?;
-    let Some(rows) = f.separable_cells(&[n, n]) else {
-        return Ok(None);
+    Ok(f.separable_cells(&[n, n])
+        .map(|rows| shuffles_of_rows(&rows, n, shuffles)))
+}
+
+/// The variance of a multi-jittered sampler's estimator (`kind`: multi-jitter or CMJ) on the
+/// separable `f` shifted by `t` on the torus (`f(x + t mod 1)`), exactly in `O(N)`, and its
+/// rounding bound; `None` for another sampler or an integrand that is not separable. Its mean
+/// over uniform shifts is the randomly shifted estimator's variance.
+pub(crate) fn shifted_shuffles_variance(
+    f: &dyn Integrand,
+    kind: crate::sampler::SamplerKind,
+    n: usize,
+    t: &[f64],
+) -> Option<CellSum> {
+    use crate::sampler::SamplerKind;
+    let shuffles = match kind {
+        SamplerKind::MultiJitter => Shuffles::Independent,
+        SamplerKind::Cmj => Shuffles::Correlated,
+        _ => return None,
     };
+    if f.dimension() != 2 {
+        return None;
+    }
+    f.shifted_separable_cells(&[n, n], t)
+        .map(|rows| shuffles_of_rows(&rows, n, shuffles))
+}
+
+/// [`separable_shuffles`] from the rows of cells of each axis.
+fn shuffles_of_rows(rows: &SeparableCells, n: usize, shuffles: Shuffles) -> CellSum {
     let (m, r) = crate::sampler::near_square_factors(n);
     let x = AxisPairs::new(&rows.mass[0], &rows.square[0], m, r);
     let y = AxisPairs::new(&rows.mass[1], &rows.square[1], r, m);
@@ -581,10 +607,10 @@ fn separable_shuffles(
     let within_sum = h2 * (x.raw_squares * y.inner + x.inner * y.raw_squares + x.inner * y.inner);
     let within = within_sum / (nf * nf * nf);
     let variance = h2 * pairs.value() / (nf * nf) + within;
-    Ok(Some(CellSum {
+    CellSum {
         variance: variance.max(0.0),
         rounding: CELL_ROUNDING * (h2 * magnitude / (nf * nf) + within),
-    }))
+    }
 }
 
 /// The mean over a line's pairs of distinct blocks `k ≠ k'` (its `len` blocks) and distinct
@@ -646,16 +672,19 @@ mod tests {
     }
 
     /// The variance by enumeration of every equally likely choice of the sub-strata: for each,
-    /// `(M − I)² + (1/N²) Σ_p V_{c_p}` from the `N × N` cells' moments, averaged.
-    fn enumerated(f: &dyn Integrand, n: usize, choices: &[Vec<(usize, usize)>]) -> f64 {
+    /// `(M − I)² + (1/N²) Σ_p V_{c_p}` from the `N × N` cells' moments of `f` shifted by `t`,
+    /// averaged.
+    fn enumerated(
+        f: &dyn Integrand,
+        n: usize,
+        choices: &[Vec<(usize, usize)>],
+        t: [f64; 2],
+    ) -> f64 {
         let nf = n as f64;
-        // Each cell's moments from its box, not from the integrand's rows.
+        // Each cell's moments from its boxes (wrapped across the faces), not from the
+        // integrand's rows.
         let moments = |x: usize, y: usize| {
-            let lo = [x as f64 / nf, y as f64 / nf];
-            let hi = [(x + 1) as f64 / nf, (y + 1) as f64 / nf];
-            let (mass, square) = f.box_moments(&lo, &hi).unwrap();
-            let mean = mass * nf * nf;
-            (mean, square * nf * nf - mean * mean)
+            crate::predict::cell_moments::shifted_cell_mean_and_variance(f, &[n, n], y * n + x, &t)
         };
         let integral = f.integral();
         let mut total = CompensatedSum::default();
@@ -671,6 +700,26 @@ mod tests {
         total.value() / choices.len() as f64
     }
 
+    /// The shifts of the integrand the enumerations run at: none, and one across both faces.
+    const SHIFTS: [[f64; 2]; 2] = [[0.0, 0.0], [0.37, 0.81]];
+
+    /// The closed form at shift `t`: the unshifted route's at `t = 0`.
+    fn closed(f: &Gaussian, n: usize, shuffles: Shuffles, t: [f64; 2]) -> CellSum {
+        use crate::sampler::SamplerKind;
+        let kind = match shuffles {
+            Shuffles::Independent => SamplerKind::MultiJitter,
+            Shuffles::Correlated => SamplerKind::Cmj,
+        };
+        let s = shifted_shuffles_variance(f, kind, n, &t).unwrap();
+        if t == [0.0, 0.0] {
+            let unshifted = separable_shuffles(f, n, shuffles, &Budget::default())
+                .unwrap()
+                .unwrap();
+            assert_eq!(s.variance, unshifted.variance);
+        }
+        s
+    }
+
     fn integrands() -> Vec<Gaussian> {
         vec![
             Gaussian::new(0.2, vec![0.2, 0.7], 1.0).unwrap(),
@@ -679,7 +728,7 @@ mod tests {
     }
 
     /// Correlated multi-jitter's pair sums against every choice of its two permutations, at
-    /// counts whose `m × r` include a single column (`N = 7`).
+    /// counts whose `m × r` include a single column (`N = 7`), unshifted and shifted.
     #[test]
     fn correlated_shuffles_are_their_enumeration() {
         for f in integrands() {
@@ -698,20 +747,22 @@ mod tests {
                         );
                     }
                 }
-                let truth = enumerated(&f, n, &choices);
-                let s = correlated_multi_jitter_variance(&f, n, &Budget::default()).unwrap();
-                let tolerance = s.rounding + CELL_ROUNDING * truth;
-                assert!(
-                    (s.variance - truth).abs() <= tolerance,
-                    "N = {n}: {:e} vs {truth:e}",
-                    s.variance
-                );
+                for t in SHIFTS {
+                    let truth = enumerated(&f, n, &choices, t);
+                    let s = closed(&f, n, Shuffles::Correlated, t);
+                    let tolerance = s.rounding + CELL_ROUNDING * truth;
+                    assert!(
+                        (s.variance - truth).abs() <= tolerance,
+                        "N = {n}, t = {t:?}: {:e} vs {truth:e}",
+                        s.variance
+                    );
+                }
             }
         }
     }
 
     /// Multi-jitter's pair sums from the rows of a separable integrand against every choice of
-    /// its independent shuffles.
+    /// its independent shuffles, unshifted and shifted.
     #[test]
     fn independent_shuffles_are_their_enumeration() {
         for f in integrands() {
@@ -730,16 +781,16 @@ mod tests {
                         );
                     }
                 }
-                let truth = enumerated(&f, n, &choices);
-                let s = separable_shuffles(&f, n, Shuffles::Independent, &Budget::default())
-                    .unwrap()
-                    .expect("a Gaussian is separable");
-                let tolerance = s.rounding + CELL_ROUNDING * truth;
-                assert!(
-                    (s.variance - truth).abs() <= tolerance,
-                    "N = {n}: {:e} vs {truth:e}",
-                    s.variance
-                );
+                for t in SHIFTS {
+                    let truth = enumerated(&f, n, &choices, t);
+                    let s = closed(&f, n, Shuffles::Independent, t);
+                    let tolerance = s.rounding + CELL_ROUNDING * truth;
+                    assert!(
+                        (s.variance - truth).abs() <= tolerance,
+                        "N = {n}, t = {t:?}: {:e} vs {truth:e}",
+                        s.variance
+                    );
+                }
             }
         }
     }

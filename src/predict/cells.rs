@@ -54,6 +54,12 @@ pub enum Occupancy {
     /// Nested uniform scrambling of a base-2 net: its pairs of points by Owen's gains, in
     /// closed form given the net's cell counts on dyadic grids.
     Gains,
+    /// The N-rooks permutations' pairs in closed form under a random shift: the exact variance
+    /// of each shifted integrand, averaged over `shifts` independent uniform shifts.
+    PermutationsOverShifts {
+        /// Shifts averaged.
+        shifts: usize,
+    },
     /// Owen's gains of a scrambled base-2 net under a random shift: the exact variance of each
     /// shifted integrand, averaged over `shifts` independent uniform shifts.
     GainsOverShifts {
@@ -103,6 +109,12 @@ impl fmt::Display for CellOrigin {
             Occupancy::Gains => write!(
                 f,
                 "nested uniform scrambling by Owen's gains ({} cells of dyadic grids)",
+                self.cells
+            ),
+            Occupancy::PermutationsOverShifts { shifts } => write!(
+                f,
+                "N-rooks permutations in closed form averaged over {shifts} random shifts ({} \
+                 cells of rows each)",
                 self.cells
             ),
             Occupancy::GainsOverShifts { shifts } => write!(

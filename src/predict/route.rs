@@ -353,6 +353,17 @@ pub(crate) fn predict_routed(
             progress,
         );
     }
+    if let Some((_, kind, _)) = shifted_strata(problem, params)
+        && super::shifted_cells::shuffles_over_shifts(problem.integrand, kind)
+    {
+        return super::shifted_cells::predict_shifted_shuffles(
+            problem.integrand,
+            kind,
+            n,
+            params,
+            progress,
+        );
+    }
     if params.form == FormChoice::Auto
         && let Some((sampler, kind, _)) = shifted_strata(problem, params)
     {
