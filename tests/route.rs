@@ -265,13 +265,16 @@ fn every_sampler_gets_a_valid_route() {
         // Owen-scrambled Sobol' under the shift: its gains averaged over shifts, in space;
         // the samplers with cells and no closed form: the lattice form with a measured tail.
         let form = match kind {
-            // Sobol' and PMJ02 at a power of two: Owen's gains over shifts; CMJ on the
-            // Gaussian: its exact variance at each shift.
-            SamplerKind::Sobol | SamplerKind::Pmj02 | SamplerKind::Cmj => Form::Cells,
+            // Sobol' and PMJ02 at a power of two: Owen's gains over shifts; CMJ and orthogonal
+            // arrays (CMJ on p × p cells in 2D) on the Gaussian: the exact variance at each shift.
+            SamplerKind::Sobol
+            | SamplerKind::Pmj02
+            | SamplerKind::Cmj
+            | SamplerKind::OrthogonalArray => Form::Cells,
             _ => Form::Lattice,
         };
         assert_eq!(p.route.form, form, "{kind}");
-        let strata = [SamplerKind::MultiJitter, SamplerKind::OrthogonalArray];
+        let strata = [SamplerKind::MultiJitter];
         if strata.contains(&kind) {
             assert!(
                 matches!(p.route.spectrum, SpectrumOrigin::MeasuredTail { .. }),

@@ -47,9 +47,10 @@ fn both_routes_agree_with_monte_carlo_across_the_faces() {
     ];
     for kind in kinds {
         for (separable, f) in [(true, &seam as &dyn Integrand), (false, &edge)] {
-            // CMJ on a product of one-axis factors: each shift's variance exact, whatever the
-            // form asked for.
-            let per_shift = separable && kind == SamplerKind::Cmj;
+            // CMJ (and an orthogonal array, CMJ on p × p cells in 2D) on a product of one-axis
+            // factors: each shift's variance exact, whatever the form asked for.
+            let per_shift =
+                separable && matches!(kind, SamplerKind::Cmj | SamplerKind::OrthogonalArray);
             // PMJ02 between two powers of two: at one, Owen's gains over shifts answer it.
             let n = match kind {
                 SamplerKind::Pmj02 => 200,
@@ -78,7 +79,10 @@ fn both_routes_agree_with_monte_carlo_across_the_faces() {
                 );
                 assert_eq!(cells.route.form, Form::Cells, "{kind}");
                 assert!(
-                    matches!(occupancy(&cells), Some(Occupancy::EstimatedOverShifts { .. })),
+                    matches!(
+                        occupancy(&cells),
+                        Some(Occupancy::EstimatedOverShifts { .. })
+                    ),
                     "{kind}: {}",
                     cells.route
                 );

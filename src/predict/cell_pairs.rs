@@ -568,7 +568,8 @@ pub(crate) fn shifted_shuffles_variance(
     use crate::sampler::SamplerKind;
     let shuffles = match kind {
         SamplerKind::MultiJitter => Shuffles::Independent,
-        SamplerKind::Cmj => Shuffles::Correlated,
+        // In 2D an orthogonal array with its offsets is CMJ on p × p cells.
+        SamplerKind::Cmj | SamplerKind::OrthogonalArray => Shuffles::Correlated,
         _ => return None,
     };
     if f.dimension() != 2 {

@@ -488,7 +488,10 @@ pub(crate) fn predict_cells(
     let pairs = match source {
         CellSource::Sampler(
             _,
-            kind @ (SamplerKind::LatinHypercube | SamplerKind::MultiJitter | SamplerKind::Cmj),
+            kind @ (SamplerKind::LatinHypercube
+            | SamplerKind::MultiJitter
+            | SamplerKind::Cmj
+            | SamplerKind::OrthogonalArray),
         ) => Some(kind),
         _ => None,
     }
@@ -503,6 +506,7 @@ pub(crate) fn predict_cells(
                 super::cell_pairs::latin_hypercube_at_any_n(f) || tabulated
             }
             SamplerKind::MultiJitter => super::cell_pairs::shuffles_at_any_n(f) || tabulated,
+            // In 2D an orthogonal array with its offsets is CMJ on p × p cells.
             _ => super::cell_pairs::shuffles_at_any_n(f),
         }
     });
@@ -616,14 +620,22 @@ pub(crate) fn predict_cells(
             Some(SamplerKind::MultiJitter) => {
                 super::cell_pairs::multi_jitter_variance(f, n, &params.budget)?
             }
-            Some(SamplerKind::Cmj) => {
+            Some(SamplerKind::Cmj | SamplerKind::OrthogonalArray) => {
                 super::cell_pairs::correlated_multi_jitter_variance(f, n, &params.budget)?
             }
             _ => super::cell_pairs::latin_hypercube_variance(f, n, &params.budget)?,
         };
+        let alias = match source {
+            CellSource::Sampler(_, SamplerKind::OrthogonalArray) => {
+                " (in 2D Bose's array with its offsets is correlated multi-jitter on p × p \
+                 cells: relabelling the strata leaves one uniform permutation of the \
+                 sub-columns and one of the sub-rows)"
+            }
+            _ => "",
+        };
         let why = format!(
-            "{name}, unshifted: the cell form over the {n}^{d} cells, its pairs of occupied \
-             cells in closed form (exact)"
+            "{name}, unshifted{alias}: the cell form over the {n}^{d} cells, its pairs of \
+             occupied cells in closed form (exact)"
         );
         (
             s.variance,
