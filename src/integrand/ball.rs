@@ -207,18 +207,7 @@ impl Ball {
             (squares.value(), within.value(), crossed.len() as u64)
         };
         let columns: Vec<(f64, f64, u64)> = (0..mx).into_par_iter().map(column).collect();
-        let (mut squares, mut within, mut visited) =
-            (CompensatedSum::default(), CompensatedSum::default(), 0);
-        for (q, w, v) in columns {
-            squares.add(q);
-            within.add(w);
-            visited += v;
-        }
-        CellSums {
-            mean_square: squares.value(),
-            within: within.value(),
-            visited,
-        }
+        CellSums::of_columns(columns)
     }
 }
 

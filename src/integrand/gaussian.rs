@@ -184,6 +184,27 @@ impl Gaussian {
         let k = s * SQRT_2;
         s * (PI / 2.0).sqrt() * (libm::erf((1.0 - c) / k) + libm::erf(c / k))
     }
+
+    /// Per axis, the integral over each cell of `grid` of the axis factor of width `width`
+    /// shifted by `t` on the torus: a cell's pieces on either side of a face summed (an empty
+    /// piece has no mass, so adding it changes no bit).
+    fn shifted_rows(&self, grid: &[usize], t: &[f64], width: f64) -> Vec<Vec<f64>> {
+        grid.iter()
+            .zip(t)
+            .zip(&self.centre)
+            .map(|((&m, &shift), &c)| {
+                (0..m)
+                    .map(|i| {
+                        let cell = (i as f64 / m as f64, (i + 1) as f64 / m as f64);
+                        wrapped_interval(cell.0, cell.1, shift)
+                            .iter()
+                            .map(|&(a, b)| axis_mass(a, b, c, width))
+                            .fold(0.0, |sum, piece| sum + piece)
+                    })
+                    .collect()
+            })
+            .collect()
+    }
 }
 
 /// `∫_a^b exp(-(x - c)² / (2 s²)) dx`: [`gaussian_segment`] of width `s √2`.
@@ -255,49 +276,16 @@ impl Integrand for Gaussian {
         if grid.len() != self.centre.len() || t.len() != grid.len() {
             return None;
         }
-        let rows = |width: f64| -> Vec<Vec<f64>> {
-            grid.iter()
-                .zip(t)
-                .zip(&self.centre)
-                .map(|((&m, &shift), &c)| {
-                    (0..m)
-                        .map(|i| {
-                            let cell = (i as f64 / m as f64, (i + 1) as f64 / m as f64);
-                            wrapped_interval(cell.0, cell.1, shift)
-                                .iter()
-                                .map(|&(a, b)| axis_mass(a, b, c, width))
-                                .fold(0.0, |sum, piece| sum + piece)
-                        })
-                        .collect()
-                })
-                .collect()
-        };
         Some(super::SeparableCells {
             height: self.height,
-            mass: rows(self.sigma),
-            square: rows(self.sigma / SQRT_2),
+            mass: self.shifted_rows(grid, t, self.sigma),
+            square: self.shifted_rows(grid, t, self.sigma / SQRT_2),
         })
     }
     fn grid_masses(&self, grid: &[usize], t: &[f64]) -> Option<Vec<f64>> {
         // Separable: the mass of a cell is the height times its axes' masses, and a shifted
         // cell wraps axis by axis.
-        let rows: Vec<Vec<f64>> = grid
-            .iter()
-            .zip(t)
-            .zip(&self.centre)
-            .map(|((&m, &shift), &c)| {
-                (0..m)
-                    .map(|i| {
-                        let cell = (i as f64 / m as f64, (i + 1) as f64 / m as f64);
-                        // An empty piece has no mass, so adding it changes no bit.
-                        wrapped_interval(cell.0, cell.1, shift)
-                            .iter()
-                            .map(|&(a, b)| axis_mass(a, b, c, self.sigma))
-                            .fold(0.0, |sum, piece| sum + piece)
-                    })
-                    .collect()
-            })
-            .collect();
+        let rows = self.shifted_rows(grid, t, self.sigma);
         let mut masses = vec![self.height];
         for row in &rows {
             masses = row

@@ -31,6 +31,7 @@ pub use polygon::{Polygon, MAX_VERTICES};
 pub use spec::{parse_integrand, IntegrandKind, IntegrandSpec, INTEGRAND_FORMS};
 
 use crate::error::{invalid, Result};
+use crate::quadrature::CompensatedSum;
 use crate::spectrum::Lattice;
 use num_complex::Complex64;
 use std::f64::consts::PI;
@@ -72,6 +73,25 @@ pub struct CellSums {
     pub within: f64,
     /// Cells whose moments were computed (the rest were known without).
     pub visited: u64,
+}
+
+impl CellSums {
+    /// The sums over a grid from its columns' `(Σ F², Σ V, cells visited)`, summed with
+    /// compensation.
+    pub(crate) fn of_columns(columns: impl IntoIterator<Item = (f64, f64, u64)>) -> Self {
+        let (mut squares, mut within, mut visited) =
+            (CompensatedSum::default(), CompensatedSum::default(), 0);
+        for (q, w, v) in columns {
+            squares.add(q);
+            within.add(w);
+            visited += v;
+        }
+        Self {
+            mean_square: squares.value(),
+            within: within.value(),
+            visited,
+        }
+    }
 }
 
 /// The torus coefficients of a separable integrand, `f̂(k) = height · Π_a axes[a][k_a + K_a]`

@@ -324,18 +324,7 @@ impl Polygon {
             .enumerate()
             .map(column)
             .collect();
-        let (mut squares, mut within, mut visited) =
-            (CompensatedSum::default(), CompensatedSum::default(), 0);
-        for (q, w, v) in columns {
-            squares.add(q);
-            within.add(w);
-            visited += v;
-        }
-        super::CellSums {
-            mean_square: squares.value(),
-            within: within.value(),
-            visited,
-        }
+        super::CellSums::of_columns(columns)
     }
 }
 

@@ -25,7 +25,7 @@ use super::cell_moments::{
     check_box_moments, shifted_cell_mean_and_variance, CELL_SECONDS, SEPARABLE_CELL_SECONDS,
 };
 use super::cells::{cell_of, CellOrigin, Occupancy};
-use super::shifted_gains::shifted_prediction;
+use super::shifted_gains::{mean_over_shifts, shifted_prediction};
 use super::term_mean::{mean_to_target_noise, terms_within_budget};
 use super::{PredictParams, Prediction};
 use crate::budget::Needs;
@@ -36,7 +36,6 @@ use crate::progress::Progress;
 use crate::quadrature::CompensatedSum;
 use crate::randomization::toroidal_shift;
 use crate::sampler::{Sampler, SamplerKind};
-use std::sync::Mutex;
 
 /// (Pattern, shift) pairs the average starts with.
 const INITIAL_PAIRS: usize = 64;
@@ -178,26 +177,18 @@ pub(crate) fn predict_shifted_shuffles(
         },
         "lower N",
     )?;
-    let (initial, max) = terms_within_budget(params, per_shift, (INITIAL_SHIFTS, MAX_SHIFTS));
-    let rounding = Mutex::new(0.0f64);
-    let estimate = mean_to_target_noise(
+    let (estimate, rounding) = mean_over_shifts(
         "exact variances over shifts",
-        (initial.max(2), max.max(2)),
-        params.target_noise,
-        0.0,
-        |i| {
-            let t = toroidal_shift(d, params.seed, i as u64);
-            let s = super::cell_pairs::shifted_shuffles_variance(f, kind, n, &t[..d]).ok_or_else(
-                || {
-                    Error::Mismatch(format!(
-                        "{} is not a product of one-axis factors",
-                        f.label()
-                    ))
-                },
-            )?;
-            let mut largest = rounding.lock().unwrap_or_else(|e| e.into_inner());
-            *largest = largest.max(s.rounding);
-            Ok(s.variance)
+        (d, params),
+        per_shift,
+        (INITIAL_SHIFTS, MAX_SHIFTS),
+        |t| {
+            super::cell_pairs::shifted_shuffles_variance(f, kind, n, t).ok_or_else(|| {
+                Error::Mismatch(format!(
+                    "{} is not a product of one-axis factors",
+                    f.label()
+                ))
+            })
         },
         progress,
     )?;
@@ -227,6 +218,6 @@ pub(crate) fn predict_shifted_shuffles(
         (n, d),
         (2 * n * estimate.patterns) as u64,
     );
-    p.budget.quadrature = rounding.into_inner().unwrap_or_else(|e| e.into_inner());
+    p.budget.quadrature = rounding;
     Ok(p)
 }

@@ -16,6 +16,7 @@
 //! projections are stratified): it overestimates integrands that jump across the cube's faces,
 //! more so as N grows (`docs/theory.md`, "Scrambled nets under a shift").
 
+use super::cell_moments::CellSum;
 use super::cell_moments::{check_box_moments, CELL_SECONDS};
 use super::cells::{CellOrigin, Occupancy};
 use super::owen_gains::ScrambledNet;
@@ -26,6 +27,7 @@ use crate::integrand::Integrand;
 use crate::progress::Progress;
 use crate::randomization::{toroidal_shift, Randomization};
 use crate::sampler::{CellRule, Sampler, SamplerKind};
+use std::sync::Mutex;
 
 /// Shifts the average starts with: enough for the spread that decides how many more it needs.
 const INITIAL_SHIFTS: usize = 16;
@@ -51,16 +53,12 @@ pub(crate) fn predict_shifted_net(
     let pattern = sampler.sample(n, params.seed, 0)?;
     let net = ScrambledNet::new(&pattern, d, &params.budget)?;
     let per_shift = net.cells as f64 * CELL_SECONDS;
-    let (initial, max) = terms_within_budget(params, per_shift, (INITIAL_SHIFTS, MAX_SHIFTS));
-    let estimate = mean_to_target_noise(
+    let (estimate, rounding) = mean_over_shifts(
         "Owen's gains over shifts",
-        (initial.max(2), max.max(2)),
-        params.target_noise,
-        0.0,
-        |i| {
-            let t = toroidal_shift(d, params.seed, i as u64);
-            net.variance(f, &t[..d]).map(|s| s.variance)
-        },
+        (d, params),
+        per_shift,
+        (INITIAL_SHIFTS, MAX_SHIFTS),
+        |t| net.variance(f, t),
         progress,
     )?;
     let whose = match sampler.kind() {
@@ -90,12 +88,45 @@ pub(crate) fn predict_shifted_net(
         },
     };
     let evaluations = (net.cells * estimate.patterns) as u64;
-    Ok(shifted_prediction(
-        &estimate,
-        origin,
-        reason,
-        (n, d),
-        evaluations,
+    let mut p = shifted_prediction(&estimate, origin, reason, (n, d), evaluations);
+    p.budget.quadrature = rounding;
+    Ok(p)
+}
+
+/// The mean over independent uniform shifts `t` of an exact conditional variance `at(t)`
+/// (with its rounding bound), shifts added from `counts.0` until the relative standard error
+/// reaches `params.target_noise` or the work budget, at `per_shift` seconds each, ends: the
+/// estimate, and the largest rounding bound of a term.
+///
+/// # Errors
+/// The first term's error.
+pub(super) fn mean_over_shifts(
+    label: &str,
+    (d, params): (usize, &PredictParams),
+    per_shift: f64,
+    counts: (usize, usize),
+    at: impl Fn(&[f64]) -> Result<CellSum> + Sync,
+    progress: &dyn Progress,
+) -> Result<(OccupancyEstimate, f64)> {
+    let (initial, max) = terms_within_budget(params, per_shift, counts);
+    let rounding = Mutex::new(0.0f64);
+    let estimate = mean_to_target_noise(
+        label,
+        (initial.max(2), max.max(2)),
+        params.target_noise,
+        0.0,
+        |i| {
+            let t = toroidal_shift(d, params.seed, i as u64);
+            let s = at(&t[..d])?;
+            let mut largest = rounding.lock().unwrap_or_else(|e| e.into_inner());
+            *largest = largest.max(s.rounding);
+            Ok(s.variance)
+        },
+        progress,
+    )?;
+    Ok((
+        estimate,
+        rounding.into_inner().unwrap_or_else(|e| e.into_inner()),
     ))
 }
 
