@@ -249,13 +249,17 @@ fn estimators_markdown(config: &EstimatorsConfig, section: &EstimatorsSection) -
          The talk's variance is the homogenized estimator's: each pattern under a uniform random \
          toroidal shift. Renderers use strata and nets as drawn. On {}, a smooth falloff that \
          the square's faces cut (as a pixel's edges cut a light's), each sampler is predicted and \
-         measured both ways: shifted (`--randomization shift`: the spectral routes) and as used \
-         (the default: as drawn for the strata and Owen-scrambled nets, by the cell form, exact \
-         for jitter, Latin hypercube, multi-jitter and Sobol' (Owen's gains), its occupancy \
-         estimated from patterns for CMJ, orthogonal arrays and PMJ02; Gaussian jitter as drawn \
-         by the aliased-pair form, exact, its bias stated apart; under a digital shift for \
-         the unscrambled Sobol' net `sobol-ds`, by the Walsh form). Monte Carlo: {} evaluations \
-         of the same estimator, 99% intervals; `z` as in the closure table.\n",
+         measured both ways: shifted (`--randomization shift`: the spectral routes, or each \
+         shift exact where the cell form has it, for Sobol', PMJ02 at a power of two, and CMJ \
+         and orthogonal arrays on a product such as this Gaussian) and as used (the default: as \
+         drawn for the strata and Owen-scrambled nets, by the cell form, exact for jitter, Latin \
+         hypercube, multi-jitter, CMJ and orthogonal arrays (their pairs of cells in closed \
+         form; in 2D an orthogonal array is CMJ on p × p cells) and for Sobol' and PMJ02 by \
+         Owen's gains, which at a power of two are every scrambled (0,m,2)-net's, so that the \
+         two samplers' points coincide; Gaussian jitter as drawn by the aliased-pair form, \
+         exact, its bias stated apart; under a digital shift for the unscrambled Sobol' net \
+         `sobol-ds`, by the Walsh form). Monte Carlo: {} evaluations of the same estimator, 99% \
+         intervals; `z` as in the closure table.\n",
         section.integrand, config.trials
     );
     let _ = writeln!(md, "![shifted over as-used variance](estimators.svg)\n");
