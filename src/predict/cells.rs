@@ -333,14 +333,6 @@ enum NetPairs {
     PerPattern(f64),
 }
 
-/// A sampler's drawing cost at `n` points, in nanoseconds a point (given sets cost nothing).
-fn kind_cost(source: CellSource<'_>, n: usize) -> f64 {
-    match source {
-        CellSource::Sampler(_, kind) => kind.cost_per_point_ns_at(n),
-        CellSource::Sets(..) => 0.0,
-    }
-}
-
 /// Seconds a point of a pattern takes to be counted on one dyadic grid.
 const PAIR_COUNT_SECONDS: f64 = 2e-9;
 
@@ -520,7 +512,8 @@ pub(crate) fn predict_cells(
             Some((sampler, NetPairs::EveryNet))
         }
         CellSource::Sampler(sampler, SamplerKind::Pmj02) => {
-            Some((sampler, NetPairs::PerPattern(kind_cost(source, n))))
+            let cost = SamplerKind::Pmj02.cost_per_point_ns_at(n);
+            Some((sampler, NetPairs::PerPattern(cost)))
         }
         _ => None,
     }
@@ -556,42 +549,7 @@ pub(crate) fn predict_cells(
             why,
         )
     } else if let Some((sampler, NetPairs::PerPattern(cost_ns))) = scrambled {
-        let per_pattern = n as f64 * (cost_ns * 1e-9 + PAIR_COUNT_SECONDS * dyadic_grids(n));
-        let counts = terms_within_budget(params, per_pattern, (INITIAL_NETS, MAX_PATTERNS));
-        params.budget.check(
-            "Owen's gains over patterns",
-            Needs {
-                memory_bytes: 48.0 * n as f64,
-                work_seconds: counts.0 as f64 * per_pattern,
-            },
-            "lower N or the realizations",
-        )?;
-        let law = super::owen_gains::scrambled_law_variance(
-            f,
-            |i| sampler.sample(n, params.seed, i as u64),
-            counts,
-            params.target_noise,
-            &params.budget,
-            progress,
-        )?;
-        let e = law.estimate;
-        let why = format!(
-            "{name}, as drawn: a progressive (0,2) sequence whose law nested uniform scrambling \
-             leaves unchanged, so its variance is the mean over patterns of each one's \
-             scrambled variance, Owen's gains (from its pair counts on dyadic grids) times the \
-             integrand's variance at each dyadic level, exact given the pattern; the mean of {} \
-             patterns (their pair counts differ between powers of two), nothing truncated",
-            e.patterns
-        );
-        let budget = ErrorBudget {
-            spectrum_noise: e.standard_error,
-            quadrature: law.rounding,
-            ..Default::default()
-        };
-        let occupancy = Occupancy::GainsOverPatterns {
-            patterns: e.patterns,
-        };
-        (e.variance, budget, occupancy, law.cells, why)
+        gains_over_patterns(f, (sampler, name.as_str()), n, cost_ns, params, progress)?
     } else if let (true, Some((sampler, pairs))) = (exact, scrambled) {
         let pattern = sampler.sample(n, params.seed, 0)?;
         let (s, read) = super::owen_gains::scrambled_net_variance(f, &pattern, &params.budget)?;
@@ -780,6 +738,55 @@ fn estimate_occupancy(
         params.target_noise,
         progress,
     )
+}
+
+/// PMJ02 as drawn between two powers of two: the mean over patterns of each one's scrambled
+/// variance by Owen's gains ([`super::owen_gains::scrambled_law_variance`]), each pattern drawn
+/// at `cost_ns` a point; the cell form's variance, budget, occupancy, cells read and reason.
+fn gains_over_patterns(
+    f: &dyn Integrand,
+    (sampler, name): (&dyn Sampler, &str),
+    n: usize,
+    cost_ns: f64,
+    params: &super::PredictParams,
+    progress: &dyn Progress,
+) -> Result<(f64, ErrorBudget, Occupancy, usize, String)> {
+    let per_pattern = n as f64 * (cost_ns * 1e-9 + PAIR_COUNT_SECONDS * dyadic_grids(n));
+    let counts = terms_within_budget(params, per_pattern, (INITIAL_NETS, MAX_PATTERNS));
+    params.budget.check(
+        "Owen's gains over patterns",
+        Needs {
+            memory_bytes: 48.0 * n as f64,
+            work_seconds: counts.0 as f64 * per_pattern,
+        },
+        "lower N or the realizations",
+    )?;
+    let law = super::owen_gains::scrambled_law_variance(
+        f,
+        |i| sampler.sample(n, params.seed, i as u64),
+        counts,
+        params.target_noise,
+        &params.budget,
+        progress,
+    )?;
+    let e = law.estimate;
+    let why = format!(
+        "{name}, as drawn: a progressive (0,2) sequence whose law nested uniform scrambling \
+         leaves unchanged, so its variance is the mean over patterns of each one's \
+         scrambled variance, Owen's gains (from its pair counts on dyadic grids) times the \
+         integrand's variance at each dyadic level, exact given the pattern; the mean of {} \
+         patterns (their pair counts differ between powers of two), nothing truncated",
+        e.patterns
+    );
+    let budget = ErrorBudget {
+        spectrum_noise: e.standard_error,
+        quadrature: law.rounding,
+        ..Default::default()
+    };
+    let occupancy = Occupancy::GainsOverPatterns {
+        patterns: e.patterns,
+    };
+    Ok((e.variance, budget, occupancy, law.cells, why))
 }
 
 fn rounding(bound: f64) -> ErrorBudget {
