@@ -536,7 +536,8 @@ fn scrambled_sobol_by_owen_gains_is_its_estimated_occupancy() {
 }
 
 /// PMJ02 as drawn by Owen's gains: at a power of two its variance is any scrambled
-/// `(0,m,2)`-net's, so Sobol''s to rounding; between two, the mean of its patterns' scrambled
+/// `(0,m,2)`-net's, so Sobol''s (the route reads the counts from a Sobol' net; a unit test
+/// checks PMJ02's own); between two, the mean of its patterns' scrambled
 /// variances against the estimated occupancy of its cells, which reads no gains (the Monte
 /// Carlo matrix checks both against measured variances).
 #[test]

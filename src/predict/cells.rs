@@ -327,7 +327,8 @@ pub fn occupancy_variance(
 enum NetPairs {
     /// Scrambling permutes one fixed net's cells: any pattern has its counts.
     OneNet,
-    /// Every pattern is a `(0,m,2)`-net, whose counts the net property fixes.
+    /// Every pattern is a `(0,m,2)`-net, whose counts the net property fixes: any such net
+    /// has them.
     EveryNet,
     /// The counts differ between patterns, each drawn at this many nanoseconds a point.
     PerPattern(f64),
@@ -551,13 +552,19 @@ pub(crate) fn predict_cells(
     } else if let Some((sampler, NetPairs::PerPattern(cost_ns))) = scrambled {
         gains_over_patterns(f, (sampler, name.as_str()), n, cost_ns, params, progress)?
     } else if let (true, Some((sampler, pairs))) = (exact, scrambled) {
-        let pattern = sampler.sample(n, params.seed, 0)?;
+        // Every (0,m,2)-net has the same pair counts: Sobol''s is drawn in a fraction of
+        // PMJ02's time (3.6 s at 2^20).
+        let pattern = match pairs {
+            NetPairs::EveryNet => crate::sampler::Sobol::new(d)?.sample(n, params.seed, 0)?,
+            _ => sampler.sample(n, params.seed, 0)?,
+        };
         let (s, read) = super::owen_gains::scrambled_net_variance(f, &pattern, &params.budget)?;
         let whose = match pairs {
             NetPairs::EveryNet => format!(
                 "{name}, as drawn: every prefix of 2^m points is a (0,m,2)-net, whose pair counts \
-                 on dyadic grids the net property fixes, and the sequence's law is unchanged by \
-                 nested uniform scrambling, so its variance is that of any such net scrambled"
+                 on dyadic grids the net property fixes (read from a scrambled Sobol' net, one \
+                 such net), and the sequence's law is unchanged by nested uniform scrambling, so \
+                 its variance is that of any such net scrambled"
             ),
             _ => format!("{name}, as drawn: a net under nested uniform scrambling"),
         };

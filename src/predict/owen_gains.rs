@@ -506,6 +506,39 @@ mod tests {
         }
     }
 
+    /// PMJ02 at a power of two and Sobol' share their pair counts, and so their gains: both
+    /// are `(0, m, 2)`-nets, whose counts the net property fixes (the cell form reads PMJ02's
+    /// gains from a Sobol' net).
+    #[test]
+    fn pmj02_and_sobol_have_the_same_gains_at_powers_of_two() {
+        use crate::sampler::Pmj02;
+        for m in 0..=12u32 {
+            let n = 1usize << m;
+            for seed in [1, 2] {
+                let budget = Budget::default();
+                let pmj = ScrambledNet::new(
+                    &Pmj02::new(2).unwrap().sample(n, seed, 3).unwrap(),
+                    2,
+                    &budget,
+                )
+                .unwrap();
+                let sobol = ScrambledNet::new(
+                    &Sobol::new(2).unwrap().sample(n, seed, 0).unwrap(),
+                    2,
+                    &budget,
+                )
+                .unwrap();
+                assert_eq!(pmj.excess, sobol.excess, "N = {n}, seed {seed}");
+            }
+        }
+        // Between powers of two they differ from pattern to pattern.
+        let counts = |realization| {
+            let p = Pmj02::new(2).unwrap().sample(300, 1, realization).unwrap();
+            ScrambledNet::new(&p, 2, &Budget::default()).unwrap().excess
+        };
+        assert!((0..8).any(|r| counts(r) != counts(0)));
+    }
+
     #[test]
     fn levels_off_one_are_those_of_shared_grids() {
         let pattern = Sobol::new(2).unwrap().sample(16, 1, 0).unwrap();
