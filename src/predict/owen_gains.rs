@@ -28,7 +28,7 @@
 //! nets by levels").
 
 use super::cell_moments::{cell_masses, chunked_sum, CellSum, CELL_ROUNDING, CELL_SECONDS};
-use super::term_mean::{mean_to_target_noise, OccupancyEstimate};
+use super::term_mean::{mean_of_exact_terms, OccupancyEstimate};
 use crate::budget::{Budget, Needs};
 use crate::error::{Error, Result};
 use crate::integrand::Integrand;
@@ -36,7 +36,6 @@ use crate::pointset::PointSet;
 use crate::progress::Progress;
 use crate::quadrature::CompensatedSum;
 use std::collections::HashMap;
-use std::sync::Mutex;
 
 /// The most axes a grid of box moments has.
 const MAX_AXES: usize = 3;
@@ -450,25 +449,16 @@ pub(crate) fn scrambled_law_variance(
     let first = ScrambledNet::new(&pattern(0)?, d, budget)?;
     let tops = columns(&grids_read(&first.levels, d), d);
     let means = SquaredMeans::new(f, &tops, &vec![0.0; d])?;
-    let rounding = Mutex::new(0.0f64);
-    let estimate = mean_to_target_noise(
+    let (estimate, rounding) = mean_of_exact_terms(
         "scrambled variances of patterns",
         counts,
         target_noise,
-        0.0,
-        |i| {
-            let s = if i == 0 {
-                means.variance(&first)?
-            } else {
-                means.variance(&ScrambledNet::new(&pattern(i)?, d, budget)?)?
-            };
-            let mut largest = rounding.lock().unwrap_or_else(|e| e.into_inner());
-            *largest = largest.max(s.rounding);
-            Ok(s.variance)
+        |i| match i {
+            0 => means.variance(&first),
+            _ => means.variance(&ScrambledNet::new(&pattern(i)?, d, budget)?),
         },
         progress,
     )?;
-    let rounding = rounding.into_inner().unwrap_or_else(|e| e.into_inner());
     Ok(ScrambledLawEstimate {
         estimate,
         rounding,

@@ -20,14 +20,13 @@ use super::cell_moments::CellSum;
 use super::cell_moments::{check_box_moments, CELL_SECONDS};
 use super::cells::{CellOrigin, Occupancy};
 use super::owen_gains::ScrambledNet;
-use super::term_mean::{mean_to_target_noise, terms_within_budget, OccupancyEstimate};
+use super::term_mean::{mean_of_exact_terms, terms_within_budget, OccupancyEstimate};
 use super::{ErrorBudget, Form, PredictParams, Prediction, Route, SpectrumOrigin};
 use crate::error::Result;
 use crate::integrand::Integrand;
 use crate::progress::Progress;
 use crate::randomization::{toroidal_shift, Randomization};
 use crate::sampler::{CellRule, Sampler, SamplerKind};
-use std::sync::Mutex;
 
 /// Shifts the average starts with: enough for the spread that decides how many more it needs.
 const INITIAL_SHIFTS: usize = 16;
@@ -114,25 +113,13 @@ pub(super) fn mean_over_shifts(
     progress: &dyn Progress,
 ) -> Result<(OccupancyEstimate, f64)> {
     let (initial, max) = terms_within_budget(params, per_shift, counts);
-    let rounding = Mutex::new(0.0f64);
-    let estimate = mean_to_target_noise(
+    mean_of_exact_terms(
         label,
         (initial.max(2), max.max(2)),
         params.target_noise,
-        0.0,
-        |i| {
-            let t = toroidal_shift(d, params.seed, i as u64);
-            let s = at(&t[..d])?;
-            let mut largest = rounding.lock().unwrap_or_else(|e| e.into_inner());
-            *largest = largest.max(s.rounding);
-            Ok(s.variance)
-        },
+        |i| at(&toroidal_shift(d, params.seed, i as u64)[..d]),
         progress,
-    )?;
-    Ok((
-        estimate,
-        rounding.into_inner().unwrap_or_else(|e| e.into_inner()),
-    ))
+    )
 }
 
 /// The prediction of a randomly shifted estimator whose variance is `estimate`, a mean of exact

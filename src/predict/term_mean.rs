@@ -2,9 +2,11 @@
 //! their spread says its standard error is a target share of the value: how every estimated
 //! route of the prediction averages, with its noise from the terms themselves.
 
+use super::cell_moments::CellSum;
 use crate::error::Result;
 use crate::progress::{stage, Progress};
 use rayon::prelude::*;
+use std::sync::Mutex;
 
 /// An estimate of the unshifted variance from the occupancy of patterns.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -89,4 +91,35 @@ fn summarize(terms: &[f64]) -> OccupancyEstimate {
         standard_error,
         patterns: terms.len(),
     }
+}
+
+/// [`mean_to_target_noise`] of exact terms that carry their own rounding bound (a pattern's
+/// variance by Owen's gains, a shift's by a closed form): the estimate, and the largest
+/// rounding bound of a term, which bounds the mean's.
+///
+/// # Errors
+/// The first term's error.
+pub(crate) fn mean_of_exact_terms(
+    label: &str,
+    counts: (usize, usize),
+    target_noise: f64,
+    term: impl Fn(usize) -> Result<CellSum> + Sync,
+    progress: &dyn Progress,
+) -> Result<(OccupancyEstimate, f64)> {
+    let rounding = Mutex::new(0.0f64);
+    let estimate = mean_to_target_noise(
+        label,
+        counts,
+        target_noise,
+        0.0,
+        |i| {
+            let s = term(i)?;
+            let mut largest = rounding.lock().unwrap_or_else(|e| e.into_inner());
+            *largest = largest.max(s.rounding);
+            Ok(s.variance)
+        },
+        progress,
+    )?;
+    let rounding = rounding.into_inner().unwrap_or_else(|e| e.into_inner());
+    Ok((estimate, rounding))
 }
