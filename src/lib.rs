@@ -134,6 +134,7 @@ pub mod rng;
 pub mod sampler;
 pub mod spectrum;
 mod spread;
+mod vector_exp;
 
 pub use error::{Error, Result};
 pub use pointset::PointSet;

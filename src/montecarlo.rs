@@ -507,11 +507,19 @@ fn errors_in_range(
             let d = base.dimension();
             let mut sums = vec![PatternErrors::default(); integrands.len()];
             // The shifted pattern is computed once per shift and read by every integrand.
-            let mut shifted = vec![0.0; base.coords().len()];
+            let mut shifted = Vec::new();
             for shift in 0..s {
-                unit_transform(params, d, p * s + shift).apply_into(&base, &mut shifted);
+                let transform = unit_transform(params, d, p * s + shift);
+                // Patterns used as drawn are read in place rather than copied.
+                let points = if matches!(transform, UnitTransform::Identity) {
+                    base.coords()
+                } else {
+                    shifted.resize(base.coords().len(), 0.0);
+                    transform.apply_into(&base, &mut shifted);
+                    &shifted
+                };
                 for (j, f) in integrands.iter().enumerate() {
-                    let sum = f.sum_at(&shifted);
+                    let sum = f.sum_at(points);
                     let e = sum / base.len() as f64 - truths[j];
                     sums[j].mean += e / s as f64;
                     sums[j].mean_square += e * e / s as f64;

@@ -102,11 +102,20 @@ pub(crate) fn check_strata(sampler: &'static str, d: usize, n: usize) -> Result<
 /// axis, last axis fastest.
 pub(crate) fn for_each_cell(cells: &[usize], mut f: impl FnMut(usize, usize, usize)) {
     let n: usize = cells.iter().product();
+    // An odometer over the cells' indices: the same calls in the same order as dividing `i`
+    // by each axis's count, without two integer divisions per axis and point (which cost more
+    // than drawing the point).
+    let mut index = vec![0usize; cells.len()];
     for i in 0..n {
-        let mut rest = i;
         for axis in (0..cells.len()).rev() {
-            f(i, axis, rest % cells[axis]);
-            rest /= cells[axis];
+            f(i, axis, index[axis]);
+        }
+        for axis in (0..cells.len()).rev() {
+            index[axis] += 1;
+            if index[axis] < cells[axis] {
+                break;
+            }
+            index[axis] = 0;
         }
     }
 }
@@ -132,5 +141,28 @@ impl Sampler for Regular {
             coords[i * d + axis] = (cell as f64 + 0.5) / cells[axis] as f64;
         });
         Ok(PointSet::from_trusted(d, coords))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::for_each_cell;
+
+    #[test]
+    fn cells_are_visited_as_the_digits_of_their_index() {
+        for cells in [vec![5], vec![2, 3], vec![4, 1, 3], vec![3, 2, 2, 2]] {
+            let mut visits = Vec::new();
+            for_each_cell(&cells, |i, axis, cell| visits.push((i, axis, cell)));
+            let n: usize = cells.iter().product();
+            let mut expected = Vec::new();
+            for i in 0..n {
+                let mut rest = i;
+                for axis in (0..cells.len()).rev() {
+                    expected.push((i, axis, rest % cells[axis]));
+                    rest /= cells[axis];
+                }
+            }
+            assert_eq!(visits, expected, "cells {cells:?}");
+        }
     }
 }
