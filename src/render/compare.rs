@@ -250,8 +250,8 @@ pub struct ComparisonConfig {
     pub pixel_power: PixelPowerParams,
     /// Realizations of each sampler's spectrum at N.
     pub spectrum_realizations: usize,
-    /// Where the reference is cached ([`crate::cache::default_dir`] by default; `None`: it is
-    /// rendered every time).
+    /// Where the reference and the pixels' mean visibility power are cached
+    /// ([`crate::cache::default_dir`] by default; `None`: they are computed every time).
     pub cache_dir: Option<std::path::PathBuf>,
 }
 
@@ -343,12 +343,12 @@ pub struct Comparison {
     pub power_label: String,
 }
 
-/// Runs a comparison: traces the frame, loads or renders the reference, rasterizes the pixels'
-/// visibilities once, then renders, measures and predicts every sampler, reporting each stage
+/// Runs a comparison: traces the frame, loads or renders the reference, loads or rasterizes
+/// the pixels' visibilities (once for every sampler), then renders, measures and predicts every sampler, reporting each stage
 /// to `progress`.
 ///
 /// # Errors
-/// As [`compare`], [`super::cached_reference`] and [`super::pixel_power`].
+/// As [`compare`], [`super::cached_reference`] and [`super::cached_pixel_power`].
 pub fn run_comparison(config: &ComparisonConfig, progress: &dyn Progress) -> Result<Comparison> {
     // Every request is checked before the expensive reference.
     config.check()?;
@@ -386,12 +386,11 @@ pub fn run_comparison(config: &ComparisonConfig, progress: &dyn Progress) -> Res
         config.pixel_power.resolution
     );
     progress.begin(&stage, config.height.div_ceil(stride) as u64);
-    let power = super::pixel_power(
-        &frame,
-        config.render.max_distance,
-        &config.pixel_power,
-        progress,
-    )?;
+    let (max_distance, grids) = (config.render.max_distance, &config.pixel_power);
+    let power = match &config.cache_dir {
+        Some(dir) => super::cached_pixel_power(dir, &frame, max_distance, grids, progress)?.0,
+        None => super::pixel_power(&frame, max_distance, grids, progress)?,
+    };
     progress.end();
     let rows = compare(&frame, config, &reference, &power, progress)?;
     Ok(Comparison {

@@ -23,6 +23,7 @@ mod compare;
 pub mod geometry;
 mod image;
 mod mse;
+mod power_cache;
 
 pub use compare::{
     all_2d_samplers, compare, comparison_table, measured_ratio, run_comparison, samplers_for_rays,
@@ -32,6 +33,7 @@ pub use image::{AoImage, Reference, ReferenceKey};
 pub use mse::{
     measure_mse, pixel_power, predict_mse, predict_mse_per_pixel, MseEstimate, PixelPowerParams,
 };
+pub use power_cache::cached_pixel_power;
 
 use crate::error::{invalid, Result};
 use crate::pointset::PointSet;
