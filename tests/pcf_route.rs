@@ -2,6 +2,9 @@
 //! correlation function and from its power spectrum are Fourier pairs, so they must agree
 //! within their noise.
 
+mod common;
+
+use rayon::prelude::*;
 use specvar::integrand::{Ball, Gaussian, Integrand};
 use specvar::predict::{pair_correlation_variance, predict, PredictParams, Problem};
 use specvar::randomization::Randomization;
@@ -22,7 +25,7 @@ fn pair_correlation_and_spectral_routes_agree() {
         SamplerKind::PoissonDisk,
         SamplerKind::Ccvt,
     ] {
-        let sampler = kind.build(2).unwrap();
+        let sampler = common::cached_sampler(kind, 2);
         let count = if kind.is_costly() { 32 } else { 128 };
         let sets: Vec<_> = (0..count)
             .map(|r| sampler.sample(n, 7, r).unwrap())
@@ -138,6 +141,7 @@ fn pair_correlation_route_on_a_window_of_a_stationary_pattern() {
             |x: &[f64]| -> Option<f64> { (x[0] < s && x[1] < s).then(|| (x[0] / s).powi(power)) };
         // Prediction: pair sums over 200 patterns (a seed of its own).
         let pair_sums: Vec<f64> = (0..200)
+            .into_par_iter()
             .map(|r| {
                 let p = process.sample(m, 21, r).unwrap();
                 let mut total = 0.0;
@@ -166,6 +170,7 @@ fn pair_correlation_route_on_a_window_of_a_stationary_pattern() {
             ..Default::default()
         };
         let estimates: Vec<f64> = (0..params.patterns as u64)
+            .into_par_iter()
             .map(|t| {
                 let p = process.sample(m, 22, t).unwrap();
                 p.points().filter_map(f_w).sum::<f64>() / (mf * area)

@@ -178,7 +178,7 @@ fn estimated_rows_agree_with_monte_carlo() {
         (SamplerKind::Ccvt, &gaussian, 64),
     ];
     for (kind, f, n) in rows {
-        let sampler = kind.build(2).unwrap();
+        let sampler = common::cached_sampler(kind, 2);
         let p = predict_default(sampler.as_ref(), f, n);
         let mc = empirical_variance(
             sampler.as_ref(),
@@ -259,7 +259,7 @@ fn large_n_takes_the_closed_form_and_refuses_to_extrapolate() {
 fn every_sampler_gets_a_valid_route() {
     let f = Gaussian::new(0.1, vec![0.5, 0.5], 1.0).unwrap();
     for kind in SamplerKind::in_dimension(2) {
-        let sampler = kind.build(2).unwrap();
+        let sampler = common::cached_sampler(kind, 2);
         let n = kind.nearest_count(64, 2);
         let p = predict_default(sampler.as_ref(), &f, n);
         // Owen-scrambled Sobol' under the shift: its gains averaged over shifts, in space;
@@ -341,7 +341,7 @@ fn lattice_and_kronecker_sums_in_space_equal_the_pair_sum() {
             SamplerKind::Kronecker,
         ] {
             let n = kind.nearest_count(300, 2);
-            let sampler = kind.build(2).unwrap();
+            let sampler = common::cached_sampler(kind, 2);
             let points = sampler.sample(n, 0, 0).unwrap();
             let (pairs, r1) = pattern_shift_variance(integrand, &points).unwrap().unwrap();
             let (fast, r2) = match sampler.closed_form(n).unwrap() {
@@ -389,7 +389,7 @@ fn given_sets_under_the_shift_are_summed_over_their_pairs() {
         (SamplerKind::Regular, 256),
         (SamplerKind::Kronecker, 200),
     ] {
-        let sampler = kind.build(2).unwrap();
+        let sampler = common::cached_sampler(kind, 2);
         let sets = [sampler.sample(n, 0, 0).unwrap()];
         for f in &integrands {
             let own = predict_default(sampler.as_ref(), f.as_ref(), n);

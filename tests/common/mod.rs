@@ -191,3 +191,14 @@ pub fn soft_shadow(
         .collect();
     specvar::integrand::GridIntegrand::new(m, m, values).unwrap()
 }
+
+/// `kind` in dimension `d` with its costly patterns (CCVT, Gaussian blue noise, Poisson disk)
+/// kept under the build's directory between runs of the suite, as a user's cache keeps them
+/// between commands: the first run draws them, later runs read the same bits.
+pub fn cached_sampler(
+    kind: specvar::sampler::SamplerKind,
+    d: usize,
+) -> Box<dyn specvar::sampler::Sampler> {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("test-patterns");
+    specvar::cache::cached_sampler(kind, d, Some(&dir), specvar::cache::PATTERN_MEMORY).unwrap()
+}
