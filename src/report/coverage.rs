@@ -10,11 +10,12 @@
 //! an axis-aligned square) and one cut by the faces (a seam), at N from 64 to 1024.
 
 use crate::error::{Error, Result};
-use crate::integrand::IntegrandSpec;
+use crate::integrand::{Integrand, IntegrandSpec};
 use crate::montecarlo::Z_99;
 use crate::predict::{predict, PredictParams, Prediction, Problem, SpectrumChoice};
 use crate::randomization::Randomization;
-use crate::sampler::SamplerKind;
+use crate::sampler::{Sampler, SamplerKind};
+use rayon::prelude::*;
 use serde::Serialize;
 
 /// The section's seed stream, independent of the others.
@@ -124,6 +125,38 @@ pub struct CoverageSection {
     pub median_relative_width: f64,
 }
 
+/// One estimator, count and integrand: its exact truth and its estimate.
+fn coverage_row(
+    case: CoverageCase,
+    sampler: &dyn Sampler,
+    n: usize,
+    f: &dyn Integrand,
+    exact: &PredictParams,
+    estimated: &PredictParams,
+) -> Result<CoverageRow> {
+    let problem = Problem::new(sampler, f, n)?.with_randomization(case.randomization);
+    let truth = predict(&problem, exact)?;
+    if truth.budget.spectrum_noise != 0.0 {
+        return Err(Error::Mismatch(format!(
+            "{} {} at N = {n} on {}: the default route ({}) has noise, so it is no truth",
+            case.sampler,
+            case.randomization,
+            f.label(),
+            truth.route
+        )));
+    }
+    let estimate = predict(&problem, estimated)?;
+    let allowed = estimate.budget.half_width(Z_99) + truth.budget.half_width(0.0);
+    Ok(CoverageRow {
+        case,
+        integrand: f.label(),
+        n,
+        covered: (estimate.variance - truth.variance).abs() <= allowed,
+        truth,
+        estimate,
+    })
+}
+
 /// Runs the section.
 ///
 /// # Errors
@@ -142,37 +175,26 @@ pub fn compute(config: &CoverageConfig, seed: u64) -> Result<CoverageSection> {
         .iter()
         .map(|s| s.build(2))
         .collect::<Result<Vec<_>>>()?;
-    let mut rows = Vec::new();
-    for case in &config.cases {
-        let sampler = case.sampler.build(2)?;
+    // Every row is deterministic on its own, so they run side by side (one row's sequential
+    // steps overlapping another's parallel ones) and are kept in the matrix's order.
+    let samplers = config
+        .cases
+        .iter()
+        .map(|case| case.sampler.build(2))
+        .collect::<Result<Vec<_>>>()?;
+    let mut cells = Vec::new();
+    for (c, case) in config.cases.iter().enumerate() {
         for n in case.sampler.nearest_counts(&config.ns, 2) {
-            for f in &fs {
-                let problem = Problem::new(sampler.as_ref(), f.as_ref(), n)?
-                    .with_randomization(case.randomization);
-                let truth = predict(&problem, &exact)?;
-                if truth.budget.spectrum_noise != 0.0 {
-                    return Err(Error::Mismatch(format!(
-                        "{} {} at N = {n} on {}: the default route ({}) has noise, so it is no \
-                         truth",
-                        case.sampler,
-                        case.randomization,
-                        f.label(),
-                        truth.route
-                    )));
-                }
-                let estimate = predict(&problem, &estimated)?;
-                let allowed = estimate.budget.half_width(Z_99) + truth.budget.half_width(0.0);
-                rows.push(CoverageRow {
-                    case: *case,
-                    integrand: f.label(),
-                    n,
-                    covered: (estimate.variance - truth.variance).abs() <= allowed,
-                    truth,
-                    estimate,
-                });
-            }
+            cells.extend(fs.iter().map(|f| (c, n, f.as_ref())));
         }
     }
+    let rows = cells
+        .par_iter()
+        .map(|&(c, n, f)| {
+            let case = config.cases[c];
+            coverage_row(case, samplers[c].as_ref(), n, f, &exact, &estimated)
+        })
+        .collect::<Result<Vec<_>>>()?;
     let misses = rows.iter().filter(|r| !r.covered).count();
     let mut widths: Vec<f64> = rows
         .iter()
