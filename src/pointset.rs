@@ -224,4 +224,20 @@ mod tests {
             }
         }
     }
+
+    #[test]
+    fn toroidal_square_is_the_square_of_the_toroidal_delta_bit_for_bit() {
+        let edges = [
+            0.0, -0.0, 0.5, -0.5, 0.25, -0.75, 1.0, -1.0, 1.4999, -1.5, 2.3, -3.7,
+        ];
+        let grid = (0..2000).map(|i| -2.5 + i as f64 * 0.0025);
+        for t in edges.into_iter().chain(grid) {
+            let delta = toroidal_delta(t, 0.0);
+            assert_eq!(
+                toroidal_square(t).to_bits(),
+                (delta * delta).to_bits(),
+                "t = {t}"
+            );
+        }
+    }
 }
