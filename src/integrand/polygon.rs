@@ -1,13 +1,20 @@
 //! Polygons in the unit square: indicators with exact Fourier transforms, and the edge (a
 //! half-plane clipped to the square) at any angle.
 
-use super::polygon_overlap::{bounds, clip, cross, signed_area};
+use super::polygon_overlap::{bounds, clip, clip_into, cross, signed_area};
 use super::{Integrand, IntegrandKind, MAX_HEIGHT};
 use crate::error::{invalid, Result};
 use crate::quadrature::{CompensatedSum, GaussLegendre};
 use num_complex::Complex64;
 use rayon::prelude::*;
 use std::f64::consts::PI;
+
+thread_local! {
+    /// [`Polygon::area_in_box`]'s clipped parts, one buffer for the part and one for the next.
+    static CLIP_BUFFERS: std::cell::RefCell<[Vec<[f64; 2]>; 2]> = const {
+        std::cell::RefCell::new([Vec::new(), Vec::new()])
+    };
+}
 
 /// The most vertices a polygon may have: its transform costs one term per edge.
 pub const MAX_VERTICES: usize = 10_000;
@@ -39,6 +46,8 @@ pub struct Polygon {
     vertices: Vec<[f64; 2]>,
     height: f64,
     area: f64,
+    /// The corners `(min, max)` of the box around it, which every clip to a cell reads first.
+    bounds: ([f64; 2], [f64; 2]),
     label: String,
     /// Its triangles, cut when the autocorrelation is first asked for (`None`: not cut).
     triangles: std::sync::OnceLock<Option<Vec<[[f64; 2]; 3]>>>,
@@ -106,6 +115,7 @@ impl Polygon {
         });
         Ok(Self {
             area: signed.abs(),
+            bounds: bounds(&vertices),
             vertices,
             height,
             label,
@@ -224,31 +234,38 @@ impl Polygon {
     /// window; the edges it adds along the window enclose nothing).
     fn area_in_box(&self, lo: &[f64], hi: &[f64]) -> f64 {
         let [x0, y0, x1, y1] = [lo[0], lo[1], hi[0], hi[1]];
-        let (min, max) = bounds(&self.vertices);
+        let (min, max) = self.bounds;
         if max[0] <= x0 || min[0] >= x1 || max[1] <= y0 || min[1] >= y1 {
             return 0.0;
         }
-        let mut part = self.vertices.clone();
-        for (n, level) in [
-            ([-1.0, 0.0], -x0),
-            ([1.0, 0.0], x1),
-            ([0.0, -1.0], -y0),
-            ([0.0, 1.0], y1),
-        ] {
+        // Called for every cell of every grid the cell forms read: the clipped parts live in
+        // two buffers of the thread's, reused from call to call.
+        CLIP_BUFFERS.with_borrow_mut(|[part, next]| {
+            part.clear();
+            part.extend_from_slice(&self.vertices);
+            for (n, level) in [
+                ([-1.0, 0.0], -x0),
+                ([1.0, 0.0], x1),
+                ([0.0, -1.0], -y0),
+                ([0.0, 1.0], y1),
+            ] {
+                if part.len() < 3 {
+                    return 0.0;
+                }
+                clip_into(part, n, level, next);
+                std::mem::swap(part, next);
+            }
             if part.len() < 3 {
                 return 0.0;
             }
-            part = clip(&part, n, level);
-        }
-        if part.len() < 3 {
-            0.0
-        } else {
             // About the box's corner: the shoelace's products are then of the box's size, not
             // the square's, so a small cell's area rounds relative to itself (a cell of 1e-6
             // about the origin would carry 1e-10 of rounding).
-            let local: Vec<[f64; 2]> = part.iter().map(|p| [p[0] - x0, p[1] - y0]).collect();
-            signed_area(&local).max(0.0)
-        }
+            for p in part.iter_mut() {
+                *p = [p[0] - x0, p[1] - y0];
+            }
+            signed_area(part).max(0.0)
+        })
     }
 }
 
@@ -421,7 +438,7 @@ impl Integrand for Polygon {
     fn autocorrelation_beyond(&self, distance: f64) -> Option<f64> {
         // a(r) vanishes once r exceeds the polygon's extent along an axis; below, it is at
         // most ∫f² (Cauchy–Schwarz).
-        let (lo, hi) = bounds(&self.vertices);
+        let (lo, hi) = self.bounds;
         let extent = (hi[0] - lo[0]).max(hi[1] - lo[1]);
         Some(if distance > extent {
             0.0

@@ -17,8 +17,15 @@ pub(super) fn signed_area(v: &[[f64; 2]]) -> f64 {
 
 /// Sutherland–Hodgman: the part of a convex polygon with `n·x ≤ level`.
 pub(super) fn clip(polygon: &[[f64; 2]], n: [f64; 2], level: f64) -> Vec<[f64; 2]> {
-    let side = |p: [f64; 2]| n[0] * p[0] + n[1] * p[1] - level;
     let mut out = Vec::new();
+    clip_into(polygon, n, level, &mut out);
+    out
+}
+
+/// [`clip`] into `out` (cleared first), whose allocation a caller reuses from call to call.
+pub(super) fn clip_into(polygon: &[[f64; 2]], n: [f64; 2], level: f64, out: &mut Vec<[f64; 2]>) {
+    let side = |p: [f64; 2]| n[0] * p[0] + n[1] * p[1] - level;
+    out.clear();
     for i in 0..polygon.len() {
         let (a, b) = (polygon[i], polygon[(i + 1) % polygon.len()]);
         let (sa, sb) = (side(a), side(b));
@@ -30,7 +37,6 @@ pub(super) fn clip(polygon: &[[f64; 2]], n: [f64; 2], level: f64) -> Vec<[f64; 2
             out.push([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]);
         }
     }
-    out
 }
 
 /// The most vertices a polygon is triangulated with (ear clipping is `O(n²)` per ear found).
