@@ -11,9 +11,10 @@
 //!   `e^{0.35} 0.35^14 / 14! < 10^-17`, far below one unit in the last place;
 //! - scale by `2^k`, built from its exponent bits.
 //!
-//! Its error is at most four units in the last place (tested against the library's `exp`). Arguments below [`FLUSH_BELOW`], whose `e^x` is below the smallest normal
-//! double, give 0. No fused multiply-add is used, so every machine computes the same bits,
-//! with or without wide vector units.
+//! Its error is at most four units in the last place (tested against the library's `exp`).
+//! Arguments below [`FLUSH_BELOW`], whose `e^x` is below the smallest normal double, give 0.
+//! No fused multiply-add is used, so every machine computes the same bits, with or without
+//! wide vector units.
 
 /// Arguments below this give 0: `e^{-708}` is within a factor of 1.5 of the smallest normal
 /// double, and nothing smaller matters to a sum of an integrand's values.

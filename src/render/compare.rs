@@ -344,8 +344,8 @@ pub struct Comparison {
 }
 
 /// Runs a comparison: traces the frame, loads or renders the reference, loads or rasterizes
-/// the pixels' visibilities (once for every sampler), then renders, measures and predicts every sampler, reporting each stage
-/// to `progress`.
+/// the pixels' visibilities (once for every sampler), then renders, measures and predicts
+/// every sampler, reporting each stage to `progress`.
 ///
 /// # Errors
 /// As [`compare`], [`super::cached_reference`] and [`super::cached_pixel_power`].
