@@ -509,15 +509,8 @@ fn errors_in_range(
             // The shifted pattern is computed once per shift and read by every integrand.
             let mut shifted = Vec::new();
             for shift in 0..s {
-                let transform = unit_transform(params, d, p * s + shift);
                 // Patterns used as drawn are read in place rather than copied.
-                let points = if matches!(transform, UnitTransform::Identity) {
-                    base.coords()
-                } else {
-                    shifted.resize(base.coords().len(), 0.0);
-                    transform.apply_into(&base, &mut shifted);
-                    &shifted
-                };
+                let points = unit_transform(params, d, p * s + shift).applied(&base, &mut shifted);
                 for (j, f) in integrands.iter().enumerate() {
                     let sum = f.sum_at(points);
                     let e = sum / base.len() as f64 - truths[j];

@@ -240,6 +240,17 @@ impl UnitTransform {
         }
     }
 
+    /// `base`'s coordinates so transformed: `base`'s own for the identity, otherwise written
+    /// into `scratch` (resized to fit), whose allocation the caller reuses from call to call.
+    pub fn applied<'a>(&self, base: &'a PointSet, scratch: &'a mut Vec<f64>) -> &'a [f64] {
+        if matches!(self, UnitTransform::Identity) {
+            return base.coords();
+        }
+        scratch.resize(base.coords().len(), 0.0);
+        self.apply_into(base, scratch);
+        scratch
+    }
+
     /// `base` so transformed, as a new set.
     pub fn apply(&self, base: &PointSet) -> PointSet {
         let mut coords = vec![0.0; base.coords().len()];

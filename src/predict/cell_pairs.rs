@@ -728,6 +728,26 @@ mod tests {
         ]
     }
 
+    /// The closed form for `shuffles` against the mean over every choice of the permutations
+    /// (`choices`), unshifted and at each of [`SHIFTS`].
+    fn assert_closed_is_enumerated(
+        f: &Gaussian,
+        n: usize,
+        choices: &[Vec<(usize, usize)>],
+        shuffles: Shuffles,
+    ) {
+        for t in SHIFTS {
+            let truth = enumerated(f, n, choices, t);
+            let s = closed(f, n, shuffles, t);
+            let tolerance = s.rounding + CELL_ROUNDING * truth;
+            assert!(
+                (s.variance - truth).abs() <= tolerance,
+                "N = {n}, t = {t:?}: {:e} vs {truth:e}",
+                s.variance
+            );
+        }
+    }
+
     /// Correlated multi-jitter's pair sums against every choice of its two permutations, at
     /// counts whose `m × r` include a single column (`N = 7`), unshifted and shifted.
     #[test]
@@ -748,16 +768,7 @@ mod tests {
                         );
                     }
                 }
-                for t in SHIFTS {
-                    let truth = enumerated(&f, n, &choices, t);
-                    let s = closed(&f, n, Shuffles::Correlated, t);
-                    let tolerance = s.rounding + CELL_ROUNDING * truth;
-                    assert!(
-                        (s.variance - truth).abs() <= tolerance,
-                        "N = {n}, t = {t:?}: {:e} vs {truth:e}",
-                        s.variance
-                    );
-                }
+                assert_closed_is_enumerated(&f, n, &choices, Shuffles::Correlated);
             }
         }
     }
@@ -782,16 +793,7 @@ mod tests {
                         );
                     }
                 }
-                for t in SHIFTS {
-                    let truth = enumerated(&f, n, &choices, t);
-                    let s = closed(&f, n, Shuffles::Independent, t);
-                    let tolerance = s.rounding + CELL_ROUNDING * truth;
-                    assert!(
-                        (s.variance - truth).abs() <= tolerance,
-                        "N = {n}, t = {t:?}: {:e} vs {truth:e}",
-                        s.variance
-                    );
-                }
+                assert_closed_is_enumerated(&f, n, &choices, Shuffles::Independent);
             }
         }
     }
