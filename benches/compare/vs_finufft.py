@@ -8,7 +8,7 @@ Setup (once; FINUFFT and numpy from the Python registry):
 
 Run from the repository root (it builds the Rust side itself):
 
-    .venv-compare/bin/python benches/compare/vs_finufft.py [--quick]
+    .venv-compare/bin/python benches/compare/vs_finufft.py [--quick] [--dimension 2|3]
 
 For each row (dimension, N, K) and thread count, both libraries transform the same R sets of
 uniform random points at tolerance 1e-9 with one plan reused across sets: FINUFFT in process
@@ -117,12 +117,16 @@ def equal_accuracy(binary, path, d, n, r, kmax, threads, sums_path, points, freq
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--quick", action="store_true", help="first row only, one round")
+    parser.add_argument("--dimension", type=int, choices=(2, 3),
+                        help="only the rows of this dimension")
     args = parser.parse_args()
     root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
     subprocess.run(["cargo", "build", "--release", "--example", "nufft_compare"], cwd=root,
                    check=True)
     binary = os.path.join(root, "target", "release", "examples", "nufft_compare")
     rows = ROWS[:1] if args.quick else ROWS
+    if args.dimension is not None:
+        rows = [row for row in rows if row[0] == args.dimension]
     rounds = 1 if args.quick else ROUNDS
     rng = np.random.default_rng(2026)
     print(f"FINUFFT {version('finufft')}, tolerance {TOLERANCE:g}, best of {rounds} rounds")
