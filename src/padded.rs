@@ -495,7 +495,9 @@ pub fn predict_padded(
             (-slices_b - slices_a) / (nf - 1.0) + nf / (nf - 1.0) * product
         })
         .collect();
-    let (mean, se) = mean_and_standard_error(&per_pair);
+    // The pairs' terms are skewed where the interaction is concentrated (a few cells of the
+    // film lit through a few of the light's): the standard error is widened for their kurtosis.
+    let (mean, se) = crate::spread::mean_and_standard_error(&per_pair);
     let interaction = (energy / (nf - 1.0) + mean).max(0.0);
     let variance = first.variance + second.variance + interaction;
     let budget = ErrorBudget {
@@ -546,13 +548,6 @@ fn correction_terms(f: &PaddedGrid, h: &[f64], a: &PointSet, b: &PointSet) -> [f
     let slices_a = over_a.iter().map(|s| s * s).sum::<f64>() / nb as f64;
     let product: f64 = over_a.iter().zip(&count_b).map(|(s, w)| s * w).sum();
     [slices_b / na as f64, slices_a, product * product]
-}
-
-fn mean_and_standard_error(values: &[f64]) -> (f64, f64) {
-    let k = values.len() as f64;
-    let mean = values.iter().sum::<f64>() / k;
-    let ss = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>();
-    (mean, (ss / (k - 1.0) / k).sqrt())
 }
 
 /// Monte Carlo of the padded estimator: `trials` estimates `(1/N) Σ_j f(a_j, b_{π(j)})`, each
