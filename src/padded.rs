@@ -495,8 +495,8 @@ pub fn predict_padded(
             (-slices_b - slices_a) / (nf - 1.0) + nf / (nf - 1.0) * product
         })
         .collect();
-    // The pairs' terms are skewed where the interaction is concentrated (a few cells of the
-    // film lit through a few of the light's): the standard error is widened for their kurtosis.
+    // 64 pairs' terms may be skewed: their standard error is widened for their kurtosis, as
+    // every mean of estimated terms is.
     let (mean, se) = crate::spread::mean_and_standard_error(&per_pair);
     let interaction = (energy / (nf - 1.0) + mean).max(0.0);
     let variance = first.variance + second.variance + interaction;

@@ -149,7 +149,13 @@ pub fn wrap(x: f64) -> f64 {
 /// adding `0.0` leaves it as it is.
 #[inline]
 pub(crate) fn near_delta(a: f64, b: f64) -> f64 {
-    let t = a - b;
+    fold_near(a - b)
+}
+
+/// A difference `t` in `(-3/2, 3/2)` reduced into `[-1/2, 1/2)` by selects: subtracting or
+/// adding `0.0` leaves it as it is.
+#[inline]
+fn fold_near(t: f64) -> f64 {
     let down = if t >= 0.5 { 1.0 } else { 0.0 };
     let up = if t < -0.5 { 1.0 } else { 0.0 };
     t - down + up
@@ -160,15 +166,12 @@ pub(crate) fn near_delta(a: f64, b: f64) -> f64 {
 /// mispredictions that random points cause in a loop over many of them.
 #[inline]
 pub fn toroidal_square(t: f64) -> f64 {
-    if t.abs() < 1.5 {
-        let up = if t >= 0.5 { 1.0 } else { 0.0 };
-        let down = if t < -0.5 { 1.0 } else { 0.0 };
-        let u = t - up + down;
-        u * u
+    let u = if t.abs() < 1.5 {
+        fold_near(t)
     } else {
-        let u = t - (t + 0.5).floor();
-        u * u
-    }
+        t - (t + 0.5).floor()
+    };
+    u * u
 }
 
 /// The toroidal difference `a - b` reduced into `[-1/2, 1/2)`.
