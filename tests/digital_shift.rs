@@ -9,7 +9,7 @@ use common::{ROUNDING, Z_STRICT};
 use specvar::integrand::{Ball, Gaussian, GridIntegrand, Integrand, Polygon};
 use specvar::montecarlo::{empirical_variance, McParams, Z_99};
 use specvar::pointset::PointSet;
-use specvar::predict::{predict, Form, FormChoice, PredictParams, Problem};
+use specvar::predict::{predict, Form, FormChoice, PredictParams, Problem, SpectrumOrigin};
 use specvar::randomization::{xor_digits, Randomization};
 use specvar::sampler::SamplerKind;
 
@@ -142,6 +142,67 @@ fn the_walsh_form_agrees_with_monte_carlo_of_digital_shifts() {
         )
         .unwrap();
         common::assert_agrees(&p, &mc, z_family, &format!("{d}D N = {n} {}", f.label()));
+    }
+}
+
+/// A Sobol' net of `2^m` points is a linear net, and a Gaussian or an axis-aligned rectangle a
+/// product: the default prediction is the exact sum over the net's dual at every level (no
+/// measured remainder, so no noise, and a quadrature bound far below the value), and Monte
+/// Carlo of digital shifts agrees with it, Bonferroni over the cases.
+#[test]
+fn a_linear_net_on_a_product_is_summed_exactly() {
+    let cases: Vec<(Box<dyn Integrand>, usize)> = vec![
+        (
+            Box::new(Gaussian::new(0.2, vec![0.2, 0.7], 1.0).unwrap()),
+            4096,
+        ),
+        (
+            Box::new(
+                Polygon::new(vec![[0.2, 0.3], [0.7, 0.3], [0.7, 0.8], [0.2, 0.8]], 1.0).unwrap(),
+            ),
+            1024,
+        ),
+        (Box::new(Polygon::edge(90.0, 0.37, 1.0).unwrap()), 256),
+        (
+            Box::new(Gaussian::new(0.15, vec![0.3; 3], 1.0).unwrap()),
+            2048,
+        ),
+    ];
+    let z_family = common::inverse_normal_tail(0.01 / cases.len() as f64 / 2.0);
+    for (f, n) in cases {
+        let d = f.dimension();
+        let what = format!("{d}D N = {n} {}", f.label());
+        let net = SamplerKind::SobolNet.build(d).unwrap();
+        let p = predict(
+            &Problem::new(net.as_ref(), f.as_ref(), n).unwrap(),
+            &PredictParams::default(),
+        )
+        .unwrap();
+        assert!(
+            matches!(p.route.spectrum, SpectrumOrigin::WalshNet(_)),
+            "{what}: {}",
+            p.route
+        );
+        assert_eq!(p.budget.spectrum_noise, 0.0, "{what}");
+        assert!(
+            p.budget.half_width(Z_99) < 1e-6 * p.variance,
+            "{what}: {:?}",
+            p.budget
+        );
+        let mc = empirical_variance(
+            net.as_ref(),
+            f.as_ref(),
+            n,
+            &McParams::for_sampler(
+                SamplerKind::SobolNet,
+                20_000,
+                None,
+                5,
+                Randomization::DigitalShift,
+            ),
+        )
+        .unwrap();
+        common::assert_agrees(&p, &mc, z_family, &what);
     }
 }
 

@@ -296,6 +296,19 @@ impl Integrand for Gaussian {
         }
         Some(masses)
     }
+    fn product_form(&self) -> Option<super::ProductForm> {
+        Some(super::ProductForm {
+            height: self.height,
+            axes: self
+                .centre
+                .iter()
+                .map(|&centre| super::AxisFactor::Gaussian {
+                    centre,
+                    sigma: self.sigma,
+                })
+                .collect(),
+        })
+    }
     fn kind(&self) -> IntegrandKind {
         IntegrandKind::Gaussian
     }

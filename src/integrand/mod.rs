@@ -19,6 +19,7 @@ mod grid;
 mod grid_io;
 mod polygon;
 mod polygon_overlap;
+mod product_form;
 mod spec;
 mod truncated_lobe;
 
@@ -28,6 +29,7 @@ pub use gaussian::Gaussian;
 pub use grid::GridIntegrand;
 pub use grid_io::{grid_of_array, read_grid_exr, read_grid_file, read_grid_png, read_grid_text};
 pub use polygon::{Polygon, MAX_VERTICES};
+pub use product_form::{AxisFactor, ProductForm};
 pub use spec::{parse_integrand, IntegrandKind, IntegrandSpec, INTEGRAND_FORMS};
 
 use crate::error::{invalid, Result};
@@ -212,6 +214,12 @@ pub trait Integrand: Send + Sync {
     /// `2^a` cells per axis (a tabulated grid of power-of-two sides), if it is: its Walsh
     /// coefficients beyond that level vanish, so a Walsh sum through it is exact.
     fn dyadic_level(&self) -> Option<u32> {
+        None
+    }
+    /// The integrand as `height · Π_l g_l(x_l)`, each factor analytic between its breakpoints
+    /// ([`ProductForm`]), when it is one (a Gaussian, an axis-aligned rectangle); `None`
+    /// otherwise. [`eval`](Self::eval) and the form agree wherever the factors are analytic.
+    fn product_form(&self) -> Option<ProductForm> {
         None
     }
     /// `f̂(ω)` over the whole space, in closed form (the polar form's transform).

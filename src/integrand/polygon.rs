@@ -148,8 +148,15 @@ impl Polygon {
                 "a fraction in (0, 1) of the square's extent",
             ));
         }
-        let t = theta_degrees.to_radians();
-        let n = [libm::cos(t), libm::sin(t)];
+        // A multiple of 90° is an axis exactly (the cosine of π/2 in floating point is not
+        // 0), so that an axis-aligned edge is the rectangle it names.
+        let n = if theta_degrees % 90.0 == 0.0 {
+            [[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0]]
+                [(theta_degrees / 90.0).rem_euclid(4.0) as usize]
+        } else {
+            let t = theta_degrees.to_radians();
+            [libm::cos(t), libm::sin(t)]
+        };
         let square = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
         let along: Vec<f64> = square.iter().map(|v| n[0] * v[0] + n[1] * v[1]).collect();
         let (lo, hi) = along
@@ -352,6 +359,24 @@ impl Integrand for Polygon {
     fn box_moments(&self, lo: &[f64], hi: &[f64]) -> Option<(f64, f64)> {
         let area = self.area_in_box(lo, hi);
         Some((self.height * area, self.height * self.height * area))
+    }
+    fn product_form(&self) -> Option<super::ProductForm> {
+        // A polygon whose every vertex is a corner of its bounding box, and whose area is the
+        // box's, is that box: the product of one interval per axis.
+        let (lo, hi) = self.bounds;
+        let at_corner = |v: &[f64; 2]| (0..2).all(|a| v[a] == lo[a] || v[a] == hi[a]);
+        let box_area = (hi[0] - lo[0]) * (hi[1] - lo[1]);
+        let is_box = self.vertices.iter().all(at_corner)
+            && (self.area - box_area).abs() <= 4.0 * f64::EPSILON * box_area;
+        is_box.then(|| super::ProductForm {
+            height: self.height,
+            axes: (0..2)
+                .map(|a| super::AxisFactor::Interval {
+                    lo: lo[a],
+                    hi: hi[a],
+                })
+                .collect(),
+        })
     }
     fn kind(&self) -> IntegrandKind {
         IntegrandKind::Polygon

@@ -27,6 +27,7 @@ mod cell_pairs;
 mod cells;
 mod gaussian_jitter;
 mod lattice;
+mod linear_net;
 mod measured_tail;
 mod owen_gains;
 mod pair;
@@ -38,6 +39,8 @@ mod shifted_gains;
 mod space;
 mod term_mean;
 mod walsh;
+mod walsh_net;
+mod walsh_transform;
 
 pub use bias::{bias_of_pattern, regular_grid_bias, sampler_bias, BiasMethod, SpectralBias};
 pub use cell_moments::CellSum;
@@ -56,7 +59,7 @@ pub use space::{
     kronecker_variance, pattern_shift_variance, rank1_lattice_variance, regular_grid_variance,
 };
 pub use term_mean::OccupancyEstimate;
-pub use walsh::WalshOrigin;
+pub use walsh::{WalshNetOrigin, WalshOrigin};
 
 use crate::error::{finite, invalid, Error, Result};
 use crate::integrand::Integrand;
@@ -103,6 +106,9 @@ pub enum SpectrumOrigin {
     Cells(CellOrigin),
     /// Walsh coefficients of the integrand and of a fixed pattern (a digital shift).
     Walsh(WalshOrigin),
+    /// Walsh energies of a product integrand's factors at every level, summed over a linear
+    /// net's dual (a digital shift): exact to quadrature.
+    WalshNet(WalshNetOrigin),
     /// Each given set's own periodogram, summed in space over its pairs of points through the
     /// integrand's autocorrelation: exact.
     Pairs {
@@ -138,6 +144,7 @@ impl fmt::Display for SpectrumOrigin {
             SpectrumOrigin::Closed(c) => write!(f, "closed form ({})", c.name()),
             SpectrumOrigin::Cells(c) => c.fmt(f),
             SpectrumOrigin::Walsh(w) => w.fmt(f),
+            SpectrumOrigin::WalshNet(w) => w.fmt(f),
             SpectrumOrigin::Pairs { sets } => write!(
                 f,
                 "each set's own periodogram, summed in space over its pairs ({sets} sets)"
@@ -208,6 +215,7 @@ impl fmt::Display for Route {
         match self.spectrum {
             SpectrumOrigin::Cells(cells) => write!(f, "{}, {cells}", self.form),
             SpectrumOrigin::Walsh(walsh) => write!(f, "{}, {walsh}", self.form),
+            SpectrumOrigin::WalshNet(net) => write!(f, "{}, {net}", self.form),
             _ => write!(f, "{}, spectrum {}", self.form, self.spectrum),
         }
     }

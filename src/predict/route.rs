@@ -1100,6 +1100,7 @@ fn estimated_reason(
         SpectrumOrigin::Closed(_)
         | SpectrumOrigin::Cells(_)
         | SpectrumOrigin::Walsh(_)
+        | SpectrumOrigin::WalshNet(_)
         | SpectrumOrigin::Pairs { .. } => 0,
     };
     let why = why_estimated((kind, asked), what, n);

@@ -26,6 +26,8 @@ use super::cell_moments::{
 };
 use super::cells::cell_of;
 use super::term_mean::mean_to_target_noise;
+use super::walsh_net::{linear_net_variance, NetVariance};
+use super::walsh_transform::walsh_hadamard;
 use super::{
     ErrorBudget, Form, FormChoice, Patterns, PredictParams, Prediction, Problem, Route,
     SpectrumChoice, SpectrumOrigin,
@@ -37,7 +39,6 @@ use crate::pointset::PointSet;
 use crate::progress::{stage, Progress};
 use crate::quadrature::CompensatedSum;
 use crate::randomization::{digital_shift, xor_digits, Randomization};
-use rayon::prelude::*;
 use serde::Serialize;
 use std::fmt;
 
@@ -57,10 +58,6 @@ const MAX_SHIFTS: usize = 1 << 16;
 /// truncated Gaussian's exponentials are the costliest built-in) and its cell's mean, measured
 /// at 230 ns at N = 262144 (the cell table beyond the caches).
 const EVALUATION_SECONDS: f64 = 2.5e-7;
-/// Elements per parallel task of a transform or a sum (a fixed order: the same bits on any
-/// number of threads).
-const CHUNK: usize = 1 << 12;
-
 /// A digitally shifted prediction: the exact part below the level, the remainder measured.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct WalshEstimate {
@@ -76,39 +73,6 @@ pub(crate) struct WalshEstimate {
     pub(crate) cells_per_axis: usize,
     /// Shifts that measured the remainder.
     pub(crate) shifts: usize,
-}
-
-/// The Walsh–Hadamard transform in place, `a[κ] ← Σ_c a[c] (−1)^{popcount(κ & c)}` (`a.len()`
-/// a power of 2): butterflies of growing span, the short ones within blocks in parallel.
-pub(crate) fn walsh_hadamard(a: &mut [f64]) {
-    let n = a.len();
-    let butterflies = |x: &mut [f64], y: &mut [f64]| {
-        for (u, v) in x.iter_mut().zip(y.iter_mut()) {
-            let (p, q) = (*u, *v);
-            *u = p + q;
-            *v = p - q;
-        }
-    };
-    a.par_chunks_mut(CHUNK.min(n)).for_each(|block| {
-        let mut h = 1;
-        while h < block.len() {
-            block.chunks_mut(2 * h).for_each(|pair| {
-                let (x, y) = pair.split_at_mut(h);
-                butterflies(x, y);
-            });
-            h *= 2;
-        }
-    });
-    let mut h = CHUNK;
-    while h < n {
-        a.chunks_mut(2 * h).for_each(|pair| {
-            let (x, y) = pair.split_at_mut(h);
-            x.par_chunks_mut(CHUNK)
-                .zip(y.par_chunks_mut(CHUNK))
-                .for_each(|(x, y)| butterflies(x, y));
-        });
-        h *= 2;
-    }
 }
 
 /// The most cells transformed over all patterns, `2^26`: each pattern's counts are
@@ -258,35 +222,6 @@ pub(crate) fn digital_shift_variance(
     })
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The fast transform against its definition.
-    #[test]
-    fn the_fast_transform_is_the_walsh_sum() {
-        for n in [1usize, 2, 8, 1 << 13] {
-            let a: Vec<f64> = (0..n).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
-            let mut fast = a.clone();
-            walsh_hadamard(&mut fast);
-            for k in (0..n).step_by((n / 16).max(1)) {
-                let direct: f64 = a
-                    .iter()
-                    .enumerate()
-                    .map(|(c, x)| {
-                        if (k & c).count_ones() % 2 == 0 {
-                            *x
-                        } else {
-                            -x
-                        }
-                    })
-                    .sum();
-                assert!((fast[k] - direct).abs() < 1e-9, "n {n}, k {k}");
-            }
-        }
-    }
-}
-
 /// Where a Walsh-form prediction's coefficients come from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 pub struct WalshOrigin {
@@ -325,6 +260,16 @@ pub(crate) fn predict_walsh(
         }
         Patterns::PointSets(sets) => sets,
     };
+    if let Some(net) = f.product_form().and_then(|form| {
+        linear_net_variance(
+            &form,
+            patterns,
+            params.work_budget_seconds,
+            params.budget.memory_bytes,
+        )
+    }) {
+        return Ok(net_prediction(problem, patterns.len(), &net));
+    }
     let e = digital_shift_variance(
         f,
         patterns,
@@ -368,6 +313,66 @@ pub(crate) fn predict_walsh(
         evaluations: (e.shifts * problem.n) as u64,
         alternatives: Vec::new(),
     })
+}
+
+/// Where an exact prediction of a linear net under a digital shift comes from
+/// ([`super::walsh_net`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct WalshNetOrigin {
+    /// Binary digits per axis of the net.
+    pub digits: u32,
+    /// Elements of the net's dual.
+    pub dual_size: u64,
+    /// Gauss–Legendre nodes per cell that folded the finer digits.
+    pub nodes: usize,
+}
+
+impl fmt::Display for WalshNetOrigin {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "Walsh coefficients of each axis's factor at every level, folded onto the net's {} \
+             digits by {} Gauss–Legendre nodes per cell and summed over its dual ({} \
+             frequencies)",
+            self.digits, self.nodes, self.dual_size
+        )
+    }
+}
+
+/// The prediction of the exact route for linear nets and product integrands.
+fn net_prediction(problem: &Problem<'_>, sets: usize, net: &NetVariance) -> Prediction {
+    let whose = match problem.kind() {
+        Some(k) => format!("{k}'s fixed pattern"),
+        None => format!("{sets} given point sets (each equally likely)"),
+    };
+    let reason = format!(
+        "{whose} is a linear digital net of {} digits per axis and the integrand a product of \
+         one factor per axis: under a random digital shift, the sum over the net's dual of the \
+         factors' Walsh energies at every level, exact to quadrature",
+        net.digits
+    );
+    Prediction {
+        variance: net.variance,
+        randomization: Randomization::DigitalShift,
+        route: Route {
+            form: Form::Walsh,
+            spectrum: SpectrumOrigin::WalshNet(WalshNetOrigin {
+                digits: net.digits,
+                dual_size: net.dual_size,
+                nodes: net.nodes,
+            }),
+        },
+        reason,
+        budget: ErrorBudget {
+            quadrature: net.quadrature + net.rounding,
+            ..Default::default()
+        },
+        n: problem.n,
+        dimension: problem.integrand.dimension(),
+        dc_term: 0.0,
+        evaluations: 0,
+        alternatives: Vec::new(),
+    }
 }
 
 /// Errors for the choices that belong to the shifted estimator's routes.
