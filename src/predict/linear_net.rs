@@ -30,15 +30,22 @@ pub(crate) struct LinearNet {
     dual_basis: Vec<u64>,
 }
 
-/// The digits every coordinate of `pattern` needs (the least `p` with every `x 2^p` an
-/// integer), if at most [`MAX_DIGITS`].
+/// The least `p` at which every point's digits past the `p`-th agree with the first point's,
+/// axis by axis (`frac(x 2^p)` the same for every point: 0 for a net, the shift's finer digits
+/// for a digitally shifted one), if at most [`MAX_DIGITS`]. Scaling by a power of 2 is exact,
+/// so the comparison is too.
 fn digit_depth(pattern: &PointSet) -> Option<u32> {
+    let d = pattern.dimension();
+    let first = pattern.points().next()?;
+    if pattern.coords().iter().any(|x| !(0.0..1.0).contains(x)) {
+        return None;
+    }
     let mut p = 0;
-    for &x in pattern.coords() {
-        if !(0.0..1.0).contains(&x) {
-            return None;
-        }
-        while (x * f64::from(1u32 << p)).fract() != 0.0 {
+    for x in pattern.points() {
+        while (0..d).any(|l| {
+            let scale = f64::from(1u32 << p);
+            (x[l] * scale).fract() != (first[l] * scale).fract()
+        }) {
             p += 1;
             if p > MAX_DIGITS {
                 return None;
@@ -50,8 +57,9 @@ fn digit_depth(pattern: &PointSet) -> Option<u32> {
 
 impl LinearNet {
     /// `pattern` as a linear net up to a digital shift, or `None` when it is not one (its
-    /// points are not a coset of a subspace, or need more than [`MAX_DIGITS`] digits or 64
-    /// bits in all). Work `O(N (dp + log N))`.
+    /// points are not a coset of a subspace, or differ past [`MAX_DIGITS`] digits, or need
+    /// more than 64 bits in all). A shift's digits past the `p`-th are common to every point:
+    /// a further uniform digital shift absorbs them with the rest. Work `O(N (dp + log N))`.
     pub(crate) fn of(pattern: &PointSet) -> Option<Self> {
         let d = pattern.dimension();
         let p = digit_depth(pattern)?;
@@ -64,7 +72,7 @@ impl LinearNet {
             .points()
             .map(|x| {
                 x.iter().enumerate().fold(0u64, |key, (l, &t)| {
-                    key | (((t * scale) as u64) << (l as u32 * p))
+                    key | (((t * scale).floor() as u64) << (l as u32 * p))
                 })
             })
             .collect();
@@ -213,21 +221,17 @@ mod tests {
         }
     }
 
-    /// A digitally shifted net is still a net; the Sobol' sequence's first points short of a
+    /// A digitally shifted net is still a net, with the same dual; the Sobol' sequence's first points short of a
     /// power of 2, and a Halton set, are not.
     #[test]
     fn only_cosets_of_subspaces_are_nets() {
         let pattern = SobolNet::new(2).unwrap().sample(128, 0, 0).unwrap();
         let plain = LinearNet::of(&pattern).unwrap();
-        let shift = [0.640625, 0.1953125];
+        // A digital shift of every digit (the net's own and the 52 past them).
+        let mask = crate::randomization::digital_shift(2, 7, 0);
         let coords: Vec<f64> = pattern
             .points()
-            .flat_map(|x| {
-                (0..2).map(move |l| {
-                    let a = (x[l] * 128.0) as u32 ^ (shift[l] * 128.0) as u32;
-                    f64::from(a) / 128.0
-                })
-            })
+            .flat_map(|x| (0..2).map(move |l| crate::randomization::xor_digits(x[l], mask[l])))
             .collect();
         let shifted = PointSet::new(2, coords).unwrap();
         assert_eq!(LinearNet::of(&shifted), Some(plain));
