@@ -7,7 +7,7 @@ mod common;
 
 use common::{ROUNDING, Z_STRICT};
 use specvar::integrand::{Ball, Gaussian, GridIntegrand, Integrand, Polygon};
-use specvar::montecarlo::{empirical_variance, McParams, Z_99};
+use specvar::montecarlo::{empirical_variance, McParams, McResult, Z_99};
 use specvar::pointset::PointSet;
 use specvar::predict::{predict, Form, FormChoice, PredictParams, Problem, SpectrumOrigin};
 use specvar::randomization::{xor_digits, Randomization};
@@ -83,6 +83,24 @@ fn the_walsh_form_is_every_shift_where_the_integrand_is_dyadic() {
     );
 }
 
+/// Monte Carlo of the Sobol' net of `n` points under 20 000 digital shifts, keyed by `seed`.
+fn net_under_digital_shifts(f: &dyn Integrand, n: usize, seed: u64) -> McResult {
+    let net = SamplerKind::SobolNet.build(f.dimension()).unwrap();
+    empirical_variance(
+        net.as_ref(),
+        f,
+        n,
+        &McParams::for_sampler(
+            SamplerKind::SobolNet,
+            20_000,
+            None,
+            seed,
+            Randomization::DigitalShift,
+        ),
+    )
+    .unwrap()
+}
+
 /// The unscrambled Sobol' net under digital shifts on integrands that are not dyadic (the
 /// remainder below the tabulated cells measured), in 2D and 3D: the default prediction against
 /// Monte Carlo of the same estimator, Bonferroni over the cases.
@@ -128,19 +146,7 @@ fn the_walsh_form_agrees_with_monte_carlo_of_digital_shifts() {
             f.label(),
             p.budget
         );
-        let mc = empirical_variance(
-            net.as_ref(),
-            f.as_ref(),
-            n,
-            &McParams::for_sampler(
-                SamplerKind::SobolNet,
-                20_000,
-                None,
-                3,
-                Randomization::DigitalShift,
-            ),
-        )
-        .unwrap();
+        let mc = net_under_digital_shifts(f.as_ref(), n, 3);
         common::assert_agrees(&p, &mc, z_family, &format!("{d}D N = {n} {}", f.label()));
     }
 }
@@ -189,19 +195,7 @@ fn a_linear_net_on_a_product_is_summed_exactly() {
             "{what}: {:?}",
             p.budget
         );
-        let mc = empirical_variance(
-            net.as_ref(),
-            f.as_ref(),
-            n,
-            &McParams::for_sampler(
-                SamplerKind::SobolNet,
-                20_000,
-                None,
-                5,
-                Randomization::DigitalShift,
-            ),
-        )
-        .unwrap();
+        let mc = net_under_digital_shifts(f.as_ref(), n, 5);
         common::assert_agrees(&p, &mc, z_family, &what);
     }
 }
