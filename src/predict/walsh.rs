@@ -19,7 +19,8 @@
 //! `((1/N) Σ_j g(x_j ⊕ Δ))²` over random shifts is unbiased for it (the mean of `g` over every
 //! cell is zero), and its standard error is the prediction's noise. With `L` a few digits past
 //! the pattern's own (`log2 N`), it is a small part of the whole (`docs/theory.md`, "Digital
-//! shifts").
+//! shifts"). When every pattern is a linear net and the integrand a product of one factor per
+//! axis, [`super::walsh_net`] sums every level exactly instead, and no remainder is measured.
 
 use super::cell_moments::{
     cell_masses, check_box_moments, chunked_sum, CELL_ROUNDING, CELL_SECONDS,
