@@ -14,7 +14,7 @@ use rayon::prelude::*;
 
 /// The most binary digits per axis a net's coordinates may carry (beyond it the point is not
 /// read as a finite net).
-pub(crate) const MAX_DIGITS: u32 = 24;
+const MAX_DIGITS: u32 = 24;
 /// Elements of the dual summed per parallel task (a fixed order: the same bits on any number
 /// of threads).
 const DUAL_CHUNK: u64 = 1 << 14;
@@ -64,7 +64,7 @@ impl LinearNet {
         let d = pattern.dimension();
         let p = digit_depth(pattern)?;
         let bits = d as u32 * p;
-        if bits > u64::BITS || pattern.is_empty() {
+        if bits > u64::BITS {
             return None;
         }
         let scale = f64::from(1u32 << p);

@@ -280,10 +280,7 @@ pub(crate) fn predict_walsh(
         &params.budget,
         progress,
     )?;
-    let whose = match problem.kind() {
-        Some(k) => format!("{k}'s fixed pattern"),
-        None => format!("{} given point sets (each equally likely)", patterns.len()),
-    };
+    let whose = whose_patterns(problem, patterns.len());
     let reason = format!(
         "{whose} under a random digital shift: the sum over Walsh frequencies of the \
          integrand's coefficients times the pattern's, exact through {} cells per axis, the \
@@ -340,16 +337,27 @@ impl fmt::Display for WalshNetOrigin {
     }
 }
 
-/// The prediction of the exact route for linear nets and product integrands.
-fn net_prediction(problem: &Problem<'_>, sets: usize, net: &NetVariance) -> Prediction {
-    let whose = match problem.kind() {
+/// What the patterns of a Walsh-form prediction are, for its reason: a sampler's fixed
+/// pattern, or `sets` given point sets.
+fn whose_patterns(problem: &Problem<'_>, sets: usize) -> String {
+    match problem.kind() {
         Some(k) => format!("{k}'s fixed pattern"),
         None => format!("{sets} given point sets (each equally likely)"),
+    }
+}
+
+/// The prediction of the exact route for linear nets and product integrands.
+fn net_prediction(problem: &Problem<'_>, sets: usize, net: &NetVariance) -> Prediction {
+    let each = if problem.kind().is_some() {
+        ""
+    } else {
+        "each "
     };
     let reason = format!(
-        "{whose} is a linear digital net of {} digits per axis and the integrand a product of \
-         one factor per axis: under a random digital shift, the sum over the net's dual of the \
-         factors' Walsh energies at every level, exact to quadrature",
+        "{} ({each}a linear digital net of {} digits per axis) on an integrand that is a product \
+         of one factor per axis, under a random digital shift: the sum over the net's dual of \
+         the factors' Walsh energies at every level, exact to quadrature",
+        whose_patterns(problem, sets),
         net.digits
     );
     Prediction {

@@ -26,7 +26,7 @@ use super::linear_net::LinearNet;
 use super::walsh_transform::walsh_hadamard;
 use crate::integrand::{AxisFactor, ProductForm};
 use crate::pointset::PointSet;
-use crate::quadrature::gauss_legendre;
+use crate::quadrature::GaussLegendre;
 use rayon::prelude::*;
 
 /// Gauss–Legendre nodes on each panel of a cell.
@@ -57,7 +57,7 @@ pub(crate) struct NetVariance {
     pub(crate) quadrature: f64,
     /// A bound on the rounding of the tables and the sum.
     pub(crate) rounding: f64,
-    /// Gauss–Legendre nodes per cell.
+    /// Gauss–Legendre nodes per cell (the most of any axis).
     pub(crate) nodes: usize,
     /// Binary digits per axis of the nets.
     pub(crate) digits: u32,
@@ -91,18 +91,16 @@ fn cell_rule(g: &AxisFactor, w: f64, panels: usize) -> Vec<(f64, f64)> {
     }
     ends.sort_by(f64::total_cmp);
     ends.dedup();
-    let (x, weights) = gauss_legendre(NODES_PER_PANEL);
-    let mut rule = Vec::new();
+    let rule = GaussLegendre::new(NODES_PER_PANEL);
+    let mut nodes = Vec::new();
     for piece in ends.windows(2) {
         let h = (piece[1] - piece[0]) / panels as f64;
         for k in 0..panels {
             let a = piece[0] + k as f64 * h;
-            for (t, v) in x.iter().zip(&weights) {
-                rule.push((a + 0.5 * h * (t + 1.0), 0.5 * h * v / w));
-            }
+            nodes.extend(rule.on(a, a + h).map(|(u, v)| (u, v / w)));
         }
     }
-    rule
+    nodes
 }
 
 /// `G(r)` for every `r < 2^p` of the factor `g`, by the rule of [`cell_rule`].
@@ -254,12 +252,16 @@ pub(crate) fn linear_net_variance(
         let fine = variance_at(form, &nets, p, panels);
         let difference = (fine.0 - coarse.0).abs();
         if difference <= QUADRATURE_TOLERANCE * fine.0.abs() {
-            let pieces = form.axes.iter().map(|g| g.breakpoints().len() + 1).max()?;
+            let w = 1.0 / (1u64 << p) as f64;
             return Some(NetVariance {
                 variance: fine.0,
                 quadrature: difference,
                 rounding: fine.1,
-                nodes: panels * NODES_PER_PANEL * pieces,
+                nodes: form
+                    .axes
+                    .iter()
+                    .map(|g| cell_rule(g, w, panels).len())
+                    .max()?,
                 digits: p,
                 dual_size: nets.iter().map(LinearNet::dual_size).max()?,
             });
