@@ -59,6 +59,17 @@ impl AxisFactor {
 }
 
 /// An integrand written as `height · Π_l axes[l](x_l)`.
+///
+/// # Examples
+/// ```
+/// use specvar::integrand::{AxisFactor, Gaussian, Integrand};
+/// let f = Gaussian::new(0.2, vec![0.2, 0.7], 1.0)?;
+/// let form = f.product_form().expect("a Gaussian is a product of one factor per axis");
+/// assert_eq!(form.axes[1], AxisFactor::Gaussian { centre: 0.7, sigma: 0.2 });
+/// let x = [0.3, 0.6];
+/// assert!((form.eval(&x) - f.eval(&x)).abs() < 1e-15);
+/// # Ok::<(), specvar::Error>(())
+/// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct ProductForm {
     /// The factor common to every point.
