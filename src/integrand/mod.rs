@@ -18,6 +18,7 @@ mod gaussian;
 mod grid;
 mod grid_io;
 mod polygon;
+mod polygon_lattice;
 mod polygon_overlap;
 mod product_form;
 mod spec;

@@ -417,6 +417,16 @@ impl Integrand for Polygon {
     fn coefficient(&self, k: &[i64]) -> Complex64 {
         self.transform([k[0] as f64, k[1] as f64])
     }
+    fn power_on_lattice(&self, lattice: crate::spectrum::Lattice, out: &mut [f64]) {
+        let edges: Vec<_> = self.edges().collect();
+        super::polygon_lattice::polygon_power_on_lattice(
+            &edges,
+            self.area,
+            self.height,
+            lattice,
+            out,
+        );
+    }
     fn square_coefficient(&self, k: &[i64]) -> Option<Complex64> {
         // An indicator times its height: f² = a f.
         Some(self.coefficient(k) * self.height)
