@@ -240,6 +240,7 @@ fn add_pairs_of(
     window: isize,
 ) {
     let step = radius[0];
+    let step_decay = (-(step / sigma).powi(2)).exp();
     for j in (i + 1)..p.len() {
         let dist = toroidal_distance_sq(p.point(i), p.point(j)).sqrt();
         if dist > reach {
@@ -249,8 +250,19 @@ fn add_pairs_of(
         let centre = (dist / step).round() as isize - 1;
         let lo = (centre - window).max(0) as usize;
         let hi = ((centre + window).max(-1) + 1).min(radius.len() as isize) as usize;
-        for (k, value) in row.iter_mut().enumerate().take(hi).skip(lo) {
-            *value += 2.0 * kernel(radius[k] - dist, sigma);
+        if lo >= hi {
+            continue;
+        }
+        // The radii are evenly spaced, so the kernel at successive radii is a Gaussian at
+        // `x, x + h, …`: its ratio from one radius to the next is itself multiplied by
+        // `exp(-h²/σ²)` each step. Two exponentials a pair instead of one a radius.
+        let x = radius[lo] - dist;
+        let mut value = 2.0 * kernel(x, sigma);
+        let mut ratio = (-(x * step) / (sigma * sigma) - 0.5 * (step / sigma).powi(2)).exp();
+        for slot in &mut row[lo..hi] {
+            *slot += value;
+            value *= ratio;
+            ratio *= step_decay;
         }
     }
 }
