@@ -328,9 +328,11 @@ fn jitter_radial(d: usize, nu: f64) -> f64 {
     if nu == 0.0 {
         return 0.0;
     }
+    // One rule for every call: a study evaluates this at thousands of radii.
+    static RULE: std::sync::OnceLock<GaussLegendre> = std::sync::OnceLock::new();
+    let rule = RULE.get_or_init(|| GaussLegendre::new(12));
     let f = |v: &[f64]| ClosedForm::Jitter.power(v).unwrap_or(1.0);
     let panels = 2 + (2.0 * nu).ceil() as usize;
-    let rule = GaussLegendre::new(12);
     match d {
         1 => f(&[nu]),
         2 => {
@@ -345,18 +347,25 @@ fn jitter_radial(d: usize, nu: f64) -> f64 {
             sum / sector
         }
         _ => {
-            // One octant: φ ∈ [0, π/2], u = cos θ ∈ [0, 1], uniform measure dφ du.
+            // One octant: φ ∈ [0, π/2], u = cos θ ∈ [0, 1], uniform measure dφ du. The power
+            // is 1 − Π_i sinc²(π ν_i): the third axis's factor depends on u alone, and the φ
+            // nodes' cosines and sines are the same for every u, so each is taken once.
             let (wp, wu) = (PI / 2.0 / panels as f64, 1.0 / panels as f64);
+            let axis = |v: f64| sinc(PI * v).powi(2);
+            let phis: Vec<(f64, f64, f64)> = (0..panels)
+                .flat_map(|i| rule.on(i as f64 * wp, (i + 1) as f64 * wp))
+                .map(|(phi, w)| (w, phi.cos(), phi.sin()))
+                .collect();
             let mut sum = 0.0;
-            for i in 0..panels {
-                for j in 0..panels {
-                    let (a, b) = (i as f64 * wp, j as f64 * wu);
-                    sum += rule.integrate(a, a + wp, |phi| {
-                        rule.integrate(b, b + wu, |u| {
-                            let s = (1.0 - u * u).max(0.0).sqrt();
-                            f(&[nu * s * phi.cos(), nu * s * phi.sin(), nu * u])
-                        })
-                    });
+            for j in 0..panels {
+                for (u, w_u) in rule.on(j as f64 * wu, (j + 1) as f64 * wu) {
+                    let s = (1.0 - u * u).max(0.0).sqrt();
+                    let z = axis(nu * u);
+                    let ring: f64 = phis
+                        .iter()
+                        .map(|&(w, c, sn)| w * (1.0 - axis(nu * s * c) * axis(nu * s * sn) * z))
+                        .sum();
+                    sum += w_u * ring;
                 }
             }
             sum / (PI / 2.0)
