@@ -129,13 +129,13 @@ fn edges_cut_the_square_where_asked_and_parse() {
     assert!(parse_integrand("edge").unwrap().build(3).is_err());
 }
 
-/// Four samplers × ten angles: the default prediction inside Monte Carlo's 99% interval at the
-/// nominal rate. With 40 independent comparisons at 1% each, 4 or more misses have probability
-/// 8e-4 (binomial): that is the test's false-alarm rate.
+/// Four samplers × seven angles: the default prediction inside Monte Carlo's 99% interval at
+/// the nominal rate. With 28 independent comparisons at 1% each, 4 or more misses have
+/// probability 1.7e-4 (binomial): that is the test's false-alarm rate.
 #[test]
 fn edge_variance_against_angle_is_predicted_for_four_samplers() {
     use rayon::prelude::*;
-    let angles: Vec<f64> = (0..10).map(|i| 10.0 * i as f64).collect();
+    let angles: Vec<f64> = (0..7).map(|i| 15.0 * i as f64).collect();
     let kinds = [
         SamplerKind::Jitter,
         SamplerKind::LatinHypercube,
@@ -150,7 +150,7 @@ fn edge_variance_against_angle_is_predicted_for_four_samplers() {
                 n: 256,
                 angles: angles.clone(),
                 offset: 0.5,
-                trials: 8000,
+                trials: 5000,
                 seed: 11,
                 predict: Default::default(),
             };
@@ -167,7 +167,7 @@ fn edge_variance_against_angle_is_predicted_for_four_samplers() {
         );
         if kind == SamplerKind::LatinHypercube {
             // Latin hypercube stratifies each axis: an axis-aligned edge is far cheaper.
-            assert!(rows[0].predicted.variance < 0.1 * rows[4].predicted.variance);
+            assert!(rows[0].predicted.variance < 0.1 * rows[3].predicted.variance);
         }
     }
     assert!(misses.len() <= 3, "{misses:?}");
@@ -188,7 +188,7 @@ fn edge_rates_follow_the_angle() {
             n: 0,
             angles: vec![0.0, 45.0],
             offset: 0.5,
-            trials: 4000,
+            trials: 2500,
             seed: 5,
             predict: Default::default(),
         };

@@ -24,15 +24,18 @@ fn for_each_cell(d: usize, mut visit: impl FnMut(&[f64], &[Vec<f64>])) {
     let h = 1.0 / m as f64;
     let below_one = |x: f64| x.min(1.0 - 1e-12);
     let mut index = vec![0usize; d];
+    // One buffer for the midpoint and one per corner, refilled for each cell.
+    let mut mid = vec![0.0; d];
+    let mut corners = vec![vec![0.0; d]; 1 << d];
     loop {
-        let mid: Vec<f64> = index.iter().map(|&i| (i as f64 + 0.5) * h).collect();
-        let corners: Vec<Vec<f64>> = (0..1usize << d)
-            .map(|mask| {
-                (0..d)
-                    .map(|a| below_one((index[a] + (mask >> a & 1)) as f64 * h))
-                    .collect()
-            })
-            .collect();
+        for a in 0..d {
+            mid[a] = (index[a] as f64 + 0.5) * h;
+        }
+        for (mask, corner) in corners.iter_mut().enumerate() {
+            for (a, x) in corner.iter_mut().enumerate() {
+                *x = below_one((index[a] + (mask >> a & 1)) as f64 * h);
+            }
+        }
         visit(&mid, &corners);
         let mut a = 0;
         loop {

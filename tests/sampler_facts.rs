@@ -2,6 +2,8 @@
 //! (axis mirror, transpose, isotropy, scale invariance) against its estimated spectrum, with a
 //! negative control for each check so that none of them passes whatever the spectrum.
 
+mod common;
+
 use specvar::prelude::*;
 use specvar::sampler::{CountRule, Scaling, Symmetry};
 use specvar::spectrum::LatticeSpectrum;
@@ -16,7 +18,7 @@ const Z2_SIGMAS: f64 = 6.0;
 
 /// The estimated spectrum of `kind` at `n` points in 2D.
 fn spectrum(kind: SamplerKind, n: usize, seed: u64) -> LatticeSpectrum {
-    let sampler = kind.build(2).unwrap();
+    let sampler = common::cached_sampler(kind, 2);
     let params = SpectrumParams {
         kmax: KMAX,
         realizations: REALIZATIONS,

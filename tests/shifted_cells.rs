@@ -92,7 +92,7 @@ fn both_routes_agree_with_monte_carlo_across_the_faces() {
                 sampler.as_ref(),
                 f,
                 n,
-                &McParams::pooled(kind, 30_000, 17, Randomization::Shift),
+                &McParams::pooled(kind, 15_000, 17, Randomization::Shift),
             )
             .unwrap();
             for p in [&default, &cells] {

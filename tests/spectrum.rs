@@ -372,7 +372,7 @@ fn ccvt_low_band_is_the_discrete_density_floor_under_a_nu4_band() {
             seed: 4,
             ..Default::default()
         };
-        let est = estimate(&ccvt, 1024, &params).unwrap();
+        let est = estimate(&common::kept_on_disk(Box::new(ccvt)), 1024, &params).unwrap();
         let fit = specvar::rate::fit_low_band(&est.radial, 0.3).unwrap();
         let a = ccvt.floor_coefficient();
         assert!(

@@ -352,7 +352,7 @@ mod tests {
     fn the_route_is_the_variance_by_definition() {
         for (text, d, n) in [
             ("gaussian:sigma=0.2,c=0.2;0.7", 2, 32),
-            ("gaussian:sigma=0.05,c=0.3;0.6", 2, 64),
+            ("gaussian:sigma=0.05,c=0.3;0.6", 2, 32),
             ("polygon:0.2,0.3;0.7,0.3;0.7,0.8;0.2,0.8", 2, 32),
             ("gaussian:sigma=0.15,c=0.3", 1, 16),
             ("gaussian:sigma=0.15,c=0.3", 3, 8),

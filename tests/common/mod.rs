@@ -199,6 +199,22 @@ pub fn cached_sampler(
     kind: specvar::sampler::SamplerKind,
     d: usize,
 ) -> Box<dyn specvar::sampler::Sampler> {
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("test-patterns");
-    specvar::cache::cached_sampler(kind, d, Some(&dir), specvar::cache::PATTERN_MEMORY).unwrap()
+    specvar::cache::cached_sampler(
+        kind,
+        d,
+        Some(&pattern_dir()),
+        specvar::cache::PATTERN_MEMORY,
+    )
+    .unwrap()
+}
+
+/// `sampler` (one of specvar's, with any parameters) with its patterns kept on disk like
+/// [`cached_sampler`]'s.
+pub fn kept_on_disk(sampler: Box<dyn specvar::sampler::Sampler>) -> specvar::cache::DiskCached {
+    specvar::cache::DiskCached::new(sampler, pattern_dir()).unwrap()
+}
+
+/// Where the suite keeps costly patterns between runs.
+fn pattern_dir() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("test-patterns")
 }
