@@ -176,8 +176,8 @@ impl Polygon {
     }
 
     fn edges(&self) -> impl Iterator<Item = ([f64; 2], [f64; 2])> + '_ {
-        let n = self.vertices.len();
-        (0..n).map(move |i| (self.vertices[i], self.vertices[(i + 1) % n]))
+        let next = self.vertices.iter().skip(1).chain(self.vertices.first());
+        self.vertices.iter().copied().zip(next.copied())
     }
 
     /// The indicator's transform at frequency `nu` (cycles per unit), by the edge sum.
@@ -391,17 +391,22 @@ impl Integrand for Polygon {
         2
     }
     fn eval(&self, x: &[f64]) -> f64 {
-        // Even–odd rule: a ray towards +x crosses the boundary an odd number of times.
-        let inside = self
-            .edges()
-            .filter(|(a, b)| (a[1] > x[1]) != (b[1] > x[1]))
-            .filter(|(a, b)| {
-                let t = (x[1] - a[1]) / (b[1] - a[1]);
-                x[0] < a[0] + t * (b[0] - a[0])
-            })
-            .count()
-            % 2
-            == 1;
+        // Even–odd rule: a ray towards +x crosses the boundary an odd number of times. No edge
+        // spans a height outside the box's, so there (and at its top) the ray crosses none.
+        let (px, py) = (x[0], x[1]);
+        let (low, high) = (self.bounds.0[1], self.bounds.1[1]);
+        if !(py >= low && py < high) {
+            return 0.0;
+        }
+        let mut inside = false;
+        for (a, b) in self.edges() {
+            if (a[1] > py) != (b[1] > py) {
+                let t = (py - a[1]) / (b[1] - a[1]);
+                if px < a[0] + t * (b[0] - a[0]) {
+                    inside = !inside;
+                }
+            }
+        }
         if inside {
             self.height
         } else {
