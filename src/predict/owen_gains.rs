@@ -27,7 +27,9 @@
 //! 2 for `k_1 + k_2 = m + 1` (both axes refined) and 1 beyond (`docs/theory.md`, "Scrambled
 //! nets by levels").
 
-use super::cell_moments::{cell_masses, chunked_sum, CellSum, CELL_ROUNDING, CELL_SECONDS};
+use super::cell_moments::{
+    cell_masses, chunked_sum, seconds_per_grid_cell, CellSum, CELL_ROUNDING,
+};
 use super::term_mean::{mean_of_exact_terms, OccupancyEstimate};
 use crate::budget::{Budget, Needs};
 use crate::error::{Error, Result};
@@ -277,12 +279,18 @@ pub(crate) struct ScrambledNet {
 }
 
 impl ScrambledNet {
-    /// The gains of the net `pattern` is a scrambling of, for an integrand of dimension `d`.
+    /// The gains of the net `pattern` is a scrambling of, for an integrand of dimension `d`
+    /// whose moments cost `cell_seconds` a cell.
     ///
     /// # Errors
     /// More than 3 axes, a pattern of another dimension, a pattern whose points coincide, or
     /// one variance's work beyond `budget`.
-    pub(crate) fn new(pattern: &PointSet, d: usize, budget: &Budget) -> Result<Self> {
+    pub(crate) fn new(
+        pattern: &PointSet,
+        d: usize,
+        cell_seconds: f64,
+        budget: &Budget,
+    ) -> Result<Self> {
         if d > MAX_AXES || pattern.dimension() != d {
             return Err(Error::Mismatch(format!(
                 "Owen's gains of a {}D pattern for a {d}D integrand (at most {MAX_AXES} axes)",
@@ -304,7 +312,7 @@ impl ScrambledNet {
             "Owen's gains",
             Needs {
                 memory_bytes: 8.0 * tops.iter().map(|g| cells_of(g, d)).max().unwrap_or(1) as f64,
-                work_seconds: cells as f64 * CELL_SECONDS,
+                work_seconds: cells as f64 * cell_seconds,
             },
             "lower N",
         )?;
@@ -412,7 +420,7 @@ pub(crate) fn scrambled_net_variance(
     budget: &Budget,
 ) -> Result<(CellSum, usize)> {
     let d = f.dimension();
-    let net = ScrambledNet::new(pattern, d, budget)?;
+    let net = ScrambledNet::new(pattern, d, seconds_per_grid_cell(f), budget)?;
     Ok((net.variance(f, &[0.0; MAX_AXES][..d])?, net.cells))
 }
 
@@ -446,7 +454,8 @@ pub(crate) fn scrambled_law_variance(
     progress: &dyn Progress,
 ) -> Result<ScrambledLawEstimate> {
     let d = f.dimension();
-    let first = ScrambledNet::new(&pattern(0)?, d, budget)?;
+    let cell_seconds = seconds_per_grid_cell(f);
+    let first = ScrambledNet::new(&pattern(0)?, d, cell_seconds, budget)?;
     let tops = columns(&grids_read(&first.levels, d), d);
     let means = SquaredMeans::new(f, &tops, &vec![0.0; d])?;
     let (estimate, rounding) = mean_of_exact_terms(
@@ -455,7 +464,7 @@ pub(crate) fn scrambled_law_variance(
         target_noise,
         |i| match i {
             0 => means.variance(&first),
-            _ => means.variance(&ScrambledNet::new(&pattern(i)?, d, budget)?),
+            _ => means.variance(&ScrambledNet::new(&pattern(i)?, d, cell_seconds, budget)?),
         },
         progress,
     )?;
@@ -469,6 +478,7 @@ pub(crate) fn scrambled_law_variance(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::predict::cell_moments::CELL_SECONDS;
     use crate::sampler::{Sampler, Sobol};
 
     /// A `(0, m, 2)`-net's gains: 0 up to `k_1 + k_2 = m`, 2 at `m + 1` with both axes refined,
@@ -509,12 +519,14 @@ mod tests {
                 let pmj = ScrambledNet::new(
                     &Pmj02::new(2).unwrap().sample(n, seed, 3).unwrap(),
                     2,
+                    CELL_SECONDS,
                     &budget,
                 )
                 .unwrap();
                 let sobol = ScrambledNet::new(
                     &Sobol::new(2).unwrap().sample(n, seed, 0).unwrap(),
                     2,
+                    CELL_SECONDS,
                     &budget,
                 )
                 .unwrap();
@@ -524,7 +536,9 @@ mod tests {
         // Between powers of two they differ from pattern to pattern.
         let counts = |realization| {
             let p = Pmj02::new(2).unwrap().sample(300, 1, realization).unwrap();
-            ScrambledNet::new(&p, 2, &Budget::default()).unwrap().excess
+            ScrambledNet::new(&p, 2, CELL_SECONDS, &Budget::default())
+                .unwrap()
+                .excess
         };
         assert!((0..8).any(|r| counts(r) != counts(0)));
     }

@@ -17,7 +17,7 @@
 //! more so as N grows (`docs/theory.md`, "Scrambled nets under a shift").
 
 use super::cell_moments::CellSum;
-use super::cell_moments::{check_box_moments, CELL_SECONDS};
+use super::cell_moments::{check_box_moments, seconds_per_grid_cell};
 use super::cells::{CellOrigin, Occupancy};
 use super::owen_gains::ScrambledNet;
 use super::term_mean::{mean_of_exact_terms, terms_within_budget, OccupancyEstimate};
@@ -55,8 +55,9 @@ pub(crate) fn predict_shifted_net(
         Some(SamplerKind::Pmj02) => crate::sampler::Sobol::new(d)?.sample(n, params.seed, 0)?,
         _ => sampler.sample(n, params.seed, 0)?,
     };
-    let net = ScrambledNet::new(&pattern, d, &params.budget)?;
-    let per_shift = net.cells as f64 * CELL_SECONDS;
+    let cell_seconds = seconds_per_grid_cell(f);
+    let net = ScrambledNet::new(&pattern, d, cell_seconds, &params.budget)?;
+    let per_shift = net.cells as f64 * cell_seconds;
     let (estimate, rounding) = mean_over_shifts(
         "Owen's gains over shifts",
         (d, params),
