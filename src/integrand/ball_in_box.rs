@@ -22,36 +22,6 @@ fn half_chord_integral(x: f64, r: f64) -> f64 {
     0.5 * (x * s + r * r * libm::atan2(x, s))
 }
 
-/// The area of the disk of radius `r` at the origin with `X ≤ u` and `Y ≤ v`: the integral over
-/// `X` of the length of the chord below `v`.
-fn quadrant_area(u: f64, v: f64, r: f64) -> f64 {
-    let u = u.clamp(-r, r);
-    let h = |x: f64| half_chord_integral(x, r);
-    if v >= r {
-        return 2.0 * (h(u) - h(-r));
-    }
-    if v <= -r {
-        return 0.0;
-    }
-    // The chord at X runs over |Y| ≤ √(r² − X²); below v it is whole where |X| ≥ w.
-    let w = half_chord(v, r);
-    let piece = |a: f64, b: f64| {
-        let b = b.min(u);
-        if b <= a {
-            (0.0, 0.0)
-        } else {
-            (b - a, h(b) - h(a))
-        }
-    };
-    let (middle_length, middle) = piece(-w, w);
-    let middle_area = v * middle_length + middle;
-    if v >= 0.0 {
-        2.0 * (piece(-r, -w).1 + piece(w, r).1) + middle_area
-    } else {
-        middle_area
-    }
-}
-
 /// The area of the disk (centre `c`, radius `r`) inside `[lo, hi]`.
 pub(crate) fn disk_in_rectangle(c: [f64; 2], r: f64, lo: [f64; 2], hi: [f64; 2]) -> f64 {
     let (x0, x1, y0, y1) = (lo[0] - c[0], hi[0] - c[0], lo[1] - c[1], hi[1] - c[1]);
@@ -77,8 +47,61 @@ pub(crate) fn disk_in_rectangle(c: [f64; 2], r: f64, lo: [f64; 2], hi: [f64; 2])
     if nx * nx + ny * ny >= r * r {
         return 0.0;
     }
-    let q = |u, v| quadrant_area(u, v, r);
-    (q(x1, y1) - q(x0, y1) - q(x1, y0) + q(x0, y0)).max(0.0)
+    band_area(r, [x0.max(-r), x1.min(r)], [y0, y1]).max(0.0)
+}
+
+/// `∫_a^b |[−s(x), s(x)] ∩ [y0, y1]| dx` for the disk of radius `r` at the origin,
+/// `s(x) = √(r² − x²)`, `−r ≤ a < b ≤ r`. Between the abscissae where the chord's ends cross
+/// `y0` or `y1` (`|x| = √(r² − y²)`), each end is either the chord's (`±s`, whose integral is
+/// [`half_chord_integral`]) or the band's (a constant): one arctangent per such abscissa and
+/// per end of `[a, b]`, rather than per corner and piece.
+fn band_area(r: f64, [a, b]: [f64; 2], [y0, y1]: [f64; 2]) -> f64 {
+    if b <= a {
+        return 0.0;
+    }
+    let mut cuts = [a, b, 0.0, 0.0, 0.0, 0.0];
+    let mut count = 2;
+    for y in [y0, y1] {
+        if y.abs() < r {
+            let w = half_chord(y, r);
+            for x in [-w, w] {
+                if x > a && x < b {
+                    cuts[count] = x;
+                    count += 1;
+                }
+            }
+        }
+    }
+    let cuts = &mut cuts[..count];
+    cuts.sort_by(f64::total_cmp);
+    let mut total = 0.0;
+    let mut left = (cuts[0], half_chord_integral(cuts[0], r));
+    for &x in &cuts[1..] {
+        let right = (x, half_chord_integral(x, r));
+        let (p, q) = (left.0, right.0);
+        if q > p {
+            // Which end bounds the overlap is the same across the piece: read at its middle,
+            // except where the band's side is at or beyond the circle's top or bottom, which
+            // the chord reaches at one point at most (the middle may be that point).
+            let s = half_chord(0.5 * (p + q), r);
+            if s.min(y1) > (-s).max(y0) {
+                let chord = right.1 - left.1;
+                let top = if y1 >= r || s < y1 {
+                    chord
+                } else {
+                    y1 * (q - p)
+                };
+                let bottom = if y0 <= -r || -s > y0 {
+                    -chord
+                } else {
+                    y0 * (q - p)
+                };
+                total += top - bottom;
+            }
+        }
+        left = right;
+    }
+    total
 }
 
 /// The volume of the ball (centre `c`, radius `r`, dimension `c.len()`, 1 to 3) inside the box
@@ -135,6 +158,31 @@ fn ball_in_cuboid(c: &[f64], r: f64, lo: &[f64], hi: &[f64]) -> f64 {
 mod tests {
     use super::*;
     use std::f64::consts::PI;
+
+    /// Rectangles whose sides touch the circle where it turns (the dyadic cells of a centred
+    /// disk: `y = 0.25` is its bottom): halves and quarters to rounding, however the band's
+    /// sides meet the chords.
+    #[test]
+    fn sides_at_the_circles_extremes_cut_halves_and_quarters() {
+        let (c, r) = ([0.5, 0.5], 0.25);
+        let half = PI * r * r / 2.0;
+        for (lo, hi, exact) in [
+            ([0.0, 0.25], [1.0, 0.5], half),
+            ([0.0, 0.5], [1.0, 0.75], half),
+            ([0.25, 0.0], [0.5, 1.0], half),
+            ([0.5, 0.0], [0.75, 1.0], half),
+            ([0.25, 0.25], [0.5, 0.5], half / 2.0),
+            ([0.0, 0.25], [0.5, 0.5], half / 2.0),
+            ([0.5, 0.5], [1.0, 0.75], half / 2.0),
+            ([0.25, 0.25], [0.75, 0.75], 2.0 * half),
+        ] {
+            let area = disk_in_rectangle(c, r, lo, hi);
+            assert!(
+                (area - exact).abs() < 4.0 * f64::EPSILON * exact,
+                "{lo:?} {hi:?}: {area}"
+            );
+        }
+    }
 
     #[test]
     fn the_whole_disk_and_its_quarters() {

@@ -36,9 +36,9 @@ const SEPARABLE_ROWS_IN_CACHE: usize = 1 << 20;
 /// The work of one cell of a whole grid's moments of a 3D ball (Owen's gains read every cell
 /// of dyadic grids, coarse and slab-shaped ones among them, most of which the sphere crosses):
 /// each crossed cell integrates its slices' disk–rectangle areas over height to 1e-14. The
-/// gains of a 3D Sobol' net on `ball` measured 3.2 µs a cell at N = 4096 (1.74 million cells,
-/// 5.6 s of CPU) and 2.8 µs at 32768 (20.8 million, 59 s), declared with a margin.
-const BALL_GRID_CELL_SECONDS_3D: f64 = 3.5e-6;
+/// gains of a 3D Sobol' net on `ball` measured 2.0 µs a cell at N = 4096 (1.74 million cells,
+/// 3.6 s of CPU) and 1.6 µs at 32768 (20.8 million, 33 s), declared with a margin.
+const BALL_GRID_CELL_SECONDS_3D: f64 = 2.5e-6;
 /// The most cells an exact sum over all cells visits (Latin hypercube's pairs): `2^24`.
 pub(crate) const EXACT_CELL_BUDGET: usize = 1 << 24;
 /// Cells per parallel task of a table or a sum: sums over chunks in a fixed order give the same bits
