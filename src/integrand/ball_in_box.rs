@@ -119,6 +119,26 @@ fn ball_in_cuboid(c: &[f64], r: f64, lo: &[f64], hi: &[f64]) -> f64 {
     if b <= a {
         return 0.0;
     }
+    // Wholly inside (its farthest corner is) or wholly outside (its nearest point is): no
+    // slice to integrate.
+    let (mut far, mut near) = (0.0, 0.0);
+    for i in 0..3 {
+        let (l, h) = (lo[i] - c[i], hi[i] - c[i]);
+        far += l.abs().max(h.abs()).powi(2);
+        near += if l > 0.0 {
+            l * l
+        } else if h < 0.0 {
+            h * h
+        } else {
+            0.0
+        };
+    }
+    if far <= r * r {
+        return (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
+    }
+    if near >= r * r {
+        return 0.0;
+    }
     let slice = |z: f64| {
         let s = (r * r - (z - c[2]) * (z - c[2])).max(0.0).sqrt();
         disk_in_rectangle([c[0], c[1]], s, [lo[0], lo[1]], [hi[0], hi[1]])
