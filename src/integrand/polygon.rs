@@ -423,14 +423,15 @@ impl Integrand for Polygon {
         self.transform([k[0] as f64, k[1] as f64])
     }
     fn power_on_lattice(&self, lattice: crate::spectrum::Lattice, out: &mut [f64]) {
+        use super::polygon_lattice::{polygon_power_on_lattice, tables_fit};
         let edges: Vec<_> = self.edges().collect();
-        super::polygon_lattice::polygon_power_on_lattice(
-            &edges,
-            self.area,
-            self.height,
-            lattice,
-            out,
-        );
+        if tables_fit(edges.len(), lattice) {
+            polygon_power_on_lattice(&edges, self.area, self.height, lattice, out);
+        } else {
+            out.par_iter_mut().enumerate().for_each(|(i, slot)| {
+                *slot = self.coefficient(&lattice.frequency(i)[..2]).norm_sqr();
+            });
+        }
     }
     fn square_coefficient(&self, k: &[i64]) -> Option<Complex64> {
         // An indicator times its height: f² = a f.

@@ -42,14 +42,26 @@ impl AxisTable {
     }
 }
 
+/// The most memory the tables may take: beyond it (thousands of edges on a wide lattice) each
+/// frequency takes the edge sum with its sines instead.
+const TABLE_BYTES: usize = 64 << 20;
+
 /// An edge's vector and its two axis tables.
 struct EdgeTable {
     delta: [f64; 2],
     axes: [AxisTable; 2],
 }
 
+/// Whether the tables of `edges` edges on `lattice` fit in [`TABLE_BYTES`] (two axes of
+/// `2K + 1` sines, cosines and phases each).
+pub(super) fn tables_fit(edges: usize, lattice: Lattice) -> bool {
+    let per_edge = 2 * lattice.side() * (2 * size_of::<f64>() + size_of::<Complex64>());
+    edges.saturating_mul(per_edge) <= TABLE_BYTES
+}
+
 /// `|f̂(k)|²` of `height` on the polygon with `edges` (vertex pairs, counter-clockwise or
-/// clockwise alike) and `area`, at every frequency of the 2D `lattice`, in lattice order.
+/// clockwise alike) and `area`, at every frequency of the 2D `lattice`, in lattice order
+/// (whose tables fit: [`tables_fit`]).
 pub(super) fn polygon_power_on_lattice(
     edges: &[([f64; 2], [f64; 2])],
     area: f64,
@@ -156,6 +168,20 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The tables are kept to [`super::TABLE_BYTES`]: a clipped edge's few edges on the widest
+    /// lattice the routes use fit; the most vertices a polygon may have, on it, do not (and take
+    /// the edge sum frequency by frequency).
+    #[test]
+    fn the_tables_fit_their_memory() {
+        let widest = Lattice {
+            dimension: 2,
+            kmax: 1024,
+        };
+        assert!(super::tables_fit(6, widest));
+        assert!(!super::tables_fit(crate::integrand::MAX_VERTICES, widest));
+        assert!(!super::tables_fit(usize::MAX, widest));
     }
 
     /// `Σ_e m_e`, `m_e = |flux_e| / max(1, |π k·Δ_e|)`: each edge's term's largest magnitude.
