@@ -28,26 +28,36 @@ pub(crate) fn disk_in_rectangle(c: [f64; 2], r: f64, lo: [f64; 2], hi: [f64; 2])
     if x1 <= -r || x0 >= r || y1 <= -r || y0 >= r || r <= 0.0 {
         return 0.0;
     }
-    // Wholly inside the disk: every corner is.
-    let far_x = x0.abs().max(x1.abs());
-    let far_y = y0.abs().max(y1.abs());
-    if far_x * far_x + far_y * far_y <= r * r {
-        return (x1 - x0) * (y1 - y0);
-    }
-    let near = |a: f64, b: f64| {
-        if a > 0.0 {
-            a
-        } else if b < 0.0 {
-            -b
-        } else {
-            0.0
-        }
-    };
-    let (nx, ny) = (near(x0, x1), near(y0, y1));
-    if nx * nx + ny * ny >= r * r {
-        return 0.0;
+    if let Some(whole_or_none) = whole_or_none(&[x0, y0], &[x1, y1], r) {
+        return whole_or_none;
     }
     band_area(r, [x0.max(-r), x1.min(r)], [y0, y1]).max(0.0)
+}
+
+/// The volume the ball of radius `r` at the origin shares with the box `[lo, hi]` when the box
+/// lies wholly inside it (its farthest corner does) or wholly outside (its nearest point
+/// does); `None` when the sphere crosses it.
+fn whole_or_none(lo: &[f64], hi: &[f64], r: f64) -> Option<f64> {
+    let (mut far, mut near) = (0.0, 0.0);
+    for (&l, &h) in lo.iter().zip(hi) {
+        let f = l.abs().max(h.abs());
+        far += f * f;
+        let n = if l > 0.0 {
+            l
+        } else if h < 0.0 {
+            -h
+        } else {
+            0.0
+        };
+        near += n * n;
+    }
+    if far <= r * r {
+        Some(lo.iter().zip(hi).map(|(l, h)| h - l).product())
+    } else if near >= r * r {
+        Some(0.0)
+    } else {
+        None
+    }
 }
 
 /// `∫_a^b |[−s(x), s(x)] ∩ [y0, y1]| dx` for the disk of radius `r` at the origin,
@@ -119,25 +129,10 @@ fn ball_in_cuboid(c: &[f64], r: f64, lo: &[f64], hi: &[f64]) -> f64 {
     if b <= a {
         return 0.0;
     }
-    // Wholly inside (its farthest corner is) or wholly outside (its nearest point is): no
-    // slice to integrate.
-    let (mut far, mut near) = (0.0, 0.0);
-    for i in 0..3 {
-        let (l, h) = (lo[i] - c[i], hi[i] - c[i]);
-        far += l.abs().max(h.abs()).powi(2);
-        near += if l > 0.0 {
-            l * l
-        } else if h < 0.0 {
-            h * h
-        } else {
-            0.0
-        };
-    }
-    if far <= r * r {
-        return (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
-    }
-    if near >= r * r {
-        return 0.0;
+    // Wholly inside or outside: no slice to integrate.
+    let centred = |v: &[f64]| [v[0] - c[0], v[1] - c[1], v[2] - c[2]];
+    if let Some(whole_or_none) = whole_or_none(&centred(lo), &centred(hi), r) {
+        return whole_or_none;
     }
     let slice = |z: f64| {
         let s = (r * r - (z - c[2]) * (z - c[2])).max(0.0).sqrt();
