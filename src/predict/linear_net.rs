@@ -8,6 +8,7 @@
 //! the Walsh frequencies (read through their first `p` digits per axis) at which the pattern's
 //! Walsh sum `(1/N) Σ_j wal_κ(x_j)` is 1 in magnitude; it is 0 at every other one.
 
+use super::cells::cell_of;
 use crate::pointset::PointSet;
 use crate::quadrature::CompensatedSum;
 use rayon::prelude::*;
@@ -67,15 +68,9 @@ impl LinearNet {
         if bits > u64::BITS {
             return None;
         }
-        let scale = f64::from(1u32 << p);
-        let mut keys: Vec<u64> = pattern
-            .points()
-            .map(|x| {
-                x.iter().enumerate().fold(0u64, |key, (l, &t)| {
-                    key | (((t * scale).floor() as u64) << (l as u32 * p))
-                })
-            })
-            .collect();
+        // A point's cell on the grid of 2^p cells per axis, axis l in its digits l p .. (l+1) p.
+        let grid = vec![1usize << p; d];
+        let mut keys: Vec<u64> = pattern.points().map(|x| cell_of(x, &grid) as u64).collect();
         // A digital shift moves the set by XOR with one word: undo it with the first point's.
         let origin = keys[0];
         keys.iter_mut().for_each(|k| *k ^= origin);
