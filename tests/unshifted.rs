@@ -339,12 +339,15 @@ fn predictions_agree_with_monte_carlo_of_the_same_estimator() {
 fn the_occupancy_estimate_is_the_same_bits_on_any_thread_count() {
     let f = Polygon::edge(20.0, 0.5, 1.0).unwrap();
     let cmj = SamplerKind::Cmj.build(2).unwrap();
+    // Asked for: at this N CMJ's pairs are summed exactly by default.
     let params = PredictParams {
         realizations: Some(40),
+        spectrum: SpectrumChoice::Estimated,
         ..Default::default()
     };
     assert_thread_count_invariant(|| {
         let p = predict(&Problem::new(cmj.as_ref(), &f, 64).unwrap(), &params).unwrap();
+        assert!(p.budget.spectrum_noise > 0.0, "{p:?}");
         (p.variance.to_bits(), p.budget.spectrum_noise.to_bits())
     });
 }
@@ -359,11 +362,15 @@ fn routes_of_the_shifted_estimator_are_refused_for_the_unshifted_one() {
     };
     let problem = Problem::new(cmj.as_ref(), &f, 64).unwrap();
     assert!(predict(&problem, &polar).is_err());
+    // Up to 2^24 cells CMJ's pairs are summed exactly over its table of cells; beyond, its
+    // occupancy is estimated, and no closed form is claimed.
     let closed = PredictParams {
         spectrum: SpectrumChoice::Closed,
         ..Default::default()
     };
-    assert!(predict(&problem, &closed).is_err());
+    assert!(predict(&problem, &closed).is_ok());
+    let beyond = Problem::new(cmj.as_ref(), &f, 8192).unwrap();
+    assert!(predict(&beyond, &closed).is_err());
 }
 
 /// Jitter's law is invariant under translations by whole strata, so the shifted estimator's

@@ -304,11 +304,14 @@ fn marginal_sums(deviation: &[f64], n: usize, d: usize, shared: usize) -> Vec<f6
 /// pair) and independent sub-rows, and two in one row the reverse. With `G = F − I` on the
 /// `N × N` cells, its block means `Ḡ`, column profiles `A_ij(s)` (mean over the block's sub-rows)
 /// and row profiles `B_ij(t)`, `N² E[(M − I)²] = (1/N) Σ G² + S_blocks + S_columns + S_rows`, each
-/// a sum of squares of marginals by inclusion–exclusion.
+/// a sum of squares of marginals by inclusion–exclusion. The block means and profiles are
+/// integrals over boxes, so an integrand with its own sums over a grid's cells
+/// ([`Integrand::cell_sums`]: disks, polygons, tabulated grids) is answered from `N (1 + m + r)`
+/// boxes at any N; a separable one from its rows; any other from the table of its `N²` cells.
 ///
 /// # Errors
-/// A dimension other than 2, an integrand without box moments, or `N²` cells beyond the budget
-/// or above `2^24`.
+/// A dimension other than 2, an integrand without box moments, or work beyond the budget; for
+/// an integrand summed over its table, `N²` cells above `2^24`.
 ///
 /// # Examples
 /// ```
@@ -336,74 +339,28 @@ pub fn multi_jitter_variance(f: &dyn Integrand, n: usize, budget: &Budget) -> Re
     if let Some(sum) = separable_shuffles(f, n, Shuffles::Independent, budget)? {
         return Ok(sum);
     }
-    exact_cells("the multi-jittered pair sum", n, 2, budget)?;
-    let (m, r) = crate::sampler::near_square_factors(n);
-    let table = CellTable::new(&CellMoments::new(f, &[n, n]), n);
-    let g = |x: usize, y: usize| table.deviation[y * n + x];
-    // Block (i, j): fine x in [i r, (i + 1) r), fine y in [j m, (j + 1) m).
-    let block = |i: usize, j: usize| i + m * j;
-    let mut columns = vec![0.0; m * r * r]; // A_ij(s) at block(i, j) * r + s
-    let mut rows = vec![0.0; m * r * m]; // B_ij(t) at block(i, j) * m + t
-    let mut means = vec![0.0; m * r];
-    let mut squares = CompensatedSum::default();
-    for j in 0..r {
-        for i in 0..m {
-            let b = block(i, j);
-            for s in 0..r {
-                for t in 0..m {
-                    let v = g(i * r + s, j * m + t);
-                    squares.add(v * v);
-                    columns[b * r + s] += v / m as f64;
-                    rows[b * m + t] += v / r as f64;
-                    means[b] += v / n as f64;
-                }
-            }
-        }
+    if let Some(sum) = super::shuffle_cells::multi_jitter_from_boxes(f, n, budget)? {
+        return Ok(sum);
     }
-    let square = |v: f64| v * v;
-    // Pairs in different columns and rows: independent, each uniform in its block.
-    let total: f64 = means.iter().sum();
-    let by_column: f64 = (0..m)
-        .map(|i| square((0..r).map(|j| means[block(i, j)]).sum()))
-        .sum();
-    let by_row: f64 = (0..r)
-        .map(|j| square((0..m).map(|i| means[block(i, j)]).sum()))
-        .sum();
-    let own: f64 = means.iter().map(|v| v * v).sum();
-    let blocks = square(total) - by_column - by_row + own;
-    // Pairs in one column: distinct sub-columns (the profiles A), independent sub-rows; pairs
-    // in one row: distinct sub-rows (the profiles B), independent sub-columns.
-    let same_column: f64 = (0..m)
-        .map(|i| line_pairs(r, |j, s| columns[block(i, j) * r + s]))
-        .sum();
-    let same_row: f64 = (0..r)
-        .map(|j| line_pairs(m, |i, t| rows[block(i, j) * m + t]))
-        .sum();
-    let nf = n as f64;
-    let variance =
-        table.within + (squares.value() / nf + blocks + same_column + same_row) / (nf * nf);
-    // The sums of squares cancel down from (Σ_b |Ḡ_b|)², each term rounded once per cell.
-    let mass: f64 = means.iter().map(|v| v.abs()).sum();
-    let scale = table.within + (squares.value() / nf + mass * mass) / (nf * nf);
-    Ok(CellSum {
-        variance: variance.max(0.0),
-        rounding: CELL_ROUNDING * scale,
-    })
+    exact_cells("the multi-jittered pair sum", n, 2, budget)?;
+    Ok(super::shuffle_cells::multi_jitter_from_table(f, n))
 }
 
 /// The variance of Kensler's correlated multi-jittered estimator of `n` points in 2D,
-/// unshifted, exactly, for a separable integrand `f = h f_0(x) f_1(y)` (a Gaussian), at any N.
-/// With `N = m × r` (`m` columns of `r` sub-columns, `r` rows of `m` sub-rows), point `(i, j)`
+/// unshifted, exactly. With `N = m × r` (`m` columns of `r` sub-columns, `r` rows of `m` sub-rows), point `(i, j)`
 /// takes sub-column `σ(j)` of column `i` and sub-row `τ(i)` of row `j`, for two uniform
 /// permutations `σ` and `τ` shared by every column and row: two points of one column take
 /// distinct sub-columns and one sub-row position, two of one row the reverse, two in different
 /// columns and rows distinct positions on both axes. Each pair's expectation factors by axis, so
-/// the sum over pairs is four products of sums over the rows of cells of each axis
-/// (`docs/theory.md`, "Strata in space").
+/// for a separable integrand `f = h f_0(x) f_1(y)` (a Gaussian) the sum over pairs is four
+/// products of sums over the rows of cells of each axis, at any N (`docs/theory.md`, "Strata in
+/// space"). Any other integrand is summed over the table of its `N²` cells, its pairs of blocks
+/// by inclusion–exclusion over the blocks' sums along each column and row.
 ///
 /// # Errors
-/// A dimension other than 2, an integrand without box moments or that is not separable (its
-/// occupancy is estimated from patterns instead), or work beyond the budget.
+/// A dimension other than 2, an integrand without box moments, or work beyond the budget; for
+/// an integrand that is not separable, `N²` cells above `2^24` (its occupancy is estimated from
+/// patterns instead).
 ///
 /// # Examples
 /// ```
@@ -432,14 +389,11 @@ pub fn correlated_multi_jitter_variance(
             "2 for correlated multi-jitter",
         ));
     }
-    separable_shuffles(f, n, Shuffles::Correlated, budget)?.ok_or_else(|| Error::OutsideValidity {
-        route: "correlated multi-jitter's pairs in closed form".into(),
-        reason: format!(
-            "{} is not a product of functions of one coordinate each; its occupancy is \
-                 estimated from patterns",
-            f.label()
-        ),
-    })
+    if let Some(sum) = separable_shuffles(f, n, Shuffles::Correlated, budget)? {
+        return Ok(sum);
+    }
+    exact_cells("correlated multi-jitter's pair sum", n, 2, budget)?;
+    Ok(super::shuffle_cells::correlated_from_table(f, n))
 }
 
 /// Whether the multi-jittered samplers' pairs are in closed form for `f` at any N: a product
@@ -614,27 +568,6 @@ fn shuffles_of_rows(rows: &SeparableCells, n: usize, shuffles: Shuffles) -> Cell
     }
 }
 
-/// The mean over a line's pairs of distinct blocks `k ≠ k'` (its `len` blocks) and distinct
-/// positions `s ≠ s'` across it of `profile(k, s) profile(k', s')`, summed over the pairs of
-/// blocks: `[Σ_{k≠k'} a_k a_k' − Σ_s Σ_{k≠k'} profile(k, s) profile(k', s)] / (len (len − 1))`
-/// with `a_k = Σ_s profile(k, s)`. Two points of one column of multi-jitter take distinct
-/// sub-columns, uniformly: this is their sum.
-fn line_pairs(len: usize, profile: impl Fn(usize, usize) -> f64) -> f64 {
-    if len < 2 {
-        return 0.0;
-    }
-    // Σ_{k≠k'} v_k v_k' = (Σ v)² − Σ v².
-    let distinct = |values: &mut dyn Iterator<Item = f64>| {
-        let (sum, squares) = values.fold((0.0, 0.0), |(s, q), v| (s + v, q + v * v));
-        sum * sum - squares
-    };
-    let whole = distinct(&mut (0..len).map(|k| (0..len).map(|s| profile(k, s)).sum::<f64>()));
-    let same: f64 = (0..len)
-        .map(|s| distinct(&mut (0..len).map(|k| profile(k, s))))
-        .sum();
-    (whole - same) / (len * (len - 1)) as f64
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -754,21 +687,7 @@ mod tests {
     fn correlated_shuffles_are_their_enumeration() {
         for f in integrands() {
             for n in [6, 7, 8, 9, 12] {
-                let (m, r) = crate::sampler::near_square_factors(n);
-                let mut choices = Vec::new();
-                for sigma in permutations(r) {
-                    for tau in permutations(m) {
-                        choices.push(
-                            (0..r)
-                                .flat_map(|j| {
-                                    let (sigma, tau) = (&sigma, &tau);
-                                    (0..m).map(move |i| (i * r + sigma[j], j * m + tau[i]))
-                                })
-                                .collect(),
-                        );
-                    }
-                }
-                assert_closed_is_enumerated(&f, n, &choices, Shuffles::Correlated);
+                assert_closed_is_enumerated(&f, n, &correlated_choices(n), Shuffles::Correlated);
             }
         }
     }
@@ -779,21 +698,127 @@ mod tests {
     fn independent_shuffles_are_their_enumeration() {
         for f in integrands() {
             for n in [6, 7, 8, 9] {
-                let (m, r) = crate::sampler::near_square_factors(n);
-                let mut choices = Vec::new();
-                for columns in tuples(r, m) {
-                    for rows in tuples(m, r) {
-                        choices.push(
-                            (0..r)
-                                .flat_map(|j| {
-                                    let (columns, rows) = (&columns, &rows);
-                                    (0..m).map(move |i| (i * r + columns[i][j], j * m + rows[j][i]))
-                                })
-                                .collect(),
-                        );
-                    }
-                }
-                assert_closed_is_enumerated(&f, n, &choices, Shuffles::Independent);
+                assert_closed_is_enumerated(&f, n, &independent_choices(n), Shuffles::Independent);
+            }
+        }
+    }
+
+    /// Every choice of CMJ's two permutations at `n`: the fine cells of its points.
+    fn correlated_choices(n: usize) -> Vec<Vec<(usize, usize)>> {
+        let (m, r) = crate::sampler::near_square_factors(n);
+        let mut choices = Vec::new();
+        for sigma in permutations(r) {
+            for tau in permutations(m) {
+                choices.push(
+                    (0..r)
+                        .flat_map(|j| {
+                            let (sigma, tau) = (&sigma, &tau);
+                            (0..m).map(move |i| (i * r + sigma[j], j * m + tau[i]))
+                        })
+                        .collect(),
+                );
+            }
+        }
+        choices
+    }
+
+    /// Every choice of multi-jitter's independent shuffles at `n`: the fine cells of its points.
+    fn independent_choices(n: usize) -> Vec<Vec<(usize, usize)>> {
+        let (m, r) = crate::sampler::near_square_factors(n);
+        let mut choices = Vec::new();
+        for columns in tuples(r, m) {
+            for rows in tuples(m, r) {
+                choices.push(
+                    (0..r)
+                        .flat_map(|j| {
+                            let (columns, rows) = (&columns, &rows);
+                            (0..m).map(move |i| (i * r + columns[i][j], j * m + rows[j][i]))
+                        })
+                        .collect(),
+                );
+            }
+        }
+        choices
+    }
+
+    /// Integrands that are not products of functions of one coordinate: a disk inside the
+    /// square, a disk wrapped across a face, an edge, a triangle.
+    fn shapes() -> Vec<Box<dyn Integrand>> {
+        use crate::integrand::{Ball, Polygon};
+        vec![
+            Box::new(Ball::new(0.3, vec![0.4, 0.55], 1.0).unwrap()),
+            Box::new(Ball::new(0.25, vec![0.15, 0.6], 2.0).unwrap()),
+            Box::new(Polygon::edge(30.0, 0.4, 1.0).unwrap()),
+            Box::new(Polygon::new(vec![[0.1, 0.2], [0.8, 0.35], [0.3, 0.9]], 1.0).unwrap()),
+        ]
+    }
+
+    fn assert_is_enumerated(what: &str, f: &dyn Integrand, n: usize, s: CellSum, truth: f64) {
+        let tolerance = s.rounding + CELL_ROUNDING * truth;
+        assert!(
+            (s.variance - truth).abs() <= tolerance,
+            "{what}, {}, N = {n}: {:e} vs {truth:e}",
+            f.label(),
+            s.variance
+        );
+    }
+
+    /// CMJ's sums over the table of cells (the integrand is not separable) against every
+    /// choice of its two permutations, at counts with a single column (`N = 7`) and with
+    /// `m ≠ r`.
+    #[test]
+    fn correlated_table_is_its_enumeration() {
+        for f in shapes() {
+            for n in [6, 7, 8, 9, 12] {
+                let truth = enumerated(f.as_ref(), n, &correlated_choices(n), [0.0, 0.0]);
+                let s =
+                    correlated_multi_jitter_variance(f.as_ref(), n, &Budget::default()).unwrap();
+                assert_is_enumerated("CMJ's table", f.as_ref(), n, s, truth);
+            }
+        }
+    }
+
+    /// Multi-jitter's sums from boxes and from the table of cells against every choice of its
+    /// independent shuffles.
+    #[test]
+    fn independent_boxes_and_table_are_their_enumeration() {
+        use crate::predict::shuffle_cells::{multi_jitter_from_boxes, multi_jitter_from_table};
+        for f in shapes() {
+            for n in [6, 7, 8, 9] {
+                let truth = enumerated(f.as_ref(), n, &independent_choices(n), [0.0, 0.0]);
+                let boxes = multi_jitter_from_boxes(f.as_ref(), n, &Budget::default())
+                    .unwrap()
+                    .unwrap();
+                assert_is_enumerated("multi-jitter's boxes", f.as_ref(), n, boxes, truth);
+                let table = multi_jitter_from_table(f.as_ref(), n);
+                assert_is_enumerated("multi-jitter's table", f.as_ref(), n, table, truth);
+            }
+        }
+    }
+
+    /// At counts beyond enumeration, the routes agree: multi-jitter's boxes with its table,
+    /// and on a separable Gaussian CMJ's table with its rows (N = 97 is a single column).
+    #[test]
+    fn the_routes_agree_beyond_enumeration() {
+        use crate::predict::shuffle_cells::{
+            correlated_from_table, multi_jitter_from_boxes, multi_jitter_from_table,
+        };
+        for f in shapes() {
+            for n in [96, 97, 100] {
+                let boxes = multi_jitter_from_boxes(f.as_ref(), n, &Budget::default())
+                    .unwrap()
+                    .unwrap();
+                let table = multi_jitter_from_table(f.as_ref(), n);
+                assert_is_enumerated("multi-jitter", f.as_ref(), n, boxes, table.variance);
+            }
+        }
+        for f in integrands() {
+            for n in [96, 97, 100] {
+                let rows = separable_shuffles(&f, n, Shuffles::Correlated, &Budget::default())
+                    .unwrap()
+                    .unwrap();
+                let table = correlated_from_table(&f, n);
+                assert_is_enumerated("CMJ", &f, n, table, rows.variance);
             }
         }
     }

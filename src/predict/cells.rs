@@ -489,8 +489,10 @@ pub(crate) fn predict_cells(
         _ => None,
     }
     .filter(|&kind| {
-        // A separable integrand's sums factor by axis, and a disk's Latin hypercube needs only
-        // the cells its circle crosses: exact at any N. Otherwise the table of cells.
+        // A separable integrand's sums factor by axis, and a disk's or a polygon's Latin
+        // hypercube needs only the cells its boundary crosses: exact at any N. Multi-jitter
+        // reads boxes besides, within the work an estimate would spend. Otherwise the table of
+        // cells.
         let tabulated = n
             .checked_pow(d as u32)
             .is_some_and(|c| c <= EXACT_CELL_BUDGET);
@@ -498,9 +500,13 @@ pub(crate) fn predict_cells(
             SamplerKind::LatinHypercube => {
                 super::cell_pairs::latin_hypercube_at_any_n(f) || tabulated
             }
-            SamplerKind::MultiJitter => super::cell_pairs::shuffles_at_any_n(f) || tabulated,
+            SamplerKind::MultiJitter => {
+                let boxes = super::shuffle_cells::multi_jitter_box_needs(f, n)
+                    .is_some_and(|needs| needs.work_seconds <= params.work_budget_seconds);
+                super::cell_pairs::shuffles_at_any_n(f) || boxes || (d == 2 && tabulated)
+            }
             // In 2D an orthogonal array with its offsets is CMJ on p × p cells.
-            _ => super::cell_pairs::shuffles_at_any_n(f),
+            _ => super::cell_pairs::shuffles_at_any_n(f) || (d == 2 && tabulated),
         }
     });
     // Owen-scrambled Sobol' has its pairs of points by Owen's gains, read from any one

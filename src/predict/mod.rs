@@ -36,6 +36,7 @@ mod radial_table;
 mod route;
 mod shifted_cells;
 mod shifted_gains;
+mod shuffle_cells;
 mod space;
 mod term_mean;
 mod walsh;
