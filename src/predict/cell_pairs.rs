@@ -306,8 +306,8 @@ fn marginal_sums(deviation: &[f64], n: usize, d: usize, shared: usize) -> Vec<f6
 /// and row profiles `B_ij(t)`, `N² E[(M − I)²] = (1/N) Σ G² + S_blocks + S_columns + S_rows`, each
 /// a sum of squares of marginals by inclusion–exclusion. The block means and profiles are
 /// integrals over boxes, so an integrand with its own sums over a grid's cells
-/// ([`Integrand::cell_sums`]: disks, polygons, tabulated grids) is answered from `N (1 + m + r)`
-/// boxes at any N; a separable one from its rows; any other from the table of its `N²` cells.
+/// ([`Integrand::cell_sums`]: disks, polygons, tabulated grids) is answered from those sums on
+/// three grids and `3N` boxes at any N; a separable one from its rows; any other from the table of its `N²` cells.
 ///
 /// # Errors
 /// A dimension other than 2, an integrand without box moments, or work beyond the budget; for
@@ -742,14 +742,17 @@ mod tests {
     }
 
     /// Integrands that are not products of functions of one coordinate: a disk inside the
-    /// square, a disk wrapped across a face, an edge, a triangle.
+    /// square, a disk wrapped across a face, an edge, a triangle, a tabulated 5 × 3 grid
+    /// (whose cells straddle the grids' cells unevenly).
     fn shapes() -> Vec<Box<dyn Integrand>> {
-        use crate::integrand::{Ball, Polygon};
+        use crate::integrand::{Ball, GridIntegrand, Polygon};
+        let values = (0..15).map(|i| ((i * 7) % 11) as f64 / 10.0).collect();
         vec![
             Box::new(Ball::new(0.3, vec![0.4, 0.55], 1.0).unwrap()),
             Box::new(Ball::new(0.25, vec![0.15, 0.6], 2.0).unwrap()),
             Box::new(Polygon::edge(30.0, 0.4, 1.0).unwrap()),
             Box::new(Polygon::new(vec![[0.1, 0.2], [0.8, 0.35], [0.3, 0.9]], 1.0).unwrap()),
+            Box::new(GridIntegrand::new(5, 3, values).unwrap()),
         ]
     }
 

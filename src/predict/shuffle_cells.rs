@@ -8,9 +8,9 @@
 //!
 //! - Multi-jitter (independent shuffles) pairs a block only with a block's mean, with its
 //!   sub-columns' means over the sub-rows, or with its sub-rows' means over the sub-columns:
-//!   each an integral over a box, so `N (1 + m + r)` boxes and the integrand's own sums over
-//!   the cells ([`Integrand::cell_sums`]: a disk or a polygon visits only the cells its boundary
-//!   crosses) answer at any N; an integrand without them is summed over the table of its `N²`
+//!   each the mean over a cell of a coarser grid (`N × r`, `m × N`), so the integrand's own
+//!   sums over grids' cells ([`Integrand::cell_sums`]: a disk or a polygon visits only the
+//!   cells its boundary crosses) and `3N` boxes answer at any N; an integrand without them is summed over the table of its `N²`
 //!   cells.
 //! - CMJ (one permutation for every column's sub-columns, one for every row's sub-rows) pairs
 //!   two blocks at one sub-row position, at one sub-column position, or at distinct positions
@@ -33,20 +33,24 @@ use crate::quadrature::CompensatedSum;
 use crate::sampler::near_square_factors;
 use rayon::prelude::*;
 
-/// The work of [`multi_jitter_from_boxes`] at `n`: `N (1 + m + r)` boxes (the blocks and each
-/// block's sub-columns and sub-rows), and the integrand's sums over the cells (about ten cells
-/// a point visited, as for Latin hypercube's crossed cells); `None` unless `f` is 2D with its own
-/// sums over a grid's cells.
+/// The work of [`multi_jitter_from_boxes`] at `n`: `3N` boxes (the blocks, the fine columns
+/// and the fine rows) and the integrand's sums over three grids (about ten cells a point
+/// visited on each, as for Latin hypercube's crossed cells); `None` unless `f` is 2D with its
+/// own sums over a grid's cells.
 pub(super) fn multi_jitter_box_needs(f: &dyn Integrand, n: usize) -> Option<Needs> {
     (f.dimension() == 2 && f.cell_sums(&[1, 1]).is_some()).then(|| {
-        let (m, r) = near_square_factors(n);
-        let boxes = n as f64 * (1 + m + r) as f64;
-        Needs::work(boxes * seconds_per_cell(f, &[n, n]) + 10.0 * n as f64 * CELL_SECONDS)
+        let nf = n as f64;
+        Needs::work(3.0 * nf * seconds_per_cell(f, &[n, n]) + 30.0 * nf * CELL_SECONDS)
     })
 }
 
-/// Multi-jitter's variance, unshifted, from boxes and the integrand's sums over the `N × N`
-/// cells, in `O(N^{3/2})` boxes; `None` unless `f` is 2D with such sums.
+/// Multi-jitter's variance, unshifted, from boxes and the integrand's sums over grids' cells,
+/// in `O(N)` boxes; `None` unless `f` is 2D with such sums. A block's sub-column profile
+/// `A_ij(s)` is the mean of `G` over a cell of the `N × r` grid (a fine column by a block's
+/// height), and a row profile `B_ij(t)` over a cell of the `m × N` grid, so the sums of their
+/// squares that the pairs in one column or one row read are those grids' `Σ_c F_c²`
+/// ([`Integrand::cell_sums`], visiting only the cells the boundary crosses); the other sums
+/// read the blocks' means and the fine columns' and rows' means, `3N` boxes.
 ///
 /// # Errors
 /// Work beyond the budget.
@@ -59,64 +63,87 @@ pub(super) fn multi_jitter_from_boxes(
         return Ok(None);
     };
     budget.check("multi-jitter's boxes", needs, "lower N")?;
-    let Some(sums) = f.cell_sums(&[n, n]) else {
+    let (m, r) = near_square_factors(n);
+    let grids = [[n, n], [n, r], [m, n]].map(|grid| f.cell_sums(&grid));
+    let [Some(cells), Some(column_strips), Some(row_strips)] = grids else {
         return Ok(None);
     };
-    let (m, r) = near_square_factors(n);
     let (nf, integral) = (n as f64, f.integral());
-    // ∫ f over fine columns [x0, x1) × fine rows [y0, y1).
-    let mass = |(x0, x1): (usize, usize), (y0, y1): (usize, usize)| -> f64 {
+    // The mean of G over fine columns [x0, x1) × fine rows [y0, y1).
+    let mean = |(x0, x1): (usize, usize), (y0, y1): (usize, usize)| -> f64 {
         let lo = [x0 as f64 / nf, y0 as f64 / nf];
         let hi = [x1 as f64 / nf, y1 as f64 / nf];
-        f.box_moments(&lo, &hi).map_or(0.0, |q| q.0)
+        let area = ((x1 - x0) * (y1 - y0)) as f64 / (nf * nf);
+        f.box_moments(&lo, &hi).map_or(0.0, |q| q.0) / area - integral
     };
-    // Block b = i + m j: the mean of G over its N cells.
+    // Block b = i + m j.
     let means: Vec<f64> = (0..m * r)
         .into_par_iter()
         .map(|b| {
             let (i, j) = (b % m, b / m);
-            nf * mass((i * r, (i + 1) * r), (j * m, (j + 1) * m)) - integral
+            mean((i * r, (i + 1) * r), (j * m, (j + 1) * m))
         })
         .collect();
-    // Column i's profiles: block (i, j)'s sub-column s, the mean of G over its m sub-rows.
-    let column_scale = nf * nf / m as f64;
-    let same_column: Vec<f64> = (0..m)
+    let fine_columns: Vec<f64> = (0..n)
         .into_par_iter()
-        .map(|i| {
-            let profile: Vec<f64> = (0..r * r)
-                .map(|k| {
-                    let (j, s) = (k / r, k % r);
-                    let x = i * r + s;
-                    column_scale * mass((x, x + 1), (j * m, (j + 1) * m)) - integral
-                })
-                .collect();
-            line_pairs(r, |j, s| profile[j * r + s])
-        })
+        .map(|x| mean((x, x + 1), (0, n)))
         .collect();
-    // Row j's profiles: block (i, j)'s sub-row t, the mean of G over its r sub-columns.
-    let row_scale = nf * nf / r as f64;
-    let same_row: Vec<f64> = (0..r)
+    let fine_rows: Vec<f64> = (0..n)
         .into_par_iter()
-        .map(|j| {
-            let profile: Vec<f64> = (0..m * m)
-                .map(|k| {
-                    let (i, t) = (k / m, k % m);
-                    let y = j * m + t;
-                    row_scale * mass((i * r, (i + 1) * r), (y, y + 1)) - integral
-                })
-                .collect();
-            line_pairs(m, |i, t| profile[i * m + t])
-        })
+        .map(|y| mean((0, n), (y, y + 1)))
         .collect();
-    // Σ_c G_c² = Σ_c F_c² − N² I², as Σ_c F_c = N² I; Σ F² bounds its rounding.
-    let squares = sums.mean_square - nf * nf * integral * integral;
+    // Σ_c G_c² = Σ_c F_c² − (cells) I², as Σ_c F_c = (cells) I; Σ F² bounds its rounding.
+    let centred = |sums: &crate::integrand::CellSums, cells: usize| {
+        sums.mean_square - cells as f64 * integral * integral
+    };
+    let block = |i: usize, j: usize| means[i + m * j];
+    // Pairs in one column: blocks j ≠ j' (profile sums a_ij = r Ḡ_ij) at distinct
+    // sub-columns s ≠ s' (the profiles summed down the column: r times the fine column's mean).
+    let same_column = one_line_pairs(
+        r,
+        (0..m).map(|i| (0..r).map(|j| r as f64 * block(i, j)).collect()),
+        fine_columns.iter().map(|&g| r as f64 * g),
+        centred(&column_strips, n * r),
+    );
+    let same_row = one_line_pairs(
+        m,
+        (0..r).map(|j| (0..m).map(|i| m as f64 * block(i, j)).collect()),
+        fine_rows.iter().map(|&g| m as f64 * g),
+        centred(&row_strips, m * n),
+    );
+    // Each line's sums cancel down from sums of squares of at most (len + 1) Σ profile², by
+    // Cauchy–Schwarz over the len positions summed.
+    let strip_size = |len: usize, sums: &crate::integrand::CellSums| {
+        let pairs = (len * len.saturating_sub(1)).max(1) as f64;
+        nf * (len + 1) as f64 * sums.mean_square / pairs
+    };
+    let size = cells.mean_square + strip_size(r, &column_strips) + strip_size(m, &row_strips);
     Ok(Some(multi_jitter_sum(
         n,
-        sums.within / (nf * nf * nf),
-        (squares, sums.mean_square),
+        cells.within / (nf * nf * nf),
+        (centred(&cells, n * n), size),
         &means,
-        same_column.iter().sum::<f64>() + same_row.iter().sum::<f64>(),
+        same_column + same_row,
     )))
+}
+
+/// [`line_pairs`] summed over every line of blocks, from sums alone: each line's blocks' sums
+/// of their profiles (`lines`), each position's sum over its line's blocks (`positions`, every
+/// line's in turn), and the sum of every profile's square (`squares`).
+fn one_line_pairs(
+    len: usize,
+    lines: impl Iterator<Item = Vec<f64>>,
+    positions: impl Iterator<Item = f64>,
+    squares: f64,
+) -> f64 {
+    if len < 2 {
+        return 0.0;
+    }
+    let whole: f64 = lines
+        .map(|a| a.iter().sum::<f64>().powi(2) - a.iter().map(|v| v * v).sum::<f64>())
+        .sum();
+    let same = positions.map(|w| w * w).sum::<f64>() - squares;
+    (whole - same) / (len * (len - 1)) as f64
 }
 
 /// Multi-jitter's variance, unshifted, from the table of the `N × N` cells (the caller checks
