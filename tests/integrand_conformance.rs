@@ -1,7 +1,8 @@
 //! One checker applied to every integrand form: its text round trip, its integral and energy
 //! against quadrature of its values, its low Fourier coefficients against quadrature of
-//! `f e^{-2πik·x}`, Parseval on the lattice, and its isotropy claim. Each quadrature comes with
-//! a bound derived from the cells' samples, so no tolerance is tuned.
+//! `f e^{-2πik·x}`, Parseval on the lattice, its lattice batches against its coefficients, and
+//! its isotropy claim. Each quadrature comes with a bound derived from the cells' samples, so
+//! no tolerance is tuned.
 
 use num_complex::Complex64;
 use rayon::prelude::*;
@@ -17,6 +18,11 @@ fn cells(d: usize) -> usize {
 /// Cells in which a polygon's corner can hide between the samples (a tip narrower than a
 /// cell): at most one per vertex, and the polygons here have at most this many.
 const HIDDEN_CORNER_CELLS: f64 = 16.0;
+
+/// The relative error of one Fourier coefficient as the integrands compute it (Bessel and error
+/// functions, polygon edges, the grids' and truncated lobes' longer sums): a few hundred units
+/// of roundoff at most.
+const COEFFICIENT_ERROR: f64 = 1e-13;
 
 /// Every point of the cell grid, with the cell's samples (its corners and its midpoint).
 fn for_each_cell(d: usize, mut visit: impl FnMut(&[f64], &[Vec<f64>])) {
@@ -156,6 +162,29 @@ fn every_integrand_conforms() {
             partial <= energy * (1.0 + 1e-9) && partial >= 0.8 * energy,
             "{label}: Σ|f̂|² on |k_i| ≤ {kmax} is {partial}, ∫f² is {energy}"
         );
+        // The lattice batches (per-axis tables, one radial value per |k|²) against the
+        // coefficient at each frequency: both carry the integrands' relative error of a
+        // coefficient, and phases whose arguments reach 2πK per axis, rounded absolutely;
+        // every coefficient is at most ∫|f| ≤ ‖f‖₂ in size.
+        let mut coefficients = vec![Complex64::new(0.0, 0.0); lattice.len()];
+        f.coefficients_on_lattice(lattice, &mut coefficients);
+        let relative =
+            COEFFICIENT_ERROR + 8.0 * f64::EPSILON * (1.0 + 2.0 * PI * (d * kmax) as f64);
+        let delta = relative * energy.sqrt();
+        for (i, (&p, &c)) in power.iter().zip(&coefficients).enumerate() {
+            let k = lattice.frequency(i);
+            let exact = f.coefficient(&k[..d]);
+            assert!(
+                (c - exact).norm() <= delta,
+                "{label}: f̂{k:?} on the lattice {c} against {exact} (allowed {delta:e})"
+            );
+            let allowed = 2.0 * exact.norm() * delta + delta * delta;
+            assert!(
+                (p - exact.norm_sqr()).abs() <= allowed,
+                "{label}: |f̂{k:?}|² on the lattice {p:e} against {:e} (allowed {allowed:e})",
+                exact.norm_sqr()
+            );
+        }
         // Isotropy: |f̂(ω)| at equal lengths, and the radial power is |f̂|².
         if f.is_isotropic() {
             let length = 7.3;

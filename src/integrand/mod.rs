@@ -37,6 +37,7 @@ use crate::error::{invalid, Result};
 use crate::quadrature::CompensatedSum;
 use crate::spectrum::Lattice;
 use num_complex::Complex64;
+use rayon::prelude::*;
 use std::f64::consts::PI;
 
 /// The moments of a separable integrand over the cells of a grid, one row of factors per
@@ -157,6 +158,15 @@ pub trait Integrand: Send + Sync {
         for (i, slot) in out.iter_mut().enumerate() {
             *slot = self.coefficient(&lattice.frequency(i)[..d]).norm_sqr();
         }
+    }
+    /// [`coefficient`](Self::coefficient) at every frequency of `lattice`, in lattice order,
+    /// into `out` (length `lattice.len()`), in parallel. A polygon overrides it with per-edge,
+    /// per-axis tables of its sines and phases.
+    fn coefficients_on_lattice(&self, lattice: Lattice, out: &mut [Complex64]) {
+        let d = lattice.dimension;
+        out.par_iter_mut().enumerate().for_each(|(i, slot)| {
+            *slot = self.coefficient(&lattice.frequency(i)[..d]);
+        });
     }
     /// `∫ F_a(x)² dx` for the projection `F_a(x) = ∫ f dx_{b≠a}` onto axis `a`. By Parseval in
     /// 1D, `∫ F_a² - I²` is the energy on the axis line `k = k_a e_a` of the lattice, where

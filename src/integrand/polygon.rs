@@ -433,6 +433,17 @@ impl Integrand for Polygon {
             });
         }
     }
+    fn coefficients_on_lattice(&self, lattice: crate::spectrum::Lattice, out: &mut [Complex64]) {
+        use super::polygon_lattice::{polygon_coefficients_on_lattice, tables_fit};
+        let edges: Vec<_> = self.edges().collect();
+        if tables_fit(edges.len(), lattice) {
+            polygon_coefficients_on_lattice(&edges, self.area, self.height, lattice, out);
+        } else {
+            out.par_iter_mut().enumerate().for_each(|(i, slot)| {
+                *slot = self.coefficient(&lattice.frequency(i)[..2]);
+            });
+        }
+    }
     fn square_coefficient(&self, k: &[i64]) -> Option<Complex64> {
         // An indicator times its height: f² = a f.
         Some(self.coefficient(k) * self.height)

@@ -1,4 +1,5 @@
-//! A polygon's power on a whole lattice, without a sine or cosine per frequency.
+//! A polygon's coefficients and power on a whole lattice, without a sine or cosine per
+//! frequency.
 //!
 //! Each edge from `a` to `b` (`Δ = b − a`, midpoint `m`) contributes
 //! `(ω_x Δ_y − ω_y Δ_x) e^{−iω·m} sinc(ω·Δ/2)` at `ω = 2πk` (the edge sum of
@@ -59,19 +60,9 @@ pub(super) fn tables_fit(edges: usize, lattice: Lattice) -> bool {
     edges.saturating_mul(per_edge) <= TABLE_BYTES
 }
 
-/// `|f̂(k)|²` of `height` on the polygon with `edges` (vertex pairs, counter-clockwise or
-/// clockwise alike) and `area`, at every frequency of the 2D `lattice`, in lattice order
-/// (whose tables fit: [`tables_fit`]).
-pub(super) fn polygon_power_on_lattice(
-    edges: &[([f64; 2], [f64; 2])],
-    area: f64,
-    height: f64,
-    lattice: Lattice,
-    out: &mut [f64],
-) {
-    let kmax = lattice.kmax as i64;
-    let side = lattice.side();
-    let tables: Vec<EdgeTable> = edges
+/// The tables of `edges` on a lattice of extent `kmax`.
+fn edge_tables(edges: &[([f64; 2], [f64; 2])], kmax: i64) -> Vec<EdgeTable> {
+    edges
         .iter()
         .map(|&(a, b)| {
             let delta = [b[0] - a[0], b[1] - a[1]];
@@ -84,25 +75,74 @@ pub(super) fn polygon_power_on_lattice(
                 ],
             }
         })
-        .collect();
+        .collect()
+}
+
+/// `value(k, Σ_e flux_e sinc_e e^{−2πi k·m_e})` at every frequency of the 2D `lattice`, in
+/// lattice order, rows in parallel.
+fn on_lattice<T: Send>(
+    edges: &[([f64; 2], [f64; 2])],
+    lattice: Lattice,
+    out: &mut [T],
+    value: impl Fn([i64; 2], Complex64) -> T + Sync,
+) {
+    let kmax = lattice.kmax as i64;
+    let side = lattice.side();
+    let tables = edge_tables(edges, kmax);
     out.par_chunks_mut(side)
         .enumerate()
         .for_each(|(row, slots)| {
             let kx = row as i64 - kmax;
             for (col, slot) in slots.iter_mut().enumerate() {
-                let ky = col as i64 - kmax;
-                *slot = power_at(&tables, [kx, ky], [row, col], area, height);
+                let k = [kx, col as i64 - kmax];
+                *slot = value(k, edge_sum(&tables, k, [row, col]));
             }
         });
 }
 
-/// `|f̂(k)|²` at `k`, whose table indices are `at`.
-fn power_at(tables: &[EdgeTable], k: [i64; 2], at: [usize; 2], area: f64, height: f64) -> f64 {
+/// `|f̂(k)|²` of `height` on the polygon with `edges` (vertex pairs, counter-clockwise or
+/// clockwise alike) and `area`, at every frequency of the 2D `lattice`, in lattice order
+/// (whose tables fit: [`tables_fit`]).
+pub(super) fn polygon_power_on_lattice(
+    edges: &[([f64; 2], [f64; 2])],
+    area: f64,
+    height: f64,
+    lattice: Lattice,
+    out: &mut [f64],
+) {
+    on_lattice(edges, lattice, out, |k, sum| {
+        let w2 = 4.0 * PI * PI * (k[0] * k[0] + k[1] * k[1]) as f64;
+        if w2 == 0.0 {
+            (height * area).powi(2)
+        } else {
+            (height / w2).powi(2) * sum.norm_sqr()
+        }
+    });
+}
+
+/// `f̂(k)` of `height` on the polygon with `edges` and `area`, at every frequency of the 2D
+/// `lattice`, in lattice order (whose tables fit: [`tables_fit`]): `i (height / |ω|²)` times
+/// the edge sum, as [`Polygon`](super::Polygon)'s transform takes it.
+pub(super) fn polygon_coefficients_on_lattice(
+    edges: &[([f64; 2], [f64; 2])],
+    area: f64,
+    height: f64,
+    lattice: Lattice,
+    out: &mut [Complex64],
+) {
+    on_lattice(edges, lattice, out, |k, sum| {
+        let w2 = 4.0 * PI * PI * (k[0] * k[0] + k[1] * k[1]) as f64;
+        if w2 == 0.0 {
+            Complex64::new(height * area, 0.0)
+        } else {
+            Complex64::new(0.0, height / w2) * sum
+        }
+    });
+}
+
+/// `Σ_e flux_e sinc_e e^{−2πi k·m_e}` at `k ≠ 0`, whose table indices are `at`.
+fn edge_sum(tables: &[EdgeTable], k: [i64; 2], at: [usize; 2]) -> Complex64 {
     let (kx, ky) = (k[0] as f64, k[1] as f64);
-    let w2 = 4.0 * PI * PI * (kx * kx + ky * ky);
-    if w2 == 0.0 {
-        return (height * area).powi(2);
-    }
     let mut sum = Complex64::new(0.0, 0.0);
     for e in tables {
         let flux = 2.0 * PI * (kx * e.delta[1] - ky * e.delta[0]);
@@ -115,13 +155,14 @@ fn power_at(tables: &[EdgeTable], k: [i64; 2], at: [usize; 2], area: f64, height
         };
         sum += x.phase[at[0]] * y.phase[at[1]] * (flux * sinc);
     }
-    (height / w2).powi(2) * sum.norm_sqr()
+    sum
 }
 
 #[cfg(test)]
 mod tests {
     use crate::integrand::{Integrand, Polygon};
     use crate::spectrum::Lattice;
+    use num_complex::Complex64;
     use std::f64::consts::PI;
 
     /// The tables against the edge sum at each frequency (`Integrand::coefficient`, one sine
@@ -148,6 +189,8 @@ mod tests {
                 let lattice = Lattice { dimension: 2, kmax };
                 let mut fast = vec![0.0; lattice.len()];
                 f.power_on_lattice(lattice, &mut fast);
+                let mut coefficients = vec![Complex64::new(0.0, 0.0); lattice.len()];
+                f.coefficients_on_lattice(lattice, &mut coefficients);
                 for (i, &value) in fast.iter().enumerate() {
                     let k = lattice.frequency(i);
                     let exact = f.coefficient(&k[..2]);
@@ -164,6 +207,13 @@ mod tests {
                         "{} at {k:?}: {value:e} against {:e} (allowed {allowed:e})",
                         f.label(),
                         exact.norm_sqr()
+                    );
+                    let off = (coefficients[i] - exact).norm();
+                    assert!(
+                        off <= delta.max(f64::MIN_POSITIVE),
+                        "{} at {k:?}: coefficient {} against {exact} (allowed {delta:e})",
+                        f.label(),
+                        coefficients[i]
                     );
                 }
             }

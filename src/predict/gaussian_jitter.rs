@@ -29,6 +29,7 @@ use crate::integrand::{Integrand, SeparableCoefficients};
 use crate::quadrature::CompensatedSum;
 use crate::randomization::Randomization;
 use crate::sampler::ClosedForm;
+use crate::spectrum::Lattice;
 use num_complex::Complex64;
 use std::f64::consts::PI;
 
@@ -114,7 +115,11 @@ fn moments(f: &dyn Integrand, strata: &[usize], width: f64, budget: &Budget) -> 
     budget.check(
         "Gaussian jitter's aliased frequencies",
         Needs {
-            memory_bytes: axes.iter().map(|a| 24.0 * a.weight.len() as f64).sum(),
+            memory_bytes: axes
+                .iter()
+                .map(|a| 24.0 * a.weight.len() as f64)
+                .sum::<f64>()
+                + (16.0 * frequencies).min(COEFFICIENT_TABLE_BYTES as f64),
             work_seconds: frequencies * COEFFICIENT_SECONDS,
         },
         "lower N or widen the offsets",
@@ -124,17 +129,19 @@ fn moments(f: &dyn Integrand, strata: &[usize], width: f64, budget: &Budget) -> 
         match f.separable_coefficients(&axes.iter().map(|a| a.kmax as usize).collect::<Vec<_>>()) {
             Some(rows) => separable_folds(&rows, &axes),
             None => {
+                let coefficients = Coefficients::new(f, &axes);
                 // f is real, so G(−p) = G(p)*: each pair of opposite classes is summed once.
                 let term = |p: usize| {
                     let opposite = opposite_class(&axes, p);
+                    let fold = || folded_class(&coefficients, &axes, p).norm_sqr();
                     match p.cmp(&opposite) {
-                        std::cmp::Ordering::Less => 2.0 * folded_class(f, &axes, p).norm_sqr(),
-                        std::cmp::Ordering::Equal => folded_class(f, &axes, p).norm_sqr(),
+                        std::cmp::Ordering::Less => 2.0 * fold(),
+                        std::cmp::Ordering::Equal => fold(),
                         std::cmp::Ordering::Greater => 0.0,
                     }
                 };
                 let (aliased, _) = super::cell_moments::chunked_sum(classes, |p| (term(p), 0.0));
-                (aliased, folded_class(f, &axes, 0).re)
+                (aliased, folded_class(&coefficients, &axes, 0).re)
             }
         };
     let squares = square_sum(f, &axes)?;
@@ -244,9 +251,55 @@ fn shifted_moments(
     })
 }
 
+/// The most memory the integrand's coefficients on the axes' box may take as a table.
+const COEFFICIENT_TABLE_BYTES: usize = 64 << 20;
+
+/// The integrand's coefficients on the axes' box `|k_a| ≤ kmax_a`: every class reads every
+/// frequency once, so they are tabulated on the lattice that holds the box (at once, as a
+/// polygon does from per-edge tables) where it fits [`COEFFICIENT_TABLE_BYTES`], and read one
+/// at a time otherwise.
+enum Coefficients<'a> {
+    Table(Lattice, Vec<Complex64>),
+    Direct(&'a dyn Integrand),
+}
+
+impl<'a> Coefficients<'a> {
+    fn new(f: &'a dyn Integrand, axes: &[Axis]) -> Self {
+        let kmax = axes.iter().map(|a| a.kmax as usize).max().unwrap_or(0);
+        let lattice = Lattice {
+            dimension: axes.len(),
+            kmax,
+        };
+        let fits = lattice
+            .side()
+            .checked_pow(axes.len() as u32)
+            .and_then(|count| count.checked_mul(size_of::<Complex64>()))
+            .is_some_and(|bytes| bytes <= COEFFICIENT_TABLE_BYTES);
+        if !fits {
+            return Self::Direct(f);
+        }
+        let mut values = vec![Complex64::new(0.0, 0.0); lattice.len()];
+        f.coefficients_on_lattice(lattice, &mut values);
+        Self::Table(lattice, values)
+    }
+
+    fn at(&self, k: &[i64]) -> Complex64 {
+        match self {
+            Self::Direct(f) => f.coefficient(k),
+            Self::Table(lattice, values) => {
+                let (side, kmax) = (lattice.side(), lattice.kmax as i64);
+                let index = k
+                    .iter()
+                    .fold(0, |index, &ka| index * side + (ka + kmax) as usize);
+                values[index]
+            }
+        }
+    }
+}
+
 /// `G(p) = Σ_{k ≡ p} f̂(k) φ(k) e^{iπ Σ_a k_a/m_a}` for the class `p` of residues (axis 0
 /// fastest), summed over its frequencies in order.
-fn folded_class(f: &dyn Integrand, axes: &[Axis], p: usize) -> Complex64 {
+fn folded_class(coefficients: &Coefficients, axes: &[Axis], p: usize) -> Complex64 {
     let d = axes.len();
     let mut residue = [0usize; 3];
     let mut rest = p;
@@ -261,7 +314,7 @@ fn folded_class(f: &dyn Integrand, axes: &[Axis], p: usize) -> Complex64 {
         for (axis, &ka) in axes.iter().zip(k.iter()) {
             weight *= axis.phase[axis.index(ka)] * axis.weight[axis.index(ka)];
         }
-        sum += f.coefficient(k) * weight;
+        sum += coefficients.at(k) * weight;
     });
     sum
 }
@@ -333,7 +386,7 @@ pub fn gaussian_jitter_bias(f: &dyn Integrand, n: usize, width: f64) -> Result<f
         )
     })?;
     let axes: Vec<Axis> = strata.iter().map(|&m| Axis::new(m, width)).collect();
-    Ok(folded_class(f, &axes, 0).re - f.integral())
+    Ok(folded_class(&Coefficients::Direct(f), &axes, 0).re - f.integral())
 }
 
 /// Visits every frequency of the class `residue` with `|k_a| ≤ kmax_a`, axis by axis.
