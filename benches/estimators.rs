@@ -14,7 +14,10 @@ use std::hint::black_box;
 fn estimators(c: &mut Criterion) {
     let integrands: [(&str, Box<dyn Integrand>); 2] = [
         ("edge", Box::new(Polygon::edge(30.0, 0.4, 1.0).unwrap())),
-        ("disk", Box::new(Ball::new(0.25, vec![0.5, 0.5], 1.0).unwrap())),
+        (
+            "disk",
+            Box::new(Ball::new(0.25, vec![0.5, 0.5], 1.0).unwrap()),
+        ),
     ];
     let params = PredictParams::default();
     let mut g = c.benchmark_group("estimators");

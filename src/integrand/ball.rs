@@ -1,9 +1,9 @@
 //! The ball (the disk in 2D, an interval in 1D) of constant height, on the torus.
 
-use super::CellSums;
 use super::{
     check_parameters, shift_phase, unit_ball_volume, Integrand, IntegrandKind, RadialOscillation,
 };
+use super::{CellSums, RadialCoefficients};
 use crate::error::{invalid, Result};
 use crate::pointset::{toroidal_distance_sq, toroidal_square};
 use crate::quadrature::CompensatedSum;
@@ -148,26 +148,6 @@ impl Ball {
     /// [`Integrand::cell_sums`] of a disk: a cell the circle (or one of its images across the
     /// faces) does not cross has `F_c` equal to the height or 0 and no inner variance, so only
     /// the crossed cells' moments are computed, column by column (`O(m)` of the `m²` cells).
-    /// The centred transform at every squared radius `|k|²` that `lattice` holds (zero at
-    /// those it does not): the ball's transform is radial, so each distinct `|k|²` takes one
-    /// Bessel function, not each frequency (in 2D about a tenth as many; in 3D far fewer).
-    /// `(|k|² as f64).sqrt()` is the radius [`Integrand::coefficient`] takes, to the bit.
-    fn radial_on_lattice(&self, lattice: Lattice) -> Vec<f64> {
-        let largest = lattice.dimension * lattice.kmax * lattice.kmax;
-        let mut needed = vec![false; largest + 1];
-        lattice.for_each_squared_radius(lattice.len(), |_, s| needed[s as usize] = true);
-        let squares: Vec<usize> = (0..=largest).filter(|&s| needed[s]).collect();
-        let values: Vec<f64> = squares
-            .par_iter()
-            .map(|&s| self.centred_transform((s as f64).sqrt()))
-            .collect();
-        let mut radial = vec![0.0; largest + 1];
-        for (&s, v) in squares.iter().zip(values) {
-            radial[s] = v;
-        }
-        radial
-    }
-
     fn disk_cell_sums(&self, grid: &[usize]) -> CellSums {
         let (mx, my) = (grid[0], grid[1]);
         let (r, a) = (self.radius, self.height);
@@ -319,30 +299,28 @@ impl Integrand for Ball {
         let omega: Vec<f64> = k.iter().map(|&c| c as f64).collect();
         self.fourier(&omega)
     }
+    fn radial_coefficients(&self, kmax: usize) -> Option<RadialCoefficients> {
+        // The transform is radial about the centre: each distinct |k|² takes one Bessel value.
+        Some(RadialCoefficients::new(&self.centre, kmax, |rho| {
+            self.centred_transform(rho)
+        }))
+    }
     fn power_on_lattice(&self, lattice: Lattice, out: &mut [f64]) {
-        let radial = self.radial_on_lattice(lattice);
-        lattice.for_each_squared_radius(out.len(), |i, s| out[i] = radial[s as usize].powi(2));
+        let radial = RadialCoefficients::new(&self.centre, lattice.kmax, |rho| {
+            self.centred_transform(rho)
+        });
+        let d = lattice.dimension;
+        out.par_iter_mut().enumerate().for_each(|(i, slot)| {
+            *slot = radial.power(&lattice.frequency(i)[..d]);
+        });
     }
     fn coefficients_on_lattice(&self, lattice: Lattice, out: &mut [Complex64]) {
-        // The centre's phase separates by axis: e^{−2πi k·c} = Π_a e^{−2πi k_a c_a}.
-        let radial = self.radial_on_lattice(lattice);
-        let kmax = lattice.kmax as i64;
-        let phases: Vec<Vec<Complex64>> = self
-            .centre
-            .iter()
-            .map(|&c| {
-                (-kmax..=kmax)
-                    .map(|k| Complex64::from_polar(1.0, -2.0 * PI * k as f64 * c))
-                    .collect()
-            })
-            .collect();
+        let radial = RadialCoefficients::new(&self.centre, lattice.kmax, |rho| {
+            self.centred_transform(rho)
+        });
         let d = lattice.dimension;
-        lattice.for_each_squared_radius(out.len(), |i, s| {
-            let k = lattice.frequency(i);
-            let phase = (0..d).fold(Complex64::new(1.0, 0.0), |p, a| {
-                p * phases[a][(k[a] + kmax) as usize]
-            });
-            out[i] = phase * radial[s as usize];
+        out.par_iter_mut().enumerate().for_each(|(i, slot)| {
+            *slot = radial.at(&lattice.frequency(i)[..d]);
         });
     }
     fn square_coefficient(&self, k: &[i64]) -> Option<Complex64> {

@@ -108,6 +108,79 @@ pub struct SeparableCoefficients {
     pub axes: Vec<Vec<Complex64>>,
 }
 
+/// The torus coefficients of an integrand radial about a centre `c`,
+/// `f̂(k) = T(|k|) e^{−2πi k·c}`, on `|k_a| ≤ K` ([`Integrand::radial_coefficients`]): `T` once
+/// per squared radius `|k|²` the box holds, the phase as a product of one table per axis, so
+/// a coefficient costs a lookup and `d` complex products, no Bessel function nor sine.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RadialCoefficients {
+    kmax: i64,
+    /// `T(√s)` at every `s = |k|²` of the box (zero at the others).
+    radial: Vec<f64>,
+    /// Per axis, `e^{−2πi k c_a}` for `k = −K..=K`.
+    phases: Vec<Vec<Complex64>>,
+}
+
+impl RadialCoefficients {
+    /// The coefficients of `transform` (of `|k|`) about `centre` on `|k_a| ≤ kmax`.
+    /// `(|k|² as f64).sqrt()` is the radius as [`Integrand::coefficient`] takes it, to the bit.
+    pub fn new(centre: &[f64], kmax: usize, transform: impl Fn(f64) -> f64 + Sync) -> Self {
+        let d = centre.len();
+        let largest = d * kmax * kmax;
+        // The squared radii of the box's frequencies: the octant k_a ≥ 0 holds them all.
+        let mut needed = vec![false; largest + 1];
+        let squares: Vec<usize> = (0..=kmax).map(|k| k * k).collect();
+        let mut k = [0usize; 3];
+        loop {
+            needed[k[..d].iter().map(|&c| squares[c]).sum::<usize>()] = true;
+            let Some(a) = (0..d).rev().find(|&a| k[a] < kmax) else {
+                break;
+            };
+            k[a] += 1;
+            k[a + 1..d].fill(0);
+        }
+        let present: Vec<usize> = (0..=largest).filter(|&s| needed[s]).collect();
+        let values: Vec<f64> = present
+            .par_iter()
+            .map(|&s| transform((s as f64).sqrt()))
+            .collect();
+        let mut radial = vec![0.0; largest + 1];
+        for (&s, v) in present.iter().zip(values) {
+            radial[s] = v;
+        }
+        let kmax = kmax as i64;
+        let phases = centre
+            .iter()
+            .map(|&c| {
+                (-kmax..=kmax)
+                    .map(|k| Complex64::from_polar(1.0, -2.0 * PI * k as f64 * c))
+                    .collect()
+            })
+            .collect();
+        Self {
+            kmax,
+            radial,
+            phases,
+        }
+    }
+
+    /// `f̂(k)`, for `|k_a| ≤ K`.
+    pub fn at(&self, k: &[i64]) -> Complex64 {
+        let mut phase = Complex64::new(1.0, 0.0);
+        let mut s = 0;
+        for (table, &ka) in self.phases.iter().zip(k) {
+            phase *= table[(ka + self.kmax) as usize];
+            s += (ka * ka) as usize;
+        }
+        phase * self.radial[s]
+    }
+
+    /// `|f̂(k)|² = T(|k|)²`.
+    pub fn power(&self, k: &[i64]) -> f64 {
+        self.radial[k.iter().map(|&c| (c * c) as usize).sum::<usize>()].powi(2)
+    }
+}
+
 /// A real integrand on `[0,1)^d` with a closed-form Fourier transform.
 pub trait Integrand: Send + Sync {
     /// Which kind of integrand this is.
@@ -158,6 +231,12 @@ pub trait Integrand: Send + Sync {
         for (i, slot) in out.iter_mut().enumerate() {
             *slot = self.coefficient(&lattice.frequency(i)[..d]).norm_sqr();
         }
+    }
+    /// The coefficients on `|k_a| ≤ kmax` as a radial profile about a centre, when the
+    /// integrand is one (a ball); `None` otherwise.
+    fn radial_coefficients(&self, kmax: usize) -> Option<RadialCoefficients> {
+        let _ = kmax;
+        None
     }
     /// [`coefficient`](Self::coefficient) at every frequency of `lattice`, in lattice order,
     /// into `out` (length `lattice.len()`), in parallel. A polygon overrides it with per-edge,

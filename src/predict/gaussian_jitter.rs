@@ -25,7 +25,7 @@
 use super::{ErrorBudget, Form, Prediction, Route, SpectrumOrigin};
 use crate::budget::{Budget, Needs, COEFFICIENT_SECONDS};
 use crate::error::{invalid, Error, Result};
-use crate::integrand::{Integrand, SeparableCoefficients};
+use crate::integrand::{Integrand, RadialCoefficients, SeparableCoefficients};
 use crate::quadrature::CompensatedSum;
 use crate::randomization::Randomization;
 use crate::sampler::ClosedForm;
@@ -256,10 +256,12 @@ const COEFFICIENT_TABLE_BYTES: usize = 64 << 20;
 
 /// The integrand's coefficients on the axes' box `|k_a| ≤ kmax_a`: every class reads every
 /// frequency once, so they are tabulated on the lattice that holds the box (at once, as a
-/// polygon does from per-edge tables) where it fits [`COEFFICIENT_TABLE_BYTES`], and read one
-/// at a time otherwise.
+/// polygon does from per-edge tables) where it fits [`COEFFICIENT_TABLE_BYTES`]; beyond, a
+/// radial integrand (a ball) reads its radial profile and phases, and any other one its
+/// coefficients one at a time.
 enum Coefficients<'a> {
     Table(Lattice, Vec<Complex64>),
+    Radial(RadialCoefficients),
     Direct(&'a dyn Integrand),
 }
 
@@ -276,7 +278,9 @@ impl<'a> Coefficients<'a> {
             .and_then(|count| count.checked_mul(size_of::<Complex64>()))
             .is_some_and(|bytes| bytes <= COEFFICIENT_TABLE_BYTES);
         if !fits {
-            return Self::Direct(f);
+            return f
+                .radial_coefficients(kmax)
+                .map_or(Self::Direct(f), Self::Radial);
         }
         let mut values = vec![Complex64::new(0.0, 0.0); lattice.len()];
         f.coefficients_on_lattice(lattice, &mut values);
@@ -286,6 +290,7 @@ impl<'a> Coefficients<'a> {
     fn at(&self, k: &[i64]) -> Complex64 {
         match self {
             Self::Direct(f) => f.coefficient(k),
+            Self::Radial(radial) => radial.at(k),
             Self::Table(lattice, values) => {
                 let (side, kmax) = (lattice.side(), lattice.kmax as i64);
                 let index = k
@@ -589,5 +594,52 @@ fn exact_prediction(
         dc_term: 0.0,
         evaluations: m.frequencies,
         alternatives: Vec::new(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::integrand::{Ball, Polygon};
+
+    /// The three sources of coefficients fold every class alike: the table (a polygon's
+    /// per-edge tables, a ball's radial values), a ball's radial profile with its phases, and
+    /// the coefficients one at a time. Each coefficient carries the integrands' relative error
+    /// and its phases' absolute rounding (arguments up to `2πK` per axis), and a class sums at
+    /// most `Σ φ` of them, each at most `‖f‖₂`.
+    #[test]
+    fn every_source_folds_the_classes_alike() {
+        let shapes: [(Box<dyn Integrand>, usize); 3] = [
+            (Box::new(Ball::new(0.3, vec![0.3, 0.6], 1.0).unwrap()), 8),
+            (
+                Box::new(Ball::new(0.25, vec![0.4, 0.5, 0.7], 2.0).unwrap()),
+                4,
+            ),
+            (Box::new(Polygon::edge(30.0, 0.4, 1.0).unwrap()), 8),
+        ];
+        for (f, m) in shapes {
+            let d = f.dimension();
+            let axes: Vec<Axis> = (0..d).map(|_| Axis::new(m, 0.25)).collect();
+            let kmax = axes[0].kmax as usize;
+            let table = Coefficients::new(f.as_ref(), &axes);
+            assert!(matches!(table, Coefficients::Table(..)));
+            let direct = Coefficients::Direct(f.as_ref());
+            let radial = f.radial_coefficients(kmax).map(Coefficients::Radial);
+            let weights: f64 = axes.iter().map(|a| a.inside).product();
+            let relative =
+                COEFFICIENT_ROUNDING + 8.0 * f64::EPSILON * (1.0 + 2.0 * PI * (d * kmax) as f64);
+            let allowed = relative * weights * f.integral_of_square().sqrt();
+            for p in 0..m.pow(d as u32) {
+                let exact = folded_class(&direct, &axes, p);
+                for source in std::iter::once(&table).chain(radial.as_ref()) {
+                    let folded = folded_class(source, &axes, p);
+                    assert!(
+                        (folded - exact).norm() <= allowed,
+                        "{}, class {p}: {folded} against {exact} (allowed {allowed:e})",
+                        f.label()
+                    );
+                }
+            }
+        }
     }
 }
