@@ -251,7 +251,8 @@ fn shifted_moments(
     })
 }
 
-/// The most memory the integrand's coefficients on the axes' box may take as a table.
+/// The most memory the integrand's coefficients on the axes' box may take as a table, or as a
+/// radial profile.
 const COEFFICIENT_TABLE_BYTES: usize = 64 << 20;
 
 /// The integrand's coefficients on the axes' box `|k_a| ≤ kmax_a`: every class reads every
@@ -278,8 +279,12 @@ impl<'a> Coefficients<'a> {
             .and_then(|count| count.checked_mul(size_of::<Complex64>()))
             .is_some_and(|bytes| bytes <= COEFFICIENT_TABLE_BYTES);
         if !fits {
-            return f
-                .radial_coefficients(kmax)
+            // A radial profile holds one value (and a mark) per squared radius, d K² of them.
+            let radial_fits =
+                axes.len() * kmax * kmax * (size_of::<f64>() + 1) <= COEFFICIENT_TABLE_BYTES;
+            return radial_fits
+                .then(|| f.radial_coefficients(kmax))
+                .flatten()
                 .map_or(Self::Direct(f), Self::Radial);
         }
         let mut values = vec![Complex64::new(0.0, 0.0); lattice.len()];
