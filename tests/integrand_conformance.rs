@@ -168,6 +168,7 @@ fn every_integrand_conforms() {
         // every coefficient is at most ∫|f| ≤ ‖f‖₂ in size.
         let mut coefficients = vec![Complex64::new(0.0, 0.0); lattice.len()];
         f.coefficients_on_lattice(lattice, &mut coefficients);
+        let tables = f.coefficient_tables(kmax);
         let relative =
             COEFFICIENT_ERROR + 8.0 * f64::EPSILON * (1.0 + 2.0 * PI * (d * kmax) as f64);
         let delta = relative * energy.sqrt();
@@ -178,6 +179,13 @@ fn every_integrand_conforms() {
                 (c - exact).norm() <= delta,
                 "{label}: f̂{k:?} on the lattice {c} against {exact} (allowed {delta:e})"
             );
+            if let Some(t) = &tables {
+                let c = t.at(&k[..d]);
+                assert!(
+                    (c - exact).norm() <= delta,
+                    "{label}: f̂{k:?} from its tables {c} against {exact} (allowed {delta:e})"
+                );
+            }
             let allowed = 2.0 * exact.norm() * delta + delta * delta;
             assert!(
                 (p - exact.norm_sqr()).abs() <= allowed,

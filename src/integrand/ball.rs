@@ -3,7 +3,7 @@
 use super::{
     check_parameters, shift_phase, unit_ball_volume, Integrand, IntegrandKind, RadialOscillation,
 };
-use super::{CellSums, RadialCoefficients};
+use super::{CellSums, CoefficientTables, RadialCoefficients, COEFFICIENT_TABLES_BYTES};
 use crate::error::{invalid, Result};
 use crate::pointset::{toroidal_distance_sq, toroidal_square};
 use crate::quadrature::CompensatedSum;
@@ -299,11 +299,13 @@ impl Integrand for Ball {
         let omega: Vec<f64> = k.iter().map(|&c| c as f64).collect();
         self.fourier(&omega)
     }
-    fn radial_coefficients(&self, kmax: usize) -> Option<RadialCoefficients> {
+    fn coefficient_tables(&self, kmax: usize) -> Option<Box<dyn CoefficientTables>> {
         // The transform is radial about the centre: each distinct |k|² takes one Bessel value.
-        Some(RadialCoefficients::new(&self.centre, kmax, |rho| {
-            self.centred_transform(rho)
-        }))
+        (RadialCoefficients::bytes(self.d(), kmax) <= COEFFICIENT_TABLES_BYTES).then(|| {
+            Box::new(RadialCoefficients::new(&self.centre, kmax, |rho| {
+                self.centred_transform(rho)
+            })) as Box<dyn CoefficientTables>
+        })
     }
     fn power_on_lattice(&self, lattice: Lattice, out: &mut [f64]) {
         let radial = RadialCoefficients::new(&self.centre, lattice.kmax, |rho| {

@@ -108,6 +108,16 @@ pub struct SeparableCoefficients {
     pub axes: Vec<Vec<Complex64>>,
 }
 
+/// The most memory an integrand's [`CoefficientTables`] may take.
+pub const COEFFICIENT_TABLES_BYTES: usize = 64 << 20;
+
+/// An integrand's coefficients on a box `|k_a| ≤ K`, each from tables built once
+/// ([`Integrand::coefficient_tables`]).
+pub trait CoefficientTables: Send + Sync {
+    /// `f̂(k)`, for `|k_a| ≤ K`.
+    fn at(&self, k: &[i64]) -> Complex64;
+}
+
 /// The torus coefficients of an integrand radial about a centre `c`,
 /// `f̂(k) = T(|k|) e^{−2πi k·c}`, on `|k_a| ≤ K` ([`Integrand::radial_coefficients`]): `T` once
 /// per squared radius `|k|²` the box holds, the phase as a product of one table per axis, so
@@ -164,8 +174,21 @@ impl RadialCoefficients {
         }
     }
 
-    /// `f̂(k)`, for `|k_a| ≤ K`.
-    pub fn at(&self, k: &[i64]) -> Complex64 {
+    /// The memory of the profile and its marks on `|k_a| ≤ kmax` in dimension `d`.
+    pub fn bytes(d: usize, kmax: usize) -> usize {
+        d.saturating_mul(kmax)
+            .saturating_mul(kmax)
+            .saturating_mul(size_of::<f64>() + 1)
+    }
+
+    /// `|f̂(k)|² = T(|k|)²`.
+    pub fn power(&self, k: &[i64]) -> f64 {
+        self.radial[k.iter().map(|&c| (c * c) as usize).sum::<usize>()].powi(2)
+    }
+}
+
+impl CoefficientTables for RadialCoefficients {
+    fn at(&self, k: &[i64]) -> Complex64 {
         let mut phase = Complex64::new(1.0, 0.0);
         let mut s = 0;
         for (table, &ka) in self.phases.iter().zip(k) {
@@ -173,11 +196,6 @@ impl RadialCoefficients {
             s += (ka * ka) as usize;
         }
         phase * self.radial[s]
-    }
-
-    /// `|f̂(k)|² = T(|k|)²`.
-    pub fn power(&self, k: &[i64]) -> f64 {
-        self.radial[k.iter().map(|&c| (c * c) as usize).sum::<usize>()].powi(2)
     }
 }
 
@@ -232,9 +250,11 @@ pub trait Integrand: Send + Sync {
             *slot = self.coefficient(&lattice.frequency(i)[..d]).norm_sqr();
         }
     }
-    /// The coefficients on `|k_a| ≤ kmax` as a radial profile about a centre, when the
-    /// integrand is one (a ball); `None` otherwise.
-    fn radial_coefficients(&self, kmax: usize) -> Option<RadialCoefficients> {
+    /// Tables built once from which any coefficient on `|k_a| ≤ kmax` is a few products
+    /// (a polygon's per-edge, per-axis sines and phases; a ball's radial profile and phases by
+    /// axis), where the integrand has them and they fit [`COEFFICIENT_TABLES_BYTES`]; `None`
+    /// otherwise.
+    fn coefficient_tables(&self, kmax: usize) -> Option<Box<dyn CoefficientTables>> {
         let _ = kmax;
         None
     }

@@ -444,6 +444,15 @@ impl Integrand for Polygon {
             });
         }
     }
+    fn coefficient_tables(&self, kmax: usize) -> Option<Box<dyn super::CoefficientTables>> {
+        use super::polygon_lattice::{tables_fit, PolygonTables};
+        let edges: Vec<_> = self.edges().collect();
+        let lattice = crate::spectrum::Lattice { dimension: 2, kmax };
+        tables_fit(edges.len(), lattice).then(|| {
+            Box::new(PolygonTables::new(&edges, self.area, self.height, kmax))
+                as Box<dyn super::CoefficientTables>
+        })
+    }
     fn square_coefficient(&self, k: &[i64]) -> Option<Complex64> {
         // An indicator times its height: f² = a f.
         Some(self.coefficient(k) * self.height)

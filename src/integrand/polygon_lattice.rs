@@ -140,6 +140,39 @@ pub(super) fn polygon_coefficients_on_lattice(
     });
 }
 
+/// A polygon's coefficients on `|k_a| ≤ K` from its edges' tables.
+pub(super) struct PolygonTables {
+    tables: Vec<EdgeTable>,
+    kmax: i64,
+    area: f64,
+    height: f64,
+}
+
+impl PolygonTables {
+    /// The tables of `edges` on `|k_a| ≤ kmax` (whose tables fit: [`tables_fit`]).
+    pub(super) fn new(edges: &[([f64; 2], [f64; 2])], area: f64, height: f64, kmax: usize) -> Self {
+        let kmax = kmax as i64;
+        Self {
+            tables: edge_tables(edges, kmax),
+            kmax,
+            area,
+            height,
+        }
+    }
+}
+
+impl super::CoefficientTables for PolygonTables {
+    fn at(&self, k: &[i64]) -> Complex64 {
+        let k = [k[0], k[1]];
+        let w2 = 4.0 * PI * PI * (k[0] * k[0] + k[1] * k[1]) as f64;
+        if w2 == 0.0 {
+            return Complex64::new(self.height * self.area, 0.0);
+        }
+        let at = k.map(|c| (c + self.kmax) as usize);
+        Complex64::new(0.0, self.height / w2) * edge_sum(&self.tables, k, at)
+    }
+}
+
 /// `Σ_e flux_e sinc_e e^{−2πi k·m_e}` at `k ≠ 0`, whose table indices are `at`.
 fn edge_sum(tables: &[EdgeTable], k: [i64; 2], at: [usize; 2]) -> Complex64 {
     let (kx, ky) = (k[0] as f64, k[1] as f64);

@@ -25,7 +25,7 @@
 use super::{ErrorBudget, Form, Prediction, Route, SpectrumOrigin};
 use crate::budget::{Budget, Needs, COEFFICIENT_SECONDS};
 use crate::error::{invalid, Error, Result};
-use crate::integrand::{Integrand, RadialCoefficients, SeparableCoefficients};
+use crate::integrand::{CoefficientTables, Integrand, SeparableCoefficients};
 use crate::quadrature::CompensatedSum;
 use crate::randomization::Randomization;
 use crate::sampler::ClosedForm;
@@ -251,18 +251,17 @@ fn shifted_moments(
     })
 }
 
-/// The most memory the integrand's coefficients on the axes' box may take as a table, or as a
-/// radial profile.
+/// The most memory the integrand's coefficients on the axes' box may take as a table.
 const COEFFICIENT_TABLE_BYTES: usize = 64 << 20;
 
 /// The integrand's coefficients on the axes' box `|k_a| ≤ kmax_a`: every class reads every
 /// frequency once, so they are tabulated on the lattice that holds the box (at once, as a
-/// polygon does from per-edge tables) where it fits [`COEFFICIENT_TABLE_BYTES`]; beyond, a
-/// radial integrand (a ball) reads its radial profile and phases, and any other one its
-/// coefficients one at a time.
+/// polygon does from per-edge tables) where it fits [`COEFFICIENT_TABLE_BYTES`]; beyond, read
+/// from the integrand's own tables where it has them (a polygon's edges, a ball's radial
+/// profile: [`Integrand::coefficient_tables`]), and one at a time otherwise.
 enum Coefficients<'a> {
     Table(Lattice, Vec<Complex64>),
-    Radial(RadialCoefficients),
+    Tables(Box<dyn CoefficientTables>),
     Direct(&'a dyn Integrand),
 }
 
@@ -279,13 +278,9 @@ impl<'a> Coefficients<'a> {
             .and_then(|count| count.checked_mul(size_of::<Complex64>()))
             .is_some_and(|bytes| bytes <= COEFFICIENT_TABLE_BYTES);
         if !fits {
-            // A radial profile holds one value (and a mark) per squared radius, d K² of them.
-            let radial_fits =
-                axes.len() * kmax * kmax * (size_of::<f64>() + 1) <= COEFFICIENT_TABLE_BYTES;
-            return radial_fits
-                .then(|| f.radial_coefficients(kmax))
-                .flatten()
-                .map_or(Self::Direct(f), Self::Radial);
+            return f
+                .coefficient_tables(kmax)
+                .map_or(Self::Direct(f), Self::Tables);
         }
         let mut values = vec![Complex64::new(0.0, 0.0); lattice.len()];
         f.coefficients_on_lattice(lattice, &mut values);
@@ -295,7 +290,7 @@ impl<'a> Coefficients<'a> {
     fn at(&self, k: &[i64]) -> Complex64 {
         match self {
             Self::Direct(f) => f.coefficient(k),
-            Self::Radial(radial) => radial.at(k),
+            Self::Tables(tables) => tables.at(k),
             Self::Table(lattice, values) => {
                 let (side, kmax) = (lattice.side(), lattice.kmax as i64);
                 let index = k
@@ -607,9 +602,10 @@ mod tests {
     use super::*;
     use crate::integrand::{Ball, Polygon};
 
-    /// The three sources of coefficients fold every class alike: the table (a polygon's
-    /// per-edge tables, a ball's radial values), a ball's radial profile with its phases, and
-    /// the coefficients one at a time. Each coefficient carries the integrands' relative error
+    /// The three sources of coefficients fold every class alike: the table of the box (a
+    /// polygon's from per-edge tables, a ball's from radial values), the integrand's own tables
+    /// read one coefficient at a time (a polygon's edges, a ball's radial profile and phases),
+    /// and the coefficients one at a time. Each coefficient carries the integrands' relative error
     /// and its phases' absolute rounding (arguments up to `2πK` per axis), and a class sums at
     /// most `Σ φ` of them, each at most `‖f‖₂`.
     #[test]
@@ -629,14 +625,14 @@ mod tests {
             let table = Coefficients::new(f.as_ref(), &axes);
             assert!(matches!(table, Coefficients::Table(..)));
             let direct = Coefficients::Direct(f.as_ref());
-            let radial = f.radial_coefficients(kmax).map(Coefficients::Radial);
+            let tables = f.coefficient_tables(kmax).map(Coefficients::Tables);
             let weights: f64 = axes.iter().map(|a| a.inside).product();
             let relative =
                 COEFFICIENT_ROUNDING + 8.0 * f64::EPSILON * (1.0 + 2.0 * PI * (d * kmax) as f64);
             let allowed = relative * weights * f.integral_of_square().sqrt();
             for p in 0..m.pow(d as u32) {
                 let exact = folded_class(&direct, &axes, p);
-                for source in std::iter::once(&table).chain(radial.as_ref()) {
+                for source in std::iter::once(&table).chain(tables.as_ref()) {
                     let folded = folded_class(source, &axes, p);
                     assert!(
                         (folded - exact).norm() <= allowed,
