@@ -209,6 +209,7 @@ fn shifted_moments(
         }
         None => {
             let count: usize = sides.iter().product();
+            let coefficients = Coefficients::new(f, &axes);
             // The box is symmetric and |f̂(−k)| = |f̂(k)|: frequency `count − 1 − i` is `−k`,
             // so each opposite pair is evaluated once.
             let term = |i: usize| {
@@ -223,7 +224,7 @@ fn shifted_moments(
                     rest /= sides[a];
                     weight *= axis.weight[axis.index(k[a])];
                 }
-                (f.coefficient(&k[..axes.len()]).norm_sqr() * weight, 0.0)
+                (coefficients.at(&k[..axes.len()]).norm_sqr() * weight, 0.0)
             };
             super::cell_moments::chunked_sum(count, term).0
         }
