@@ -89,6 +89,42 @@ pub(crate) fn cell_masses(f: &dyn Integrand, grid: &[usize], t: &[f64]) -> Vec<f
     mass
 }
 
+/// [`cell_masses`] of the unshifted integrand, and the cells on which `f` is constant up to
+/// [`CELL_ROUNDING`] of its mean square (a shape's cells wholly inside or outside it) as a bit
+/// set (cell `c` at bit `c % 64` of word `c / 64`): there `f` equals its cell mean almost
+/// everywhere. Both from one box per cell; `None` for the set where the integrand has its own
+/// masses (a Gaussian, whose cells all vary).
+pub(crate) fn masses_and_constant_cells(
+    f: &dyn Integrand,
+    grid: &[usize],
+) -> (Vec<f64>, Option<Vec<u64>>) {
+    let d = grid.len();
+    if let Some(mass) = f.grid_masses(grid, &[0.0; 3][..d]) {
+        return (mass, None);
+    }
+    let cells: usize = grid.iter().product();
+    let area = 1.0 / cells as f64;
+    let mut mass = vec![0.0; cells];
+    let mut words = vec![0u64; cells.div_ceil(64)];
+    // A chunk of cells is a whole number of words.
+    mass.par_chunks_mut(TABLE_CHUNK)
+        .zip(words.par_chunks_mut(TABLE_CHUNK / 64))
+        .enumerate()
+        .for_each(|(c, (masses, bits))| {
+            let (mut lo, mut hi) = ([0.0; 3], [0.0; 3]);
+            for (i, slot) in masses.iter_mut().enumerate() {
+                cell_box(c * TABLE_CHUNK + i, grid, &mut lo[..d], &mut hi[..d]);
+                let (m, square) = f.box_moments(&lo[..d], &hi[..d]).unwrap_or((0.0, 0.0));
+                *slot = m;
+                let (mean, second) = (m / area, square / area);
+                if second - mean * mean <= CELL_ROUNDING * second {
+                    bits[i / 64] |= 1 << (i % 64);
+                }
+            }
+        });
+    (mass, Some(words))
+}
+
 /// `∫ f` over the box `[lo, hi) + t` taken modulo 1.
 fn wrapped_box_mass(f: &dyn Integrand, lo: &[f64], hi: &[f64], t: &[f64]) -> f64 {
     wrapped_box_moments(f, lo, hi, t).0
@@ -303,6 +339,58 @@ pub(crate) fn chunked_sum(count: usize, term: impl Fn(usize) -> (f64, f64) + Syn
 mod tests {
     use super::*;
     use crate::integrand::{Gaussian, Polygon};
+
+    /// The constant cells of a triangle are those its edges miss (a segment clipped to the
+    /// cell, Liang–Barsky, keeps a piece of positive length), and a marked cell's mean is the
+    /// value at its centre. The masses are [`cell_masses`]'s to the bit; a Gaussian marks none.
+    #[test]
+    fn constant_cells_are_those_the_boundary_misses() {
+        let vertices = [[0.1, 0.2], [0.8, 0.35], [0.3, 0.9]];
+        let triangle = Polygon::new(vertices.to_vec(), 2.0).unwrap();
+        let grid = [16, 8];
+        let (mass, constant) = masses_and_constant_cells(&triangle, &grid);
+        assert_eq!(mass, cell_masses(&triangle, &grid, &[0.0, 0.0]));
+        let constant = constant.unwrap();
+        // Whether the segment a → b passes through the open box (lo, hi).
+        let crosses = |a: [f64; 2], b: [f64; 2], lo: [f64; 2], hi: [f64; 2]| {
+            let (mut t0, mut t1) = (0.0f64, 1.0f64);
+            for axis in 0..2 {
+                let delta = b[axis] - a[axis];
+                for (p, q) in [(-delta, a[axis] - lo[axis]), (delta, hi[axis] - a[axis])] {
+                    if p == 0.0 {
+                        if q <= 0.0 {
+                            return false;
+                        }
+                    } else if p < 0.0 {
+                        t0 = t0.max(q / p);
+                    } else {
+                        t1 = t1.min(q / p);
+                    }
+                }
+            }
+            t1 > t0
+        };
+        let (mut lo, mut hi) = ([0.0; 2], [0.0; 2]);
+        for c in 0..16 * 8 {
+            cell_box(c, &grid, &mut lo, &mut hi);
+            let crossed = (0..3).any(|e| crosses(vertices[e], vertices[(e + 1) % 3], lo, hi));
+            let marked = constant[c / 64] >> (c % 64) & 1 == 1;
+            assert_eq!(
+                marked, !crossed,
+                "cell {c}: marked {marked}, crossed {crossed}"
+            );
+            if marked {
+                let centre = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
+                let mean = mass[c] * 128.0;
+                assert!(
+                    (mean - triangle.eval(&centre)).abs() <= 1e-12,
+                    "cell {c}: {mean}"
+                );
+            }
+        }
+        let g = Gaussian::new(0.2, vec![0.2, 0.7], 1.0).unwrap();
+        assert!(masses_and_constant_cells(&g, &grid).1.is_none());
+    }
 
     /// A shifted integrand's cells: the separable rows of a Gaussian against one wrapped box
     /// per cell, and for any integrand the cells' masses add up to the integral whatever the

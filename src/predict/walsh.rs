@@ -23,7 +23,7 @@
 //! axis, [`super::walsh_net`] sums every level exactly instead, and no remainder is measured.
 
 use super::cell_moments::{
-    cell_masses, check_box_moments, chunked_sum, CELL_ROUNDING, CELL_SECONDS,
+    check_box_moments, chunked_sum, masses_and_constant_cells, CELL_ROUNDING, CELL_SECONDS,
 };
 use super::cells::cell_of;
 use super::term_mean::mean_to_target_noise;
@@ -106,25 +106,39 @@ fn weighted_energy(a: &[f64], b: &[f64], n: f64) -> (f64, f64) {
     })
 }
 
-/// `((1/N) Σ_j g(x_j ⊕ Δ))²` for one shift: the remainder's estimator, squared.
-fn remainder_term(
-    f: &dyn Integrand,
-    pattern: &PointSet,
-    means: &[f64],
-    grid: &[usize],
-    mask: &[u64],
-) -> f64 {
-    let d = pattern.dimension();
-    let mut y = [0.0; MAX_AXES];
-    let mut sum = CompensatedSum::default();
-    for x in pattern.points() {
-        for l in 0..d {
-            y[l] = xor_digits(x[l], mask[l]);
+/// The finer digits' part of the integrand, `g = f − (its mean on the tabulated level's
+/// cell)`, which is zero on the cells where `f` is constant (`constant`, a bit per cell: a
+/// shape's cells wholly inside or outside it, most of a fine grid's, read without `f` or the
+/// means, whose table is beyond the caches).
+struct Remainder<'a> {
+    f: &'a dyn Integrand,
+    means: &'a [f64],
+    grid: &'a [usize],
+    constant: Option<&'a [u64]>,
+}
+
+impl Remainder<'_> {
+    /// `((1/N) Σ_j g(x_j ⊕ Δ))²` for one shift: the remainder's estimator, squared.
+    fn term(&self, pattern: &PointSet, mask: &[u64]) -> f64 {
+        let d = pattern.dimension();
+        let mut y = [0.0; MAX_AXES];
+        let mut sum = CompensatedSum::default();
+        for x in pattern.points() {
+            for l in 0..d {
+                y[l] = xor_digits(x[l], mask[l]);
+            }
+            let c = cell_of(&y[..d], self.grid);
+            if self
+                .constant
+                .is_some_and(|bits| bits[c / 64] >> (c % 64) & 1 == 1)
+            {
+                continue;
+            }
+            sum.add(self.f.eval(&y[..d]) - self.means[c]);
         }
-        sum.add(f.eval(&y[..d]) - means[cell_of(&y[..d], grid)]);
+        let m = sum.value() / pattern.len() as f64;
+        m * m
     }
-    let m = sum.value() / pattern.len() as f64;
-    m * m
 }
 
 /// The variance of the estimator of `patterns` (each a fixed pattern, all equally likely)
@@ -172,11 +186,12 @@ pub(crate) fn digital_shift_variance(
     )?;
     let grid = vec![side; d];
     let (means, coefficients) = stage(progress, "Walsh coefficients", 0, || {
-        let mut masses = cell_masses(f, &grid, &[0.0; 3][..grid.len()]);
+        let (mut masses, constant) = masses_and_constant_cells(f, &grid);
         let means: Vec<f64> = masses.iter().map(|m| m * cells as f64).collect();
         walsh_hadamard(&mut masses);
-        (means, masses)
+        (means, (masses, constant))
     });
+    let (coefficients, constant) = coefficients;
     let nf = n as f64;
     let (mut exact, mut magnitude) = (CompensatedSum::default(), CompensatedSum::default());
     let mut counts = vec![0.0; cells];
@@ -197,6 +212,12 @@ pub(crate) fn digital_shift_variance(
     let mass: f64 = means.iter().map(|m| m.abs()).sum::<f64>() / cells as f64;
     let coefficient_error = (CELL_ROUNDING + f64::EPSILON * (level as usize * d) as f64) * mass;
     let rounding = 2.0 * coefficient_error * magnitude.value() / sets;
+    let remainder_of = Remainder {
+        f,
+        means: &means,
+        grid: &grid,
+        constant: constant.as_deref(),
+    };
     let per_shift = nf * EVALUATION_SECONDS;
     let max_shifts = ((work_seconds / per_shift) as usize).clamp(INITIAL_SHIFTS, MAX_SHIFTS);
     // The remainder below the level, measured by shifts until its standard error is
@@ -209,7 +230,7 @@ pub(crate) fn digital_shift_variance(
         |unit| {
             let pattern = &patterns[unit % patterns.len()];
             let mask = digital_shift(d, seed, unit as u64);
-            Ok(remainder_term(f, pattern, &means, &grid, &mask[..d]))
+            Ok(remainder_of.term(pattern, &mask[..d]))
         },
         progress,
     )?;
