@@ -423,10 +423,11 @@ impl Integrand for Polygon {
         self.transform([k[0] as f64, k[1] as f64])
     }
     fn power_on_lattice(&self, lattice: crate::spectrum::Lattice, out: &mut [f64]) {
-        use super::polygon_lattice::{polygon_power_on_lattice, tables_fit};
+        use super::polygon_lattice::{tables_fit, PolygonTables};
         let edges: Vec<_> = self.edges().collect();
         if tables_fit(edges.len(), lattice) {
-            polygon_power_on_lattice(&edges, self.area, self.height, lattice, out);
+            PolygonTables::new(&edges, self.area, self.height, lattice.kmax)
+                .power_on_lattice(lattice, out);
         } else {
             out.par_iter_mut().enumerate().for_each(|(i, slot)| {
                 *slot = self.coefficient(&lattice.frequency(i)[..2]).norm_sqr();
@@ -434,10 +435,11 @@ impl Integrand for Polygon {
         }
     }
     fn coefficients_on_lattice(&self, lattice: crate::spectrum::Lattice, out: &mut [Complex64]) {
-        use super::polygon_lattice::{polygon_coefficients_on_lattice, tables_fit};
+        use super::polygon_lattice::{tables_fit, PolygonTables};
         let edges: Vec<_> = self.edges().collect();
         if tables_fit(edges.len(), lattice) {
-            polygon_coefficients_on_lattice(&edges, self.area, self.height, lattice, out);
+            PolygonTables::new(&edges, self.area, self.height, lattice.kmax)
+                .coefficients_on_lattice(lattice, out);
         } else {
             out.par_iter_mut().enumerate().for_each(|(i, slot)| {
                 *slot = self.coefficient(&lattice.frequency(i)[..2]);

@@ -78,68 +78,6 @@ fn edge_tables(edges: &[([f64; 2], [f64; 2])], kmax: i64) -> Vec<EdgeTable> {
         .collect()
 }
 
-/// `value(k, Σ_e flux_e sinc_e e^{−2πi k·m_e})` at every frequency of the 2D `lattice`, in
-/// lattice order, rows in parallel.
-fn on_lattice<T: Send>(
-    edges: &[([f64; 2], [f64; 2])],
-    lattice: Lattice,
-    out: &mut [T],
-    value: impl Fn([i64; 2], Complex64) -> T + Sync,
-) {
-    let kmax = lattice.kmax as i64;
-    let side = lattice.side();
-    let tables = edge_tables(edges, kmax);
-    out.par_chunks_mut(side)
-        .enumerate()
-        .for_each(|(row, slots)| {
-            let kx = row as i64 - kmax;
-            for (col, slot) in slots.iter_mut().enumerate() {
-                let k = [kx, col as i64 - kmax];
-                *slot = value(k, edge_sum(&tables, k, [row, col]));
-            }
-        });
-}
-
-/// `|f̂(k)|²` of `height` on the polygon with `edges` (vertex pairs, counter-clockwise or
-/// clockwise alike) and `area`, at every frequency of the 2D `lattice`, in lattice order
-/// (whose tables fit: [`tables_fit`]).
-pub(super) fn polygon_power_on_lattice(
-    edges: &[([f64; 2], [f64; 2])],
-    area: f64,
-    height: f64,
-    lattice: Lattice,
-    out: &mut [f64],
-) {
-    on_lattice(edges, lattice, out, |k, sum| {
-        let w2 = 4.0 * PI * PI * (k[0] * k[0] + k[1] * k[1]) as f64;
-        if w2 == 0.0 {
-            (height * area).powi(2)
-        } else {
-            (height / w2).powi(2) * sum.norm_sqr()
-        }
-    });
-}
-
-/// `f̂(k)` of `height` on the polygon with `edges` and `area`, at every frequency of the 2D
-/// `lattice`, in lattice order (whose tables fit: [`tables_fit`]): `i (height / |ω|²)` times
-/// the edge sum, as [`Polygon`](super::Polygon)'s transform takes it.
-pub(super) fn polygon_coefficients_on_lattice(
-    edges: &[([f64; 2], [f64; 2])],
-    area: f64,
-    height: f64,
-    lattice: Lattice,
-    out: &mut [Complex64],
-) {
-    on_lattice(edges, lattice, out, |k, sum| {
-        let w2 = 4.0 * PI * PI * (k[0] * k[0] + k[1] * k[1]) as f64;
-        if w2 == 0.0 {
-            Complex64::new(height * area, 0.0)
-        } else {
-            Complex64::new(0.0, height / w2) * sum
-        }
-    });
-}
-
 /// A polygon's coefficients on `|k_a| ≤ K` from its edges' tables.
 pub(super) struct PolygonTables {
     tables: Vec<EdgeTable>,
@@ -149,7 +87,8 @@ pub(super) struct PolygonTables {
 }
 
 impl PolygonTables {
-    /// The tables of `edges` on `|k_a| ≤ kmax` (whose tables fit: [`tables_fit`]).
+    /// The tables of `edges` (vertex pairs, counter-clockwise or clockwise alike) of the
+    /// polygon of `area` and `height` on `|k_a| ≤ kmax` (whose tables fit: [`tables_fit`]).
     pub(super) fn new(edges: &[([f64; 2], [f64; 2])], area: f64, height: f64, kmax: usize) -> Self {
         let kmax = kmax as i64;
         Self {
@@ -159,18 +98,67 @@ impl PolygonTables {
             height,
         }
     }
+
+    /// `|f̂(k)|²` at every frequency of the 2D `lattice` (of extent `K`), in lattice order.
+    pub(super) fn power_on_lattice(&self, lattice: Lattice, out: &mut [f64]) {
+        self.on_lattice(lattice, out, |k, sum| {
+            let w2 = squared_frequency(k);
+            if w2 == 0.0 {
+                (self.height * self.area).powi(2)
+            } else {
+                (self.height / w2).powi(2) * sum.norm_sqr()
+            }
+        });
+    }
+
+    /// `f̂(k)` at every frequency of the 2D `lattice` (of extent `K`), in lattice order.
+    pub(super) fn coefficients_on_lattice(&self, lattice: Lattice, out: &mut [Complex64]) {
+        self.on_lattice(lattice, out, |k, sum| self.coefficient(k, sum));
+    }
+
+    /// `f̂(k)` from its edge sum: `i (height / |ω|²)` times it, as
+    /// [`Polygon`](super::Polygon)'s transform takes it.
+    fn coefficient(&self, k: [i64; 2], sum: Complex64) -> Complex64 {
+        let w2 = squared_frequency(k);
+        if w2 == 0.0 {
+            Complex64::new(self.height * self.area, 0.0)
+        } else {
+            Complex64::new(0.0, self.height / w2) * sum
+        }
+    }
+
+    /// `value(k, Σ_e flux_e sinc_e e^{−2πi k·m_e})` at every frequency of `lattice`, in lattice
+    /// order, rows in parallel.
+    fn on_lattice<T: Send>(
+        &self,
+        lattice: Lattice,
+        out: &mut [T],
+        value: impl Fn([i64; 2], Complex64) -> T + Sync,
+    ) {
+        let (kmax, side) = (lattice.kmax as i64, lattice.side());
+        out.par_chunks_mut(side)
+            .enumerate()
+            .for_each(|(row, slots)| {
+                let kx = row as i64 - kmax;
+                for (col, slot) in slots.iter_mut().enumerate() {
+                    let k = [kx, col as i64 - kmax];
+                    *slot = value(k, edge_sum(&self.tables, k, [row, col]));
+                }
+            });
+    }
 }
 
 impl super::CoefficientTables for PolygonTables {
     fn at(&self, k: &[i64]) -> Complex64 {
         let k = [k[0], k[1]];
-        let w2 = 4.0 * PI * PI * (k[0] * k[0] + k[1] * k[1]) as f64;
-        if w2 == 0.0 {
-            return Complex64::new(self.height * self.area, 0.0);
-        }
         let at = k.map(|c| (c + self.kmax) as usize);
-        Complex64::new(0.0, self.height / w2) * edge_sum(&self.tables, k, at)
+        self.coefficient(k, edge_sum(&self.tables, k, at))
     }
+}
+
+/// `|ω|² = 4π² |k|²`.
+fn squared_frequency(k: [i64; 2]) -> f64 {
+    4.0 * PI * PI * (k[0] * k[0] + k[1] * k[1]) as f64
 }
 
 /// `Σ_e flux_e sinc_e e^{−2πi k·m_e}` at `k ≠ 0`, whose table indices are `at`.
