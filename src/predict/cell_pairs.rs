@@ -307,7 +307,8 @@ fn marginal_sums(deviation: &[f64], n: usize, d: usize, shared: usize) -> Vec<f6
 /// a sum of squares of marginals by inclusion–exclusion. The block means and profiles are
 /// integrals over boxes, so an integrand with its own sums over a grid's cells
 /// ([`Integrand::cell_sums`]: disks, polygons, tabulated grids) is answered from those sums on
-/// three grids and `3N` boxes at any N; a separable one from its rows; any other from the table of its `N²` cells.
+/// three grids and `3N` boxes at any N; a separable one from its rows; any other from the
+/// table of its `N²` cells.
 ///
 /// # Errors
 /// A dimension other than 2, an integrand without box moments, or work beyond the budget; for
@@ -347,15 +348,16 @@ pub fn multi_jitter_variance(f: &dyn Integrand, n: usize, budget: &Budget) -> Re
 }
 
 /// The variance of Kensler's correlated multi-jittered estimator of `n` points in 2D,
-/// unshifted, exactly. With `N = m × r` (`m` columns of `r` sub-columns, `r` rows of `m` sub-rows), point `(i, j)`
-/// takes sub-column `σ(j)` of column `i` and sub-row `τ(i)` of row `j`, for two uniform
-/// permutations `σ` and `τ` shared by every column and row: two points of one column take
-/// distinct sub-columns and one sub-row position, two of one row the reverse, two in different
-/// columns and rows distinct positions on both axes. Each pair's expectation factors by axis, so
-/// for a separable integrand `f = h f_0(x) f_1(y)` (a Gaussian) the sum over pairs is four
-/// products of sums over the rows of cells of each axis, at any N (`docs/theory.md`, "Strata in
-/// space"). Any other integrand is summed over the table of its `N²` cells, its pairs of blocks
-/// by inclusion–exclusion over the blocks' sums along each column and row.
+/// unshifted, exactly. With `N = m × r` (`m` columns of `r` sub-columns, `r` rows of `m`
+/// sub-rows), point `(i, j)` takes sub-column `σ(j)` of column `i` and sub-row `τ(i)` of row
+/// `j`, for two uniform permutations `σ` and `τ` shared by every column and row: two points of
+/// one column take distinct sub-columns and one sub-row position, two of one row the reverse,
+/// two in different columns and rows distinct positions on both axes. Each pair's expectation
+/// factors by axis, so for a separable integrand `f = h f_0(x) f_1(y)` (a Gaussian) the sum
+/// over pairs is four products of sums over the rows of cells of each axis, at any N
+/// (`docs/theory.md`, "Strata in space"). Any other integrand is summed over the table of its
+/// `N²` cells, its pairs of blocks by inclusion–exclusion over the blocks' sums along each
+/// column and row.
 ///
 /// # Errors
 /// A dimension other than 2, an integrand without box moments, or work beyond the budget; for

@@ -10,8 +10,8 @@
 //!   sub-columns' means over the sub-rows, or with its sub-rows' means over the sub-columns:
 //!   each the mean over a cell of a coarser grid (`N × r`, `m × N`), so the integrand's own
 //!   sums over grids' cells ([`Integrand::cell_sums`]: a disk or a polygon visits only the
-//!   cells its boundary crosses) and `3N` boxes answer at any N; an integrand without them is summed over the table of its `N²`
-//!   cells.
+//!   cells its boundary crosses) and `3N` boxes answer at any N; an integrand without them is
+//!   summed over the table of its `N²` cells.
 //! - CMJ (one permutation for every column's sub-columns, one for every row's sub-rows) pairs
 //!   two blocks at one sub-row position, at one sub-column position, or at distinct positions
 //!   on both axes: by inclusion–exclusion over the blocks, self-pairings of the blocks, of their
