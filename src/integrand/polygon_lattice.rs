@@ -11,6 +11,7 @@
 //! rounding by a small number, so there (`|π k·Δ| < 1`, `O(K)` frequencies per edge) the sine
 //! is taken directly.
 
+use super::COEFFICIENT_TABLES_BYTES;
 use crate::spectrum::Lattice;
 use num_complex::Complex64;
 use rayon::prelude::*;
@@ -43,21 +44,18 @@ impl AxisTable {
     }
 }
 
-/// The most memory the tables may take: beyond it (thousands of edges on a wide lattice) each
-/// frequency takes the edge sum with its sines instead.
-const TABLE_BYTES: usize = 64 << 20;
-
 /// An edge's vector and its two axis tables.
 struct EdgeTable {
     delta: [f64; 2],
     axes: [AxisTable; 2],
 }
 
-/// Whether the tables of `edges` edges on `lattice` fit in [`TABLE_BYTES`] (two axes of
-/// `2K + 1` sines, cosines and phases each).
+/// Whether the tables of `edges` edges on `lattice` fit in [`COEFFICIENT_TABLES_BYTES`] (two
+/// axes of `2K + 1` sines, cosines and phases each): beyond (thousands of edges on a wide
+/// lattice) each frequency takes the edge sum with its sines instead.
 pub(super) fn tables_fit(edges: usize, lattice: Lattice) -> bool {
     let per_edge = 2 * lattice.side() * (2 * size_of::<f64>() + size_of::<Complex64>());
-    edges.saturating_mul(per_edge) <= TABLE_BYTES
+    edges.saturating_mul(per_edge) <= COEFFICIENT_TABLES_BYTES
 }
 
 /// The tables of `edges` on a lattice of extent `kmax`.
@@ -241,9 +239,9 @@ mod tests {
         }
     }
 
-    /// The tables are kept to [`super::TABLE_BYTES`]: a clipped edge's few edges on the widest
-    /// lattice the routes use fit; the most vertices a polygon may have, on it, do not (and take
-    /// the edge sum frequency by frequency).
+    /// The tables are kept to [`super::COEFFICIENT_TABLES_BYTES`]: a clipped edge's few edges
+    /// on the widest lattice the routes use fit; the most vertices a polygon may have, on it,
+    /// do not (and take the edge sum frequency by frequency).
     #[test]
     fn the_tables_fit_their_memory() {
         let widest = Lattice {

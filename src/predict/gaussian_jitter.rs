@@ -25,7 +25,9 @@
 use super::{ErrorBudget, Form, Prediction, Route, SpectrumOrigin};
 use crate::budget::{Budget, Needs, COEFFICIENT_SECONDS};
 use crate::error::{invalid, Error, Result};
-use crate::integrand::{CoefficientTables, Integrand, SeparableCoefficients};
+use crate::integrand::{
+    CoefficientTables, Integrand, SeparableCoefficients, COEFFICIENT_TABLES_BYTES,
+};
 use crate::quadrature::CompensatedSum;
 use crate::randomization::Randomization;
 use crate::sampler::ClosedForm;
@@ -119,7 +121,7 @@ fn moments(f: &dyn Integrand, strata: &[usize], width: f64, budget: &Budget) -> 
                 .iter()
                 .map(|a| 24.0 * a.weight.len() as f64)
                 .sum::<f64>()
-                + (16.0 * frequencies).min(COEFFICIENT_TABLE_BYTES as f64),
+                + (16.0 * frequencies).min(COEFFICIENT_TABLES_BYTES as f64),
             work_seconds: frequencies * COEFFICIENT_SECONDS,
         },
         "lower N or widen the offsets",
@@ -185,7 +187,11 @@ fn shifted_moments(
     budget.check(
         "Gaussian jitter's smoothed energy",
         Needs {
-            memory_bytes: axes.iter().map(|a| 24.0 * a.weight.len() as f64).sum(),
+            memory_bytes: axes
+                .iter()
+                .map(|a| 24.0 * a.weight.len() as f64)
+                .sum::<f64>()
+                + (16.0 * frequencies).min(COEFFICIENT_TABLES_BYTES as f64),
             work_seconds: frequencies * COEFFICIENT_SECONDS,
         },
         "lower N or widen the offsets",
@@ -252,12 +258,9 @@ fn shifted_moments(
     })
 }
 
-/// The most memory the integrand's coefficients on the axes' box may take as a table.
-const COEFFICIENT_TABLE_BYTES: usize = 64 << 20;
-
 /// The integrand's coefficients on the axes' box `|k_a| ≤ kmax_a`: every class reads every
 /// frequency once, so they are tabulated on the lattice that holds the box (at once, as a
-/// polygon does from per-edge tables) where it fits [`COEFFICIENT_TABLE_BYTES`]; beyond, read
+/// polygon does from per-edge tables) where it fits [`COEFFICIENT_TABLES_BYTES`]; beyond, read
 /// from the integrand's own tables where it has them (a polygon's edges, a ball's radial
 /// profile: [`Integrand::coefficient_tables`]), and one at a time otherwise.
 enum Coefficients<'a> {
@@ -277,7 +280,7 @@ impl<'a> Coefficients<'a> {
             .side()
             .checked_pow(axes.len() as u32)
             .and_then(|count| count.checked_mul(size_of::<Complex64>()))
-            .is_some_and(|bytes| bytes <= COEFFICIENT_TABLE_BYTES);
+            .is_some_and(|bytes| bytes <= COEFFICIENT_TABLES_BYTES);
         if !fits {
             return f
                 .coefficient_tables(kmax)
