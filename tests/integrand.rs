@@ -691,3 +691,24 @@ fn separable_cells_are_the_boxes_moments() {
     let disk = Ball::new(0.25, vec![0.5, 0.5], 1.0).unwrap();
     assert!(disk.separable_cells(&[4, 4]).is_none());
 }
+
+/// A ball's radial profile is refused where it would outgrow its memory (in 1D its `K²` values
+/// outgrow the lattice's `2K + 1` long before), and the ball's power on such a lattice is then
+/// read one coefficient at a time, the same values.
+#[test]
+fn a_radial_profile_beyond_its_memory_is_refused() {
+    use specvar::spectrum::Lattice;
+    assert!(RadialCoefficients::new(&[0.5], 3_000_000, |_| 1.0).is_none());
+    assert!(RadialCoefficients::new(&[0.5, 0.5], 100, |_| 1.0).is_some());
+    let ball = Ball::new(0.1, vec![0.3], 1.0).unwrap();
+    let lattice = Lattice {
+        dimension: 1,
+        kmax: 3_000_000,
+    };
+    let mut power = vec![0.0; lattice.len()];
+    ball.power_on_lattice(lattice, &mut power);
+    for k in [0i64, 1, -7, 2_999_999] {
+        let i = (k + lattice.kmax as i64) as usize;
+        assert_eq!(power[i], ball.coefficient(&[k]).norm_sqr(), "k = {k}");
+    }
+}

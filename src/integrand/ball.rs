@@ -3,7 +3,7 @@
 use super::{
     check_parameters, shift_phase, unit_ball_volume, Integrand, IntegrandKind, RadialOscillation,
 };
-use super::{CellSums, CoefficientTables, RadialCoefficients, COEFFICIENT_TABLES_BYTES};
+use super::{CellSums, CoefficientTables, RadialCoefficients};
 use crate::error::{invalid, Result};
 use crate::pointset::{toroidal_distance_sq, toroidal_square};
 use crate::quadrature::CompensatedSum;
@@ -148,6 +148,13 @@ impl Ball {
     /// [`Integrand::cell_sums`] of a disk: a cell the circle (or one of its images across the
     /// faces) does not cross has `F_c` equal to the height or 0 and no inner variance, so only
     /// the crossed cells' moments are computed, column by column (`O(m)` of the `m²` cells).
+    /// The ball's coefficients on `|k_a| ≤ kmax` as its radial profile about its centre: each
+    /// distinct `|k|²` takes one Bessel value; `None` where the profile would not fit its
+    /// memory ([`RadialCoefficients::new`]).
+    fn radial_coefficients(&self, kmax: usize) -> Option<RadialCoefficients> {
+        RadialCoefficients::new(&self.centre, kmax, |rho| self.centred_transform(rho))
+    }
+
     fn disk_cell_sums(&self, grid: &[usize]) -> CellSums {
         let (mx, my) = (grid[0], grid[1]);
         let (r, a) = (self.radius, self.height);
@@ -300,30 +307,30 @@ impl Integrand for Ball {
         self.fourier(&omega)
     }
     fn coefficient_tables(&self, kmax: usize) -> Option<Box<dyn CoefficientTables>> {
-        // The transform is radial about the centre: each distinct |k|² takes one Bessel value.
-        (RadialCoefficients::bytes(self.d(), kmax) <= COEFFICIENT_TABLES_BYTES).then(|| {
-            Box::new(RadialCoefficients::new(&self.centre, kmax, |rho| {
-                self.centred_transform(rho)
-            })) as Box<dyn CoefficientTables>
-        })
+        self.radial_coefficients(kmax)
+            .map(|r| Box::new(r) as Box<dyn CoefficientTables>)
     }
     fn power_on_lattice(&self, lattice: Lattice, out: &mut [f64]) {
-        let radial = RadialCoefficients::new(&self.centre, lattice.kmax, |rho| {
-            self.centred_transform(rho)
-        });
         let d = lattice.dimension;
-        out.par_iter_mut().enumerate().for_each(|(i, slot)| {
-            *slot = radial.power(&lattice.frequency(i)[..d]);
-        });
+        match self.radial_coefficients(lattice.kmax) {
+            Some(radial) => out.par_iter_mut().enumerate().for_each(|(i, slot)| {
+                *slot = radial.power(&lattice.frequency(i)[..d]);
+            }),
+            None => out.par_iter_mut().enumerate().for_each(|(i, slot)| {
+                *slot = self.coefficient(&lattice.frequency(i)[..d]).norm_sqr();
+            }),
+        }
     }
     fn coefficients_on_lattice(&self, lattice: Lattice, out: &mut [Complex64]) {
-        let radial = RadialCoefficients::new(&self.centre, lattice.kmax, |rho| {
-            self.centred_transform(rho)
-        });
         let d = lattice.dimension;
-        out.par_iter_mut().enumerate().for_each(|(i, slot)| {
-            *slot = radial.at(&lattice.frequency(i)[..d]);
-        });
+        match self.radial_coefficients(lattice.kmax) {
+            Some(radial) => out.par_iter_mut().enumerate().for_each(|(i, slot)| {
+                *slot = radial.at(&lattice.frequency(i)[..d]);
+            }),
+            None => out.par_iter_mut().enumerate().for_each(|(i, slot)| {
+                *slot = self.coefficient(&lattice.frequency(i)[..d]);
+            }),
+        }
     }
     fn square_coefficient(&self, k: &[i64]) -> Option<Complex64> {
         // An indicator times its height: f² = a f.

@@ -132,10 +132,15 @@ pub struct RadialCoefficients {
 }
 
 impl RadialCoefficients {
-    /// The coefficients of `transform` (of `|k|`) about `centre` on `|k_a| ≤ kmax`.
+    /// The coefficients of `transform` (of `|k|`) about `centre` on `|k_a| ≤ kmax`, or `None`
+    /// where the profile's `d K²` values would exceed [`COEFFICIENT_TABLES_BYTES`] (in 1D the
+    /// profile outgrows the lattice, `2K + 1` values, long before that).
     /// `(|k|² as f64).sqrt()` is the radius as [`Integrand::coefficient`] takes it, to the bit.
-    pub fn new(centre: &[f64], kmax: usize, transform: impl Fn(f64) -> f64 + Sync) -> Self {
+    pub fn new(centre: &[f64], kmax: usize, transform: impl Fn(f64) -> f64 + Sync) -> Option<Self> {
         let d = centre.len();
+        if Self::bytes(d, kmax) > COEFFICIENT_TABLES_BYTES {
+            return None;
+        }
         let largest = d * kmax * kmax;
         // The squared radii of the box's frequencies: the octant k_a ≥ 0 holds them all.
         let mut needed = vec![false; largest + 1];
@@ -167,11 +172,11 @@ impl RadialCoefficients {
                     .collect()
             })
             .collect();
-        Self {
+        Some(Self {
             kmax,
             radial,
             phases,
-        }
+        })
     }
 
     /// The memory of the profile and its marks on `|k_a| ≤ kmax` in dimension `d`.
