@@ -3,7 +3,7 @@
 use super::{
     check_parameters, shift_phase, unit_ball_volume, Integrand, IntegrandKind, RadialOscillation,
 };
-use super::{CellSums, CoefficientTables, RadialCoefficients};
+use super::{on_lattice, CellSums, CoefficientTables, RadialCoefficients};
 use crate::error::{invalid, Result};
 use crate::pointset::{toroidal_distance_sq, toroidal_square};
 use crate::quadrature::CompensatedSum;
@@ -311,25 +311,15 @@ impl Integrand for Ball {
             .map(|r| Box::new(r) as Box<dyn CoefficientTables>)
     }
     fn power_on_lattice(&self, lattice: Lattice, out: &mut [f64]) {
-        let d = lattice.dimension;
         match self.radial_coefficients(lattice.kmax) {
-            Some(radial) => out.par_iter_mut().enumerate().for_each(|(i, slot)| {
-                *slot = radial.power(&lattice.frequency(i)[..d]);
-            }),
-            None => out.par_iter_mut().enumerate().for_each(|(i, slot)| {
-                *slot = self.coefficient(&lattice.frequency(i)[..d]).norm_sqr();
-            }),
+            Some(radial) => on_lattice(lattice, out, |k| radial.power(k)),
+            None => on_lattice(lattice, out, |k| self.coefficient(k).norm_sqr()),
         }
     }
     fn coefficients_on_lattice(&self, lattice: Lattice, out: &mut [Complex64]) {
-        let d = lattice.dimension;
         match self.radial_coefficients(lattice.kmax) {
-            Some(radial) => out.par_iter_mut().enumerate().for_each(|(i, slot)| {
-                *slot = radial.at(&lattice.frequency(i)[..d]);
-            }),
-            None => out.par_iter_mut().enumerate().for_each(|(i, slot)| {
-                *slot = self.coefficient(&lattice.frequency(i)[..d]);
-            }),
+            Some(radial) => on_lattice(lattice, out, |k| radial.at(k)),
+            None => on_lattice(lattice, out, |k| self.coefficient(k)),
         }
     }
     fn square_coefficient(&self, k: &[i64]) -> Option<Complex64> {

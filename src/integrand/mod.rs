@@ -108,6 +108,19 @@ pub struct SeparableCoefficients {
     pub axes: Vec<Vec<Complex64>>,
 }
 
+/// `value(k)` at every frequency `k` of `lattice` (its `d` components), in lattice order, into
+/// `out` (at most `lattice.len()` long), in parallel.
+pub(crate) fn on_lattice<T: Send>(
+    lattice: Lattice,
+    out: &mut [T],
+    value: impl Fn(&[i64]) -> T + Sync,
+) {
+    let d = lattice.dimension;
+    out.par_iter_mut()
+        .enumerate()
+        .for_each(|(i, slot)| *slot = value(&lattice.frequency(i)[..d]));
+}
+
 /// The most memory an integrand's [`CoefficientTables`] may take.
 pub const COEFFICIENT_TABLES_BYTES: usize = 64 << 20;
 
@@ -250,10 +263,7 @@ pub trait Integrand: Send + Sync {
     /// `|coefficient(k)|²` for every frequency of `lattice`, in lattice order, into `out`
     /// (length `lattice.len()`). Separable integrands override it with per-axis tables.
     fn power_on_lattice(&self, lattice: Lattice, out: &mut [f64]) {
-        let d = lattice.dimension;
-        for (i, slot) in out.iter_mut().enumerate() {
-            *slot = self.coefficient(&lattice.frequency(i)[..d]).norm_sqr();
-        }
+        on_lattice(lattice, out, |k| self.coefficient(k).norm_sqr());
     }
     /// Tables built once from which any coefficient on `|k_a| ≤ kmax` is a few products
     /// (a polygon's per-edge, per-axis sines and phases; a ball's radial profile and phases by
@@ -267,10 +277,7 @@ pub trait Integrand: Send + Sync {
     /// into `out` (length `lattice.len()`), in parallel. A polygon overrides it with per-edge,
     /// per-axis tables of its sines and phases.
     fn coefficients_on_lattice(&self, lattice: Lattice, out: &mut [Complex64]) {
-        let d = lattice.dimension;
-        out.par_iter_mut().enumerate().for_each(|(i, slot)| {
-            *slot = self.coefficient(&lattice.frequency(i)[..d]);
-        });
+        on_lattice(lattice, out, |k| self.coefficient(k));
     }
     /// `∫ F_a(x)² dx` for the projection `F_a(x) = ∫ f dx_{b≠a}` onto axis `a`. By Parseval in
     /// 1D, `∫ F_a² - I²` is the energy on the axis line `k = k_a e_a` of the lattice, where

@@ -199,6 +199,16 @@ impl Polygon {
         Complex64::new(0.0, self.height / w2) * sum
     }
 
+    /// Its edges' sine and phase tables on `|k_a| ≤ kmax`, where they fit their memory
+    /// ([`polygon_lattice::tables_fit`](super::polygon_lattice::tables_fit)).
+    fn lattice_tables(&self, kmax: usize) -> Option<super::polygon_lattice::PolygonTables> {
+        use super::polygon_lattice::{tables_fit, PolygonTables};
+        let edges: Vec<_> = self.edges().collect();
+        let lattice = crate::spectrum::Lattice { dimension: 2, kmax };
+        tables_fit(edges.len(), lattice)
+            .then(|| PolygonTables::new(&edges, self.area, self.height, kmax))
+    }
+
     /// The length of the polygon's section by the line `x_axis = value` (even–odd rule).
     fn chord(&self, axis: usize, value: f64) -> f64 {
         let other = 1 - axis;
@@ -423,37 +433,20 @@ impl Integrand for Polygon {
         self.transform([k[0] as f64, k[1] as f64])
     }
     fn power_on_lattice(&self, lattice: crate::spectrum::Lattice, out: &mut [f64]) {
-        use super::polygon_lattice::{tables_fit, PolygonTables};
-        let edges: Vec<_> = self.edges().collect();
-        if tables_fit(edges.len(), lattice) {
-            PolygonTables::new(&edges, self.area, self.height, lattice.kmax)
-                .power_on_lattice(lattice, out);
-        } else {
-            out.par_iter_mut().enumerate().for_each(|(i, slot)| {
-                *slot = self.coefficient(&lattice.frequency(i)[..2]).norm_sqr();
-            });
+        match self.lattice_tables(lattice.kmax) {
+            Some(tables) => tables.power_on_lattice(lattice, out),
+            None => super::on_lattice(lattice, out, |k| self.coefficient(k).norm_sqr()),
         }
     }
     fn coefficients_on_lattice(&self, lattice: crate::spectrum::Lattice, out: &mut [Complex64]) {
-        use super::polygon_lattice::{tables_fit, PolygonTables};
-        let edges: Vec<_> = self.edges().collect();
-        if tables_fit(edges.len(), lattice) {
-            PolygonTables::new(&edges, self.area, self.height, lattice.kmax)
-                .coefficients_on_lattice(lattice, out);
-        } else {
-            out.par_iter_mut().enumerate().for_each(|(i, slot)| {
-                *slot = self.coefficient(&lattice.frequency(i)[..2]);
-            });
+        match self.lattice_tables(lattice.kmax) {
+            Some(tables) => tables.coefficients_on_lattice(lattice, out),
+            None => super::on_lattice(lattice, out, |k| self.coefficient(k)),
         }
     }
     fn coefficient_tables(&self, kmax: usize) -> Option<Box<dyn super::CoefficientTables>> {
-        use super::polygon_lattice::{tables_fit, PolygonTables};
-        let edges: Vec<_> = self.edges().collect();
-        let lattice = crate::spectrum::Lattice { dimension: 2, kmax };
-        tables_fit(edges.len(), lattice).then(|| {
-            Box::new(PolygonTables::new(&edges, self.area, self.height, kmax))
-                as Box<dyn super::CoefficientTables>
-        })
+        self.lattice_tables(kmax)
+            .map(|t| Box::new(t) as Box<dyn super::CoefficientTables>)
     }
     fn square_coefficient(&self, k: &[i64]) -> Option<Complex64> {
         // An indicator times its height: f² = a f.

@@ -264,7 +264,7 @@ fn shifted_moments(
 /// from the integrand's own tables where it has them (a polygon's edges, a ball's radial
 /// profile: [`Integrand::coefficient_tables`]), and one at a time otherwise.
 enum Coefficients<'a> {
-    Table(Lattice, Vec<Complex64>),
+    Table(&'a dyn Integrand, Lattice, Vec<Complex64>),
     Tables(Box<dyn CoefficientTables>),
     Direct(&'a dyn Integrand),
 }
@@ -288,20 +288,17 @@ impl<'a> Coefficients<'a> {
         }
         let mut values = vec![Complex64::new(0.0, 0.0); lattice.len()];
         f.coefficients_on_lattice(lattice, &mut values);
-        Self::Table(lattice, values)
+        Self::Table(f, lattice, values)
     }
 
     fn at(&self, k: &[i64]) -> Complex64 {
         match self {
             Self::Direct(f) => f.coefficient(k),
             Self::Tables(tables) => tables.at(k),
-            Self::Table(lattice, values) => {
-                let (side, kmax) = (lattice.side(), lattice.kmax as i64);
-                let index = k
-                    .iter()
-                    .fold(0, |index, &ka| index * side + (ka + kmax) as usize);
-                values[index]
-            }
+            // The classes stay inside the box the table holds.
+            Self::Table(f, lattice, values) => lattice
+                .index(k)
+                .map_or_else(|| f.coefficient(k), |i| values[i]),
         }
     }
 }

@@ -29,7 +29,6 @@ use crate::randomization::{toroidal_shift, Randomization};
 use crate::spectrum::nufft::NufftPlan;
 use crate::spectrum::{kmax_at_nu, Lattice, PatternSource};
 use num_complex::Complex64;
-use rayon::prelude::*;
 use std::f64::consts::TAU;
 
 /// Shifts per pattern: enough that evaluating the integrand at the shifted points costs about
@@ -71,15 +70,12 @@ struct Coefficients {
 
 impl Coefficients {
     fn of(f: &dyn Integrand, lattice: Lattice) -> Result<Self> {
-        let d = lattice.dimension;
         let mut values = try_filled(
             lattice.len(),
             Complex64::new(0.0, 0.0),
             "the integrand's coefficients on the lattice",
         )?;
-        values.par_iter_mut().enumerate().for_each(|(i, v)| {
-            *v = f.coefficient(&lattice.frequency(i)[..d]);
-        });
+        crate::integrand::on_lattice(lattice, &mut values, |k| f.coefficient(k));
         values[lattice.dc_index()] = Complex64::new(0.0, 0.0);
         let absolute_sum = values.iter().map(|c| c.norm()).sum();
         let energy = values.iter().map(|c| c.norm_sqr()).sum();

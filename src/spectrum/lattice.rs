@@ -37,6 +37,16 @@ impl Lattice {
     pub fn dc_index(&self) -> usize {
         (self.len() - 1) / 2
     }
+    /// The flat index of frequency `k` (length `d`), the inverse of
+    /// [`frequency`](Self::frequency); `None` outside the lattice.
+    pub fn index(&self, k: &[i64]) -> Option<usize> {
+        let kmax = self.kmax as i64;
+        if k.len() != self.dimension || k.iter().any(|c| c.abs() > kmax) {
+            return None;
+        }
+        let side = self.side() as i64;
+        Some(k.iter().fold(0i64, |acc, c| acc * side + c + kmax) as usize)
+    }
     /// The frequency vector at flat index `i` (components beyond `d` are 0).
     pub fn frequency(&self, i: usize) -> [i64; 3] {
         let side = self.side();

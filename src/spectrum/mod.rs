@@ -290,13 +290,7 @@ pub struct LatticeSpectrum {
 impl LatticeSpectrum {
     /// The mean power at integer frequency `k` (length `d`), if inside the lattice.
     pub fn at(&self, k: &[i64]) -> Option<f64> {
-        let kmax = self.lattice.kmax as i64;
-        if k.len() != self.lattice.dimension || k.iter().any(|c| c.abs() > kmax) {
-            return None;
-        }
-        let side = self.lattice.side() as i64;
-        let flat = k.iter().fold(0i64, |acc, c| acc * side + c + kmax);
-        Some(self.mean[flat as usize])
+        self.lattice.index(k).map(|i| self.mean[i])
     }
 
     /// Whether flat index `i` is the DC frequency.
