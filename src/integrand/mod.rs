@@ -149,6 +149,18 @@ impl RadialCoefficients {
     /// where the profile's `d K²` values would exceed [`COEFFICIENT_TABLES_BYTES`] (in 1D the
     /// profile outgrows the lattice, `2K + 1` values, long before that).
     /// `(|k|² as f64).sqrt()` is the radius as [`Integrand::coefficient`] takes it, to the bit.
+    ///
+    /// # Examples
+    /// ```
+    /// use specvar::integrand::{CoefficientTables, RadialCoefficients};
+    /// // A profile of |k| about the centre (0.25, 0.5): its phase at k = (2, 1) is
+    /// // e^{−2πi (0.5 + 0.5)} = 1, and |k| = √5.
+    /// let profile = RadialCoefficients::new(&[0.25, 0.5], 4, |rho| rho).unwrap();
+    /// let c = profile.at(&[2, 1]);
+    /// assert!((c.re - 5f64.sqrt()).abs() < 1e-12 && c.im.abs() < 1e-12);
+    /// // In 1D its K² values outgrow the lattice: refused beyond its memory.
+    /// assert!(RadialCoefficients::new(&[0.5], 10_000_000, |rho| rho).is_none());
+    /// ```
     pub fn new(centre: &[f64], kmax: usize, transform: impl Fn(f64) -> f64 + Sync) -> Option<Self> {
         let d = centre.len();
         if Self::bytes(d, kmax) > COEFFICIENT_TABLES_BYTES {
