@@ -7,6 +7,7 @@ use crate::error::{invalid, Result};
 use crate::vector_exp::{exp_in_place, exp_nonpositive};
 use errorfunctions::ComplexErrorFunctions;
 use num_complex::Complex64;
+use rayon::prelude::*;
 use std::f64::consts::{PI, SQRT_2};
 
 /// `f(x) = a exp(-|x - x0|² / (2σ²))` on the unit cube, zero outside it: what Monte Carlo on
@@ -195,6 +196,7 @@ impl Gaussian {
             .zip(&self.centre)
             .map(|((&m, &shift), &c)| {
                 (0..m)
+                    .into_par_iter()
                     .map(|i| {
                         let cell = (i as f64 / m as f64, (i + 1) as f64 / m as f64);
                         wrapped_interval(cell.0, cell.1, shift)
@@ -236,6 +238,7 @@ impl Integrand for Gaussian {
                 .zip(&self.centre)
                 .map(|(&m, &c)| {
                     (0..m)
+                        .into_par_iter()
                         .map(|i| {
                             axis_mass(i as f64 / m as f64, (i + 1) as f64 / m as f64, c, width)
                         })
@@ -283,7 +286,7 @@ impl Integrand for Gaussian {
             square: self.shifted_rows(grid, t, self.sigma / SQRT_2),
         })
     }
-    fn grid_masses(&self, grid: &[usize], t: &[f64]) -> Option<Vec<f64>> {
+    fn grid_masses(&self, grid: &[usize], t: &[f64]) -> Option<super::GridMasses> {
         // Separable: the mass of a cell is the height times its axes' masses, and a shifted
         // cell wraps axis by axis.
         let rows = self.shifted_rows(grid, t, self.sigma);
@@ -294,7 +297,10 @@ impl Integrand for Gaussian {
                 .flat_map(|&r| masses.iter().map(move |&m| m * r))
                 .collect();
         }
-        Some(masses)
+        Some(super::GridMasses {
+            masses,
+            constant: None,
+        })
     }
     fn product_form(&self) -> Option<super::ProductForm> {
         Some(super::ProductForm {

@@ -67,6 +67,28 @@ impl SeparableCells {
     }
 }
 
+/// Relative rounding of one cell's moments ([`Integrand::box_moments`]) and of the terms built
+/// from them (a few operations of unit roundoff each, and the 3D ball's slices at 1e-14).
+pub(crate) const CELL_ROUNDING: f64 = 1e-13;
+
+/// Whether an integrand is constant on a cell of `volume` where its moments are
+/// `(∫ f, ∫ f²) = (mass, square)`: its variance inside within [`CELL_ROUNDING`] of its mean
+/// square (a shape's cells wholly inside or outside it).
+pub(crate) fn constant_on_cell(mass: f64, square: f64, volume: f64) -> bool {
+    let (mean, second) = (mass / volume, square / volume);
+    second - mean * mean <= CELL_ROUNDING * second
+}
+
+/// The integrals of an integrand over every cell of a grid ([`Integrand::grid_masses`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct GridMasses {
+    /// `∫_c f` for each cell `c`, axis 0 varying fastest.
+    pub masses: Vec<f64>,
+    /// The cells on which the integrand is constant ([`CELL_ROUNDING`] of its mean square), cell
+    /// `c` at bit `c % 64` of word `c / 64`, where the integrand knows them; `None` otherwise.
+    pub constant: Option<Vec<u64>>,
+}
+
 /// Two sums over every cell `c` of a grid, with `F_c` the integrand's mean over the cell and
 /// `V_c` its variance inside it ([`Integrand::cell_sums`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -339,8 +361,10 @@ pub trait Integrand: Send + Sync {
     /// `∫_c f` over every cell `c` of the regular grid with `grid[l]` cells on axis `l` (axis 0
     /// varying fastest), of the integrand shifted by `t` on the torus (`f(x + t mod 1)`), when
     /// it has a faster form than one [`box_moments`](Self::box_moments) per cell (a separable
-    /// integrand: one row of axis integrals per axis); `None` otherwise.
-    fn grid_masses(&self, grid: &[usize], t: &[f64]) -> Option<Vec<f64>> {
+    /// integrand: one row of axis integrals per axis; an unshifted polygon: a clip for each
+    /// cell its boundary touches, the others whole or empty), with the cells on which it is
+    /// constant where it knows them; `None` otherwise.
+    fn grid_masses(&self, grid: &[usize], t: &[f64]) -> Option<GridMasses> {
         let _ = (grid, t);
         None
     }

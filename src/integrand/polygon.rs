@@ -286,21 +286,92 @@ impl Polygon {
     }
 }
 
+/// Where the boundary meets the strips of a grid across one axis (strip `i`: the cells whose
+/// index on that axis is `i`; across axis 0 the strips are columns, across axis 1 rows), in
+/// flat arrays: per strip, the ranges of cells the boundary touches, with one cell of margin
+/// either side so that rounding never calls a touched cell whole, and where the boundary
+/// crosses the strip's centre line. Every cell no range holds lies wholly inside or wholly
+/// outside the polygon, as the parity of the crossings below its centre says (the polygon lies
+/// in the square, so below it is outside).
+struct Strips {
+    /// Strip `i`'s ranges `lo..=hi` are `ranges[range_at[i]..range_at[i + 1]]`, sorted.
+    range_at: Vec<usize>,
+    ranges: Vec<(usize, usize)>,
+    /// Strip `i`'s crossings are `crossings[crossing_at[i]..crossing_at[i + 1]]`, sorted.
+    crossing_at: Vec<usize>,
+    crossings: Vec<f64>,
+    /// Cells per strip.
+    cells: usize,
+}
+
+/// One strip of [`Strips`].
+struct Strip<'a> {
+    ranges: &'a [(usize, usize)],
+    crossings: &'a [f64],
+    cells: usize,
+}
+
+impl Strips {
+    fn len(&self) -> usize {
+        self.range_at.len() - 1
+    }
+
+    fn strip(&self, i: usize) -> Strip<'_> {
+        Strip {
+            ranges: &self.ranges[self.range_at[i]..self.range_at[i + 1]],
+            crossings: &self.crossings[self.crossing_at[i]..self.crossing_at[i + 1]],
+            cells: self.cells,
+        }
+    }
+}
+
+impl Strip<'_> {
+    /// The touched cells as disjoint increasing runs `start..end`.
+    fn touched_runs(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+        self.ranges
+            .iter()
+            .scan(0, |next, &(lo, hi)| {
+                let start = lo.max(*next);
+                *next = (*next).max(hi + 1);
+                Some((start, hi + 1))
+            })
+            .filter(|&(start, end)| start < end)
+    }
+
+    /// Every touched cell once, in increasing order.
+    fn touched(&self) -> impl Iterator<Item = usize> + '_ {
+        self.touched_runs().flat_map(|(start, end)| start..end)
+    }
+
+    /// The runs of untouched cells `start..end` that lie inside.
+    fn inside_runs(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+        let ends = self
+            .touched_runs()
+            .map(|(start, _)| start)
+            .chain(std::iter::once(self.cells));
+        let starts = std::iter::once(0).chain(self.touched_runs().map(|(_, end)| end));
+        starts.zip(ends).filter(move |&(start, end)| {
+            let centre = (start as f64 + 0.5) / self.cells as f64;
+            start < end && self.crossings.partition_point(|&y| y < centre) % 2 == 1
+        })
+    }
+}
+
 impl Polygon {
-    /// [`CellSums`](super::CellSums) over the `mx × my` cells of `grid`, visiting only the cells
-    /// the boundary touches: every other cell lies wholly inside (mean `height`, no inner
-    /// variance) or wholly outside, as the parity of the boundary's crossings of the column's
-    /// centre line below it says (the polygon lies in the square, so below it is outside).
-    fn polygon_cell_sums(&self, grid: &[usize]) -> super::CellSums {
-        let (mx, my) = (grid[0], grid[1]);
-        let (fx, fy) = (mx as f64, my as f64);
-        let cells = fx * fy;
-        // Per column: the cells the boundary touches (one cell of margin either side, so that
-        // rounding never calls a touched cell whole), and where it crosses the centre line.
-        let mut touched: Vec<Vec<usize>> = vec![Vec::new(); mx];
-        let mut crossings: Vec<Vec<f64>> = vec![Vec::new(); mx];
+    /// Calls `visit(strip, lo, hi, crossing)` for each strip of `grid` across axis `across`
+    /// that each edge meets: the cells `lo..=hi` it touches (with their margin) and where it
+    /// crosses the strip's centre line, if it does.
+    fn visit_strips(
+        &self,
+        grid: &[usize],
+        across: usize,
+        mut visit: impl FnMut(usize, usize, usize, Option<f64>),
+    ) {
+        let along = 1 - across;
+        let (fx, fy) = (grid[across] as f64, grid[along] as f64);
         let to_cell = |y: f64| (y * fy).floor().clamp(0.0, fy - 1.0) as usize;
         for (a, b) in self.edges() {
+            let (a, b) = ([a[across], a[along]], [b[across], b[along]]);
             let (xmin, xmax) = (a[0].min(b[0]), a[0].max(b[0]));
             let y_at = |x: f64| a[1] + (x - a[0]) / (b[0] - a[0]) * (b[1] - a[1]);
             let first = ((xmin * fx).floor() - 1.0).clamp(0.0, fx - 1.0) as usize;
@@ -316,55 +387,144 @@ impl Polygon {
                     (y_at(x0.max(xmin)), y_at(x1.min(xmax)))
                 };
                 let lo = to_cell(ya.min(yb)).saturating_sub(1);
-                let hi = (to_cell(ya.max(yb)) + 1).min(my - 1);
-                touched[i].extend(lo..=hi);
-                // Half-open in x, so a vertex on the line counts once.
+                let hi = (to_cell(ya.max(yb)) + 1).min(grid[along] - 1);
+                // Half-open across the strip, so a vertex on the line counts once.
                 let centre = (i as f64 + 0.5) / fx;
-                if (a[0] > centre) != (b[0] > centre) {
-                    crossings[i].push(y_at(centre));
-                }
+                let crossing = ((a[0] > centre) != (b[0] > centre)).then(|| y_at(centre));
+                visit(i, lo, hi, crossing);
             }
         }
-        let (a, cells_f) = (self.height, cells);
-        let column = |(i, (mut hit, mut cross)): (usize, (Vec<usize>, Vec<f64>))| {
-            hit.sort_unstable();
-            hit.dedup();
-            cross.sort_by(f64::total_cmp);
+    }
+
+    /// The [`Strips`] of `grid` across axis `across`: the edges are visited twice, once to
+    /// count each strip's entries and once to place them.
+    fn strips(&self, grid: &[usize], across: usize) -> Strips {
+        let count = grid[across];
+        let (mut range_at, mut crossing_at) = (vec![0; count + 1], vec![0; count + 1]);
+        self.visit_strips(grid, across, |i, _, _, crossing| {
+            range_at[i + 1] += 1;
+            crossing_at[i + 1] += usize::from(crossing.is_some());
+        });
+        for i in 0..count {
+            range_at[i + 1] += range_at[i];
+            crossing_at[i + 1] += crossing_at[i];
+        }
+        let mut ranges = vec![(0, 0); range_at[count]];
+        let mut crossings = vec![0.0; crossing_at[count]];
+        let (mut next_range, mut next_crossing) = (range_at.clone(), crossing_at.clone());
+        self.visit_strips(grid, across, |i, lo, hi, crossing| {
+            ranges[next_range[i]] = (lo, hi);
+            next_range[i] += 1;
+            if let Some(y) = crossing {
+                crossings[next_crossing[i]] = y;
+                next_crossing[i] += 1;
+            }
+        });
+        for i in 0..count {
+            ranges[range_at[i]..range_at[i + 1]].sort_unstable();
+            crossings[crossing_at[i]..crossing_at[i + 1]].sort_by(f64::total_cmp);
+        }
+        Strips {
+            range_at,
+            ranges,
+            crossing_at,
+            crossings,
+            cells: grid[1 - across],
+        }
+    }
+
+    /// [`CellSums`](super::CellSums) over the `mx × my` cells of `grid`, visiting only the cells
+    /// the boundary touches: every other cell lies wholly inside (mean `height`, no inner
+    /// variance) or wholly outside.
+    fn polygon_cell_sums(&self, grid: &[usize]) -> super::CellSums {
+        let (fx, fy) = (grid[0] as f64, grid[1] as f64);
+        let (a, cells_f) = (self.height, fx * fy);
+        let strips = self.strips(grid, 0);
+        let column = |i: usize| {
+            let strip = strips.strip(i);
             let x = [i as f64 / fx, (i + 1) as f64 / fx];
             let (mut squares, mut within) = (CompensatedSum::default(), CompensatedSum::default());
-            let mut inside = 0usize;
-            let mut start = 0;
-            for &j in hit.iter().chain(std::iter::once(&my)) {
-                if start < j {
-                    let centre = (start as f64 + 0.5) / fy;
-                    if cross.partition_point(|&y| y < centre) % 2 == 1 {
-                        inside += j - start;
-                    }
-                }
-                start = j + 1;
-            }
+            let inside: usize = strip.inside_runs().map(|(start, end)| end - start).sum();
             squares.add(a * a * inside as f64);
-            for &j in &hit {
+            let mut touched = 0;
+            for j in strip.touched() {
                 let area = self.area_in_box(&[x[0], j as f64 / fy], &[x[1], (j + 1) as f64 / fy]);
                 let mean = a * area * cells_f;
                 squares.add(mean * mean);
                 within.add((a * a * area * cells_f - mean * mean).max(0.0));
+                touched += 1;
             }
-            (squares.value(), within.value(), hit.len() as u64)
+            (squares.value(), within.value(), touched)
         };
-        let columns: Vec<(f64, f64, u64)> = touched
-            .into_par_iter()
-            .zip(crossings)
-            .enumerate()
-            .map(column)
-            .collect();
+        let columns: Vec<(f64, f64, u64)> = (0..strips.len()).into_par_iter().map(column).collect();
         super::CellSums::of_columns(columns)
+    }
+
+    /// `∫_c f` over the `mx × my` cells of `grid`, row by row, with the cells on which `f` is
+    /// constant: the polygon is clipped to each row once, and that part to each cell the
+    /// boundary touches; the other cells are the height times the cell's area, or 0.
+    fn polygon_grid_masses(&self, grid: &[usize]) -> super::GridMasses {
+        use std::sync::atomic::{AtomicU64, Ordering};
+        let (mx, my) = (grid[0], grid[1]);
+        let (fx, fy) = (mx as f64, my as f64);
+        let area = 1.0 / (fx * fy);
+        let whole = self.height * area;
+        let strips = self.strips(grid, 1);
+        // Every cell constant until a clip says otherwise.
+        let constant: Vec<AtomicU64> = (0..(mx * my).div_ceil(64))
+            .map(|_| AtomicU64::new(!0))
+            .collect();
+        let mut masses = vec![0.0; mx * my];
+        masses.par_chunks_mut(mx).enumerate().for_each_init(
+            || [Vec::new(), Vec::new(), Vec::new()],
+            |[row_part, part, next], (j, row)| {
+                let strip = strips.strip(j);
+                for (start, end) in strip.inside_runs() {
+                    row[start..end].fill(whole);
+                }
+                let (y0, y1) = (j as f64 / fy, (j + 1) as f64 / fy);
+                clip_into(&self.vertices, [0.0, -1.0], -y0, next);
+                clip_into(next, [0.0, 1.0], y1, row_part);
+                for i in strip.touched() {
+                    let (x0, x1) = (i as f64 / fx, (i + 1) as f64 / fx);
+                    clip_into(row_part, [-1.0, 0.0], -x0, next);
+                    clip_into(next, [1.0, 0.0], x1, part);
+                    let clipped = if part.len() < 3 {
+                        0.0
+                    } else {
+                        // About the cell's corner, as in `area_in_box`.
+                        part.iter_mut().for_each(|p| *p = [p[0] - x0, p[1] - y0]);
+                        signed_area(part).max(0.0)
+                    };
+                    row[i] = self.height * clipped;
+                    if !super::constant_on_cell(row[i], self.height * row[i], area) {
+                        let c = j * mx + i;
+                        constant[c / 64].fetch_and(!(1 << (c % 64)), Ordering::Relaxed);
+                    }
+                }
+            },
+        );
+        let mut constant: Vec<u64> = constant.into_iter().map(AtomicU64::into_inner).collect();
+        // The bits past the last cell are clear, as a set of cells has them.
+        if let (Some(last), 1..) = (constant.last_mut(), (mx * my) % 64) {
+            *last &= (1u64 << ((mx * my) % 64)) - 1;
+        }
+        super::GridMasses {
+            masses,
+            constant: Some(constant),
+        }
     }
 }
 
 impl Integrand for Polygon {
     fn cell_sums(&self, grid: &[usize]) -> Option<super::CellSums> {
         (grid.len() == 2 && grid.iter().all(|&m| m > 0)).then(|| self.polygon_cell_sums(grid))
+    }
+    fn grid_masses(&self, grid: &[usize], t: &[f64]) -> Option<super::GridMasses> {
+        // Shifted, the polygon wraps across the faces into up to four pieces: one box a cell.
+        let unshifted = t.iter().all(|&x| x == 0.0);
+        (unshifted && grid.len() == 2 && grid.iter().all(|&m| m > 0))
+            .then(|| self.polygon_grid_masses(grid))
     }
     fn box_moments(&self, lo: &[f64], hi: &[f64]) -> Option<(f64, f64)> {
         let area = self.area_in_box(lo, hi);

@@ -4,7 +4,9 @@
 
 use crate::budget::{Budget, Needs};
 use crate::error::{Error, Result};
-use crate::integrand::{wrapped_interval, Integrand, IntegrandKind, SeparableCells};
+use crate::integrand::{
+    constant_on_cell, wrapped_interval, Integrand, IntegrandKind, SeparableCells,
+};
 use crate::quadrature::CompensatedSum;
 use rayon::prelude::*;
 
@@ -44,9 +46,7 @@ pub(crate) const EXACT_CELL_BUDGET: usize = 1 << 24;
 /// Cells per parallel task of a table or a sum: sums over chunks in a fixed order give the same bits
 /// on any number of threads.
 const TABLE_CHUNK: usize = 4096;
-/// Relative rounding of one cell's moments and of the terms built from them (a few operations
-/// of unit roundoff each, and the 3D ball's slices at 1e-14).
-pub(crate) const CELL_ROUNDING: f64 = 1e-13;
+pub(crate) use crate::integrand::CELL_ROUNDING;
 
 /// A sum over cells, with a bound on its rounding.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -72,8 +72,8 @@ pub(crate) fn cell_box(index: usize, grid: &[usize], lo: &mut [f64], hi: &mut [f
 /// cells of the integrand shifted by `t` on the torus, `f_t(x) = f(x + t mod 1)` (`t = 0`: the
 /// integrand's own cells).
 pub(crate) fn cell_masses(f: &dyn Integrand, grid: &[usize], t: &[f64]) -> Vec<f64> {
-    if let Some(mass) = f.grid_masses(grid, t) {
-        return mass;
+    if let Some(cells) = f.grid_masses(grid, t) {
+        return cells.masses;
     }
     let d = grid.len();
     let mut mass: Vec<f64> = vec![0.0; grid.iter().product()];
@@ -92,15 +92,16 @@ pub(crate) fn cell_masses(f: &dyn Integrand, grid: &[usize], t: &[f64]) -> Vec<f
 /// [`cell_masses`] of the unshifted integrand, and the cells on which `f` is constant up to
 /// [`CELL_ROUNDING`] of its mean square (a shape's cells wholly inside or outside it) as a bit
 /// set (cell `c` at bit `c % 64` of word `c / 64`): there `f` equals its cell mean almost
-/// everywhere. Both from one box per cell; `None` for the set where the integrand has its own
-/// masses (a Gaussian, whose cells all vary).
+/// everywhere. Both from one box per cell, or from the integrand's own [`Integrand::grid_masses`]
+/// (a polygon's clips only the cells its boundary touches; a Gaussian's cells all vary, and
+/// its set is `None`).
 pub(crate) fn masses_and_constant_cells(
     f: &dyn Integrand,
     grid: &[usize],
 ) -> (Vec<f64>, Option<Vec<u64>>) {
     let d = grid.len();
-    if let Some(mass) = f.grid_masses(grid, &[0.0; 3][..d]) {
-        return (mass, None);
+    if let Some(cells) = f.grid_masses(grid, &[0.0; 3][..d]) {
+        return (cells.masses, cells.constant);
     }
     let cells: usize = grid.iter().product();
     let area = 1.0 / cells as f64;
@@ -116,8 +117,7 @@ pub(crate) fn masses_and_constant_cells(
                 cell_box(c * TABLE_CHUNK + i, grid, &mut lo[..d], &mut hi[..d]);
                 let (m, square) = f.box_moments(&lo[..d], &hi[..d]).unwrap_or((0.0, 0.0));
                 *slot = m;
-                let (mean, second) = (m / area, square / area);
-                if second - mean * mean <= CELL_ROUNDING * second {
+                if constant_on_cell(m, square, area) {
                     bits[i / 64] |= 1 << (i % 64);
                 }
             }
@@ -400,7 +400,7 @@ mod tests {
         let g = Gaussian::new(0.2, vec![0.2, 0.7], 1.0).unwrap();
         let grid = [8, 4];
         let t = [0.93, 0.41];
-        let rows = g.grid_masses(&grid, &t).unwrap();
+        let rows = g.grid_masses(&grid, &t).unwrap().masses;
         let (mut lo, mut hi) = ([0.0; 2], [0.0; 2]);
         for (i, &m) in rows.iter().enumerate() {
             cell_box(i, &grid, &mut lo, &mut hi);

@@ -37,6 +37,7 @@ use crate::integrand::Integrand;
 use crate::pointset::PointSet;
 use crate::progress::Progress;
 use crate::quadrature::CompensatedSum;
+use rayon::prelude::*;
 use std::collections::HashMap;
 
 /// The most axes a grid of box moments has.
@@ -52,15 +53,22 @@ type Levels = [u8; MAX_AXES];
 struct PairCounts {
     n: usize,
     d: usize,
-    digits: Vec<[u64; MAX_AXES]>,
+    /// The points' binary digits, one copy sorted by each axis' digits. Counted in the order
+    /// of the axis that holds most of a grid's digits, consecutive points fall in nearby
+    /// cells, and the counts being written fit the caches: in any order, the counts of a grid
+    /// of `4N` cells are a scatter over tens of MB at large N.
+    by_axis: Vec<Vec<[u64; MAX_AXES]>>,
     known: HashMap<Levels, u128>,
+    /// The cell counts of one column, reused from column to column (tens of MB at large N,
+    /// whose pages the system would otherwise map and clear for each).
+    count: Vec<u32>,
 }
 
 impl PairCounts {
     fn new(pattern: &PointSet) -> Self {
         let d = pattern.dimension();
         let scale = (1u64 << DIGITS) as f64;
-        let digits = pattern
+        let digits: Vec<[u64; MAX_AXES]> = pattern
             .points()
             .map(|x| {
                 let mut v = [0u64; MAX_AXES];
@@ -70,11 +78,19 @@ impl PairCounts {
                 v
             })
             .collect();
+        let by_axis = (0..d)
+            .map(|l| {
+                let mut sorted = digits.clone();
+                sorted.par_sort_unstable_by_key(|v| v[l]);
+                sorted
+            })
+            .collect();
         Self {
             n: pattern.len(),
             d,
-            digits,
+            by_axis,
             known: HashMap::new(),
+            count: Vec::new(),
         }
     }
 
@@ -84,30 +100,56 @@ impl PairCounts {
             return c;
         }
         let bits: u32 = a.iter().map(|&l| l as u32).sum();
-        let key = |v: &[u64; MAX_AXES]| {
-            (0..self.d).fold(0u64, |k, l| {
-                let take = a[l] as u32;
-                if take == 0 {
-                    k
-                } else {
-                    (k << take) | (v[l] >> (DIGITS as u32 - take))
-                }
-            })
-        };
-        let c = if bits <= 2 + usize::BITS - self.n.leading_zeros() {
-            // At most 4N cells: count them in place.
-            let mut count = vec![0u32; 1usize << bits];
-            self.digits.iter().for_each(|v| count[key(v) as usize] += 1);
-            count.iter().map(|&c| (c as u128) * (c as u128)).sum()
-        } else {
-            let mut keys: Vec<u64> = self.digits.iter().map(key).collect();
-            keys.sort_unstable();
-            keys.chunk_by(|x, y| x == y)
-                .map(|run| (run.len() as u128).pow(2))
-                .sum()
-        };
+        // Grids of at most about 4N cells are counted in place, a column at a time; a column's
+        // finest grid has at least about 2N cells (where a net's points are apart), or `a`'s.
+        let in_place = 2 + usize::BITS - self.n.leading_zeros();
+        if bits <= in_place {
+            self.count_column(a, bits.max(in_place - 1));
+            return self.known[&a];
+        }
+        let mut keys: Vec<u64> = self.by_axis[0]
+            .iter()
+            .map(|v| cell_key(v, &a, self.d))
+            .collect();
+        keys.sort_unstable();
+        let c = keys
+            .chunk_by(|x, y| x == y)
+            .map(|run| (run.len() as u128).pow(2))
+            .sum();
         self.known.insert(a, c);
         c
+    }
+
+    /// `C` of every grid of `a`'s column (its other axes fixed, the last one from 0 to the
+    /// level whose grid has `2^cell_bits` cells, or `a`'s level if finer): the points are
+    /// counted once into the column's finest cells, and each coarser grid's counts are its
+    /// finer neighbour's summed in pairs, since a cell's key ends with its last axis' digits.
+    /// One pass over the points answers a whole column, where each grid asked for its own.
+    fn count_column(&mut self, a: Levels, cell_bits: u32) {
+        let last = self.d - 1;
+        let others: u32 = a[..last].iter().map(|&l| l as u32).sum();
+        let mut g = a;
+        g[last] = (cell_bits - others).clamp(a[last] as u32, DIGITS as u32) as u8;
+        let count = &mut self.count;
+        count.clear();
+        count.resize(1usize << (others + g[last] as u32), 0);
+        let most = (0..self.d).rev().max_by_key(|&l| g[l]).unwrap_or(0);
+        for v in &self.by_axis[most] {
+            count[cell_key(v, &g, self.d) as usize] += 1;
+        }
+        loop {
+            let c = count.iter().map(|&c| u128::from(c) * u128::from(c)).sum();
+            self.known.insert(g, c);
+            if g[last] == 0 {
+                break;
+            }
+            let half = count.len() / 2;
+            for i in 0..half {
+                count[i] = count[2 * i] + count[2 * i + 1];
+            }
+            count.truncate(half);
+            g[last] -= 1;
+        }
     }
 
     /// The grids in which two points share a cell (`C(a) > N`), a downward-closed set found
@@ -160,6 +202,19 @@ impl PairCounts {
         }
         total as f64 / self.n as f64
     }
+}
+
+/// The index of the cell of grid `a` holding a point of binary digits `v`: each axis' leading
+/// `a_l` digits in turn, the last axis' least significant.
+fn cell_key(v: &[u64; MAX_AXES], a: &Levels, d: usize) -> u64 {
+    (0..d).fold(0u64, |k, l| {
+        let take = a[l] as u32;
+        if take == 0 {
+            k
+        } else {
+            (k << take) | (v[l] >> (DIGITS as u32 - take))
+        }
+    })
 }
 
 /// The levels `k` whose gain may differ from 1: `a + 1_u` for every shared grid `a` and every
@@ -236,6 +291,9 @@ fn squared_means(
     d: usize,
     t: &[f64],
 ) -> HashMap<Levels, (f64, f64)> {
+    if let Some(s) = separable_squared_means(f, tops, d, t) {
+        return s;
+    }
     let mut s = HashMap::new();
     for top in tops {
         let sizes: Vec<usize> = (0..d).map(|l| 1usize << top[l]).collect();
@@ -261,6 +319,58 @@ fn squared_means(
         }
     }
     s
+}
+
+/// [`squared_means`] of a separable integrand, from its rows of axis masses `r_l` on each
+/// axis' finest level: a cell's mass is `h Π_l r_l(i_l)`, so `S(a) = h² Π_l Q_l(a_l) · Π_l 2^{a_l}`
+/// with `Q_l(a) = Σ_i r_l(i)²` on level `a`, whose row is the finer one's summed in pairs (a
+/// shifted cell is its two shifted halves). `Σ_l 2^{a_l}` masses where the cells are
+/// `Π_l 2^{a_l}`. `None` where the integrand is not separable.
+fn separable_squared_means(
+    f: &dyn Integrand,
+    tops: &[Levels],
+    d: usize,
+    t: &[f64],
+) -> Option<HashMap<Levels, (f64, f64)>> {
+    let finest: Vec<usize> = (0..d)
+        .map(|l| 1usize << tops.iter().map(|g| g[l]).max().unwrap_or(0))
+        .collect();
+    let rows = f.shifted_separable_cells(&finest, t)?;
+    // `by_level[l][a]`: Q_l(a).
+    let by_level: Vec<Vec<f64>> = rows
+        .mass
+        .iter()
+        .map(|row| {
+            let mut row = row.clone();
+            let mut q = Vec::new();
+            loop {
+                let mut sum = CompensatedSum::default();
+                row.iter().for_each(|&r| sum.add(r * r));
+                q.push(sum.value());
+                if row.len() < 2 {
+                    break;
+                }
+                row = row.chunks_exact(2).map(|p| p[0] + p[1]).collect();
+            }
+            q.reverse();
+            q
+        })
+        .collect();
+    let mut s = HashMap::new();
+    for top in tops {
+        let mut g = *top;
+        loop {
+            let value = (0..d).fold(rows.height * rows.height, |p, l| {
+                p * by_level[l][g[l] as usize]
+            }) * cells_of(&g, d) as f64;
+            s.insert(g, (value, CELL_ROUNDING * value));
+            if g[d - 1] == 0 {
+                break;
+            }
+            g[d - 1] -= 1;
+        }
+    }
+    Some(s)
 }
 
 /// A base-2 net under nested uniform scrambling, read once from one scrambled pattern: the
