@@ -1012,7 +1012,8 @@ fn cell_sums_are_the_cells_one_by_one() {
 }
 
 /// Every cell's integral from the integrand's own grid form (a polygon clips only the cells its
-/// boundary touches; a Gaussian multiplies rows) against its box moments, and the cells it
+/// boundary touches, a disk takes the moments of the cells its circle crosses, a Gaussian
+/// multiplies rows) against its box moments, and the cells it
 /// calls constant against the moments' own test: the variance inside within `ROUNDING` of the
 /// mean square.
 #[test]
@@ -1061,8 +1062,8 @@ fn grid_masses_are_the_cells_one_by_one() {
             }
         }
     }
-    // The Gaussian and the six polygons, on every grid.
-    assert_eq!(checked, 7 * CELL_FORM_GRIDS.len());
+    // The four disks, the Gaussian and the six polygons, on every grid.
+    assert_eq!(checked, 11 * CELL_FORM_GRIDS.len());
 }
 
 /// Jitter on a triangle at `10^6` and `10^8` strata (the table of cells, then the triangle's

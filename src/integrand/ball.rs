@@ -3,7 +3,10 @@
 use super::{
     check_parameters, shift_phase, unit_ball_volume, Integrand, IntegrandKind, RadialOscillation,
 };
-use super::{on_lattice, CellSums, CoefficientTables, RadialCoefficients};
+use super::{
+    constant_on_cell, on_lattice, CellSums, CoefficientTables, ConstantCells, GridMasses,
+    RadialCoefficients,
+};
 use crate::error::{invalid, Result};
 use crate::pointset::{toroidal_distance_sq, toroidal_square};
 use crate::quadrature::CompensatedSum;
@@ -145,9 +148,6 @@ fn lens_2d_shape(x: f64, one_minus_x: f64) -> f64 {
 }
 
 impl Ball {
-    /// [`Integrand::cell_sums`] of a disk: a cell the circle (or one of its images across the
-    /// faces) does not cross has `F_c` equal to the height or 0 and no inner variance, so only
-    /// the crossed cells' moments are computed, column by column (`O(m)` of the `m²` cells).
     /// The ball's coefficients on `|k_a| ≤ kmax` as its radial profile about its centre: each
     /// distinct `|k|²` takes one Bessel value; `None` where the profile would not fit its
     /// memory ([`RadialCoefficients::new`]).
@@ -155,11 +155,10 @@ impl Ball {
         RadialCoefficients::new(&self.centre, kmax, |rho| self.centred_transform(rho))
     }
 
-    fn disk_cell_sums(&self, grid: &[usize]) -> CellSums {
-        let (mx, my) = (grid[0], grid[1]);
-        let (r, a) = (self.radius, self.height);
-        let cells = (mx * my) as f64;
-        // The images that meet the square, as box_moments wraps them.
+    /// A disk's centre and its images across the faces that meet the square, as
+    /// [`box_moments`](Integrand::box_moments) wraps them.
+    fn disk_images(&self) -> Vec<[f64; 2]> {
+        let r = self.radius;
         let offsets = |c: f64| -> Vec<f64> {
             let mut o = vec![0.0];
             if c + r > 1.0 {
@@ -170,41 +169,70 @@ impl Ball {
             }
             o
         };
-        let images: Vec<[f64; 2]> = offsets(self.centre[0])
+        offsets(self.centre[0])
             .iter()
             .flat_map(|&ox| offsets(self.centre[1]).into_iter().map(move |oy| [ox, oy]))
             .map(|[ox, oy]| [self.centre[0] + ox, self.centre[1] + oy])
-            .collect();
+            .collect()
+    }
+
+    /// Strip `i` of `grid` across axis `across` (across 0: column `i`; across 1: row `i`): into
+    /// `interior`, the runs `lo..=hi` of its cells wholly inside the disk or an image (the disk
+    /// is at most half the square wide, so its images never overlap), with one cell of margin
+    /// on either side so that rounding never calls a crossed cell whole; into `crossed`, the
+    /// other cells the circles may cross, sorted, each once. Both are cleared first.
+    fn disk_strip(
+        &self,
+        images: &[[f64; 2]],
+        (grid, across, i): (&[usize], usize, usize),
+        interior: &mut Vec<(usize, usize)>,
+        crossed: &mut Vec<usize>,
+    ) {
+        let (along, r) = (1 - across, self.radius);
+        let (mx, my) = (grid[across] as f64, grid[along] as f64);
+        let (x0, x1) = (i as f64 / mx, (i + 1) as f64 / mx);
+        interior.clear();
+        crossed.clear();
+        for image in images {
+            let c = [image[across], image[along]];
+            let half = |x: f64| (r * r - (x - c[0]).powi(2)).max(0.0).sqrt();
+            let nearest = c[0].clamp(x0, x1);
+            if (nearest - c[0]).abs() >= r {
+                continue;
+            }
+            let (outer, inner) = (half(nearest), half(x0).min(half(x1)));
+            let to_cell = |y: f64| (y * my).floor();
+            let first = to_cell(c[1] - outer).max(0.0) as usize;
+            let last = (to_cell(c[1] + outer).min(my - 1.0)).max(0.0) as usize;
+            let (lo, hi) = (to_cell(c[1] - inner) + 2.0, to_cell(c[1] + inner) - 2.0);
+            if inner > 0.0 && lo <= hi && lo <= last as f64 && hi >= first as f64 {
+                let (lo, hi) = ((lo as usize).max(first), (hi as usize).min(last));
+                interior.push((lo, hi));
+                crossed.extend(first..lo);
+                crossed.extend(hi + 1..=last);
+            } else {
+                crossed.extend(first..=last);
+            }
+        }
+        crossed.sort_unstable();
+        crossed.dedup();
+    }
+
+    /// [`Integrand::cell_sums`] of a disk: a cell the circle (or one of its images across the
+    /// faces) does not cross has `F_c` equal to the height or 0 and no inner variance, so only
+    /// the crossed cells' moments are computed, column by column (`O(m)` of the `m²` cells).
+    fn disk_cell_sums(&self, grid: &[usize]) -> CellSums {
+        let (mx, my) = (grid[0], grid[1]);
+        let a = self.height;
+        let cells = (mx * my) as f64;
+        let images = self.disk_images();
         let column = |i: usize| -> (f64, f64, u64) {
             let (x0, x1) = (i as f64 / mx as f64, (i + 1) as f64 / mx as f64);
-            let mut interior = 0usize;
-            let mut crossed: Vec<usize> = Vec::new();
-            for c in &images {
-                let half = |x: f64| (r * r - (x - c[0]).powi(2)).max(0.0).sqrt();
-                let nearest = c[0].clamp(x0, x1);
-                if (nearest - c[0]).abs() >= r {
-                    continue;
-                }
-                let (outer, inner) = (half(nearest), half(x0).min(half(x1)));
-                let to_cell = |y: f64| (y * my as f64).floor();
-                let first = to_cell(c[1] - outer).max(0.0) as usize;
-                let last = (to_cell(c[1] + outer).min(my as f64 - 1.0)).max(0.0) as usize;
-                // Cells strictly inside the inner chord, one cell of margin on either side so
-                // that rounding never calls a crossed cell whole.
-                let (lo, hi) = (to_cell(c[1] - inner) + 2.0, to_cell(c[1] + inner) - 2.0);
-                if inner > 0.0 && lo <= hi && lo <= last as f64 && hi >= first as f64 {
-                    let (lo, hi) = ((lo as usize).max(first), (hi as usize).min(last));
-                    interior += hi + 1 - lo;
-                    crossed.extend(first..lo);
-                    crossed.extend(hi + 1..=last);
-                } else {
-                    crossed.extend(first..=last);
-                }
-            }
-            crossed.sort_unstable();
-            crossed.dedup();
+            let (mut interior, mut crossed) = (Vec::new(), Vec::new());
+            self.disk_strip(&images, (grid, 0, i), &mut interior, &mut crossed);
+            let inside: usize = interior.iter().map(|&(lo, hi)| hi + 1 - lo).sum();
             let (mut squares, mut within) = (CompensatedSum::default(), CompensatedSum::default());
-            squares.add(a * a * interior as f64);
+            squares.add(a * a * inside as f64);
             for &j in &crossed {
                 let (y0, y1) = (j as f64 / my as f64, (j + 1) as f64 / my as f64);
                 let (mass, square) = self.box_moments(&[x0, y0], &[x1, y1]).unwrap_or((0.0, 0.0));
@@ -217,11 +245,52 @@ impl Ball {
         let columns: Vec<(f64, f64, u64)> = (0..mx).into_par_iter().map(column).collect();
         CellSums::of_columns(columns)
     }
+
+    /// [`Integrand::grid_masses`] of an unshifted disk, row by row: the cells inside are the
+    /// height times their area, the crossed ones their box moments, the rest 0; the cells no
+    /// circle crosses are constant.
+    fn disk_grid_masses(&self, grid: &[usize]) -> GridMasses {
+        let (mx, my) = (grid[0], grid[1]);
+        let area = 1.0 / (mx * my) as f64;
+        let whole = self.height * area;
+        let images = self.disk_images();
+        let constant = ConstantCells::all(mx * my);
+        let mut masses = vec![0.0; mx * my];
+        masses.par_chunks_mut(mx).enumerate().for_each_init(
+            || (Vec::new(), Vec::new()),
+            |(interior, crossed), (j, row)| {
+                self.disk_strip(&images, (grid, 1, j), interior, crossed);
+                for &(lo, hi) in interior.iter() {
+                    row[lo..=hi].fill(whole);
+                }
+                let (y0, y1) = (j as f64 / my as f64, (j + 1) as f64 / my as f64);
+                for &i in crossed.iter() {
+                    let (x0, x1) = (i as f64 / mx as f64, (i + 1) as f64 / mx as f64);
+                    let (mass, square) =
+                        self.box_moments(&[x0, y0], &[x1, y1]).unwrap_or((0.0, 0.0));
+                    row[i] = mass;
+                    if !constant_on_cell(mass, square, area) {
+                        constant.clear(j * mx + i);
+                    }
+                }
+            },
+        );
+        GridMasses {
+            masses,
+            constant: Some(constant.into_words()),
+        }
+    }
 }
 
 impl Integrand for Ball {
     fn cell_sums(&self, grid: &[usize]) -> Option<CellSums> {
         (self.d() == 2 && grid.len() == 2).then(|| self.disk_cell_sums(grid))
+    }
+    fn grid_masses(&self, grid: &[usize], t: &[f64]) -> Option<GridMasses> {
+        // Shifted, a cell's box wraps across the faces: one box a cell.
+        let unshifted = t.iter().all(|&x| x == 0.0);
+        (unshifted && self.d() == 2 && grid.len() == 2 && grid.iter().all(|&m| m > 0))
+            .then(|| self.disk_grid_masses(grid))
     }
     fn box_moments(&self, lo: &[f64], hi: &[f64]) -> Option<(f64, f64)> {
         // The ball is wrapped around the torus: its images at the 3^d integer offsets of

@@ -89,6 +89,42 @@ pub struct GridMasses {
     pub constant: Option<Vec<u64>>,
 }
 
+/// A set of cells being built in parallel ([`GridMasses::constant`]): every cell in it until a
+/// task clears it. Clearing is an atomic AND, so the set is the same whatever the order.
+pub(crate) struct ConstantCells {
+    words: Vec<std::sync::atomic::AtomicU64>,
+    cells: usize,
+}
+
+impl ConstantCells {
+    /// Every one of `cells` cells.
+    pub(crate) fn all(cells: usize) -> Self {
+        let words = (0..cells.div_ceil(64))
+            .map(|_| std::sync::atomic::AtomicU64::new(!0))
+            .collect();
+        Self { words, cells }
+    }
+
+    /// Takes cell `c` out.
+    pub(crate) fn clear(&self, c: usize) {
+        self.words[c / 64].fetch_and(!(1 << (c % 64)), std::sync::atomic::Ordering::Relaxed);
+    }
+
+    /// The set as words (cell `c` at bit `c % 64` of word `c / 64`), the bits past the last
+    /// cell clear.
+    pub(crate) fn into_words(self) -> Vec<u64> {
+        let mut words: Vec<u64> = self
+            .words
+            .into_iter()
+            .map(std::sync::atomic::AtomicU64::into_inner)
+            .collect();
+        if let (Some(last), 1..) = (words.last_mut(), self.cells % 64) {
+            *last &= (1u64 << (self.cells % 64)) - 1;
+        }
+        words
+    }
+}
+
 /// Two sums over every cell `c` of a grid, with `F_c` the integrand's mean over the cell and
 /// `V_c` its variance inside it ([`Integrand::cell_sums`]).
 #[derive(Debug, Clone, Copy, PartialEq)]

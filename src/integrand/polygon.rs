@@ -464,16 +464,13 @@ impl Polygon {
     /// constant: the polygon is clipped to each row once, and that part to each cell the
     /// boundary touches; the other cells are the height times the cell's area, or 0.
     fn polygon_grid_masses(&self, grid: &[usize]) -> super::GridMasses {
-        use std::sync::atomic::{AtomicU64, Ordering};
         let (mx, my) = (grid[0], grid[1]);
         let (fx, fy) = (mx as f64, my as f64);
         let area = 1.0 / (fx * fy);
         let whole = self.height * area;
         let strips = self.strips(grid, 1);
         // Every cell constant until a clip says otherwise.
-        let constant: Vec<AtomicU64> = (0..(mx * my).div_ceil(64))
-            .map(|_| AtomicU64::new(!0))
-            .collect();
+        let constant = super::ConstantCells::all(mx * my);
         let mut masses = vec![0.0; mx * my];
         masses.par_chunks_mut(mx).enumerate().for_each_init(
             || [Vec::new(), Vec::new(), Vec::new()],
@@ -498,20 +495,14 @@ impl Polygon {
                     };
                     row[i] = self.height * clipped;
                     if !super::constant_on_cell(row[i], self.height * row[i], area) {
-                        let c = j * mx + i;
-                        constant[c / 64].fetch_and(!(1 << (c % 64)), Ordering::Relaxed);
+                        constant.clear(j * mx + i);
                     }
                 }
             },
         );
-        let mut constant: Vec<u64> = constant.into_iter().map(AtomicU64::into_inner).collect();
-        // The bits past the last cell are clear, as a set of cells has them.
-        if let (Some(last), 1..) = (constant.last_mut(), (mx * my) % 64) {
-            *last &= (1u64 << ((mx * my) % 64)) - 1;
-        }
         super::GridMasses {
             masses,
-            constant: Some(constant),
+            constant: Some(constant.into_words()),
         }
     }
 }
