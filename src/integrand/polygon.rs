@@ -51,6 +51,31 @@ pub struct Polygon {
     label: String,
     /// Its triangles, cut when the autocorrelation is first asked for (`None`: not cut).
     triangles: std::sync::OnceLock<Option<Vec<[[f64; 2]; 3]>>>,
+    /// Its edges that are not horizontal, as [`eval`](Integrand::eval) reads them.
+    spans: Vec<Span>,
+}
+
+/// An edge `a → b` that is not horizontal, for the even–odd rule: it spans the heights
+/// `[lo, hi)`, and the ray towards `+x` from a point at height `y` in that span crosses it at
+/// `a_x + (y − a_y) · slope`. The slope is divided out once, not per point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Span {
+    lo: f64,
+    hi: f64,
+    a: [f64; 2],
+    slope: f64,
+}
+
+impl Span {
+    /// The edge `a → b`, or `None` for a horizontal one (which no ray crosses).
+    fn of(a: [f64; 2], b: [f64; 2]) -> Option<Self> {
+        (a[1] != b[1]).then(|| Self {
+            lo: a[1].min(b[1]),
+            hi: a[1].max(b[1]),
+            a,
+            slope: (b[0] - a[0]) / (b[1] - a[1]),
+        })
+    }
 }
 
 impl Polygon {
@@ -113,6 +138,12 @@ impl Polygon {
                 signed.abs()
             )
         });
+        let next = vertices.iter().skip(1).chain(vertices.first());
+        let spans = vertices
+            .iter()
+            .zip(next)
+            .filter_map(|(&a, &b)| Span::of(a, b))
+            .collect();
         Ok(Self {
             area: signed.abs(),
             bounds: bounds(&vertices),
@@ -120,6 +151,7 @@ impl Polygon {
             height,
             label,
             triangles: std::sync::OnceLock::new(),
+            spans,
         })
     }
 
@@ -560,13 +592,9 @@ impl Integrand for Polygon {
             return 0.0;
         }
         let mut inside = false;
-        for (a, b) in self.edges() {
-            if (a[1] > py) != (b[1] > py) {
-                let t = (py - a[1]) / (b[1] - a[1]);
-                if px < a[0] + t * (b[0] - a[0]) {
-                    inside = !inside;
-                }
-            }
+        for s in &self.spans {
+            // The edge's span is half-open, so a ray through a vertex counts it once.
+            inside ^= py >= s.lo && py < s.hi && px < s.a[0] + (py - s.a[1]) * s.slope;
         }
         if inside {
             self.height
