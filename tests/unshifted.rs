@@ -7,6 +7,7 @@
 mod common;
 
 use common::{assert_thread_count_invariant, ROUNDING, Z_STRICT};
+use rayon::prelude::*;
 use specvar::integrand::{Ball, Gaussian, GridIntegrand, Integrand, Polygon};
 use specvar::montecarlo::{empirical_variance, McParams, Z_99};
 use specvar::predict::{
@@ -1026,7 +1027,7 @@ fn grid_masses_are_the_cells_one_by_one() {
             };
             checked += 1;
             let volume = 1.0 / (grid[0] * grid[1]) as f64;
-            for (c, &mass) in cells.masses.iter().enumerate() {
+            cells.masses.par_iter().enumerate().for_each(|(c, &mass)| {
                 let (i, j) = (c % grid[0], c / grid[0]);
                 let lo = [i as f64 / grid[0] as f64, j as f64 / grid[1] as f64];
                 let hi = [
@@ -1059,7 +1060,7 @@ fn grid_masses_are_the_cells_one_by_one() {
                         f.label()
                     );
                 }
-            }
+            });
         }
     }
     // The four disks, the Gaussian and the six polygons, on every grid.
