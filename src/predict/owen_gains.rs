@@ -65,6 +65,14 @@ struct PairCounts {
 }
 
 impl PairCounts {
+    /// The bytes the counts of `n` points in `d` dimensions hold: a copy of the points' digits
+    /// per axis, and one column's cell counts (at most `2^{⌈log₂ n⌉ + 2}` cells of 4 bytes).
+    fn bytes(n: usize, d: usize) -> f64 {
+        let digits = d * n * std::mem::size_of::<[u64; MAX_AXES]>();
+        let column = 4.0 * 2f64.powi((usize::BITS - n.leading_zeros()) as i32 + 2);
+        digits as f64 + column
+    }
+
     fn new(pattern: &PointSet) -> Self {
         let d = pattern.dimension();
         let scale = (1u64 << DIGITS) as f64;
@@ -407,6 +415,11 @@ impl ScrambledNet {
                 pattern.dimension()
             )));
         }
+        budget.check(
+            "Owen's gains' pair counts",
+            Needs::memory(PairCounts::bytes(pattern.len(), d)),
+            "lower N",
+        )?;
         let mut counts = PairCounts::new(pattern);
         let shared = counts.shared_grids()?;
         let levels = levels_off_one(&shared, d);
