@@ -443,15 +443,20 @@ impl Polygon {
         }
         let mut ranges = vec![(0, 0); range_at[count]];
         let mut crossings = vec![0.0; crossing_at[count]];
-        let (mut next_range, mut next_crossing) = (range_at.clone(), crossing_at.clone());
+        // Each strip's start serves as its cursor, which then ends at the next strip's start:
+        // shifted back by one, the starts are restored.
         self.visit_strips(grid, across, |i, lo, hi, crossing| {
-            ranges[next_range[i]] = (lo, hi);
-            next_range[i] += 1;
+            ranges[range_at[i]] = (lo, hi);
+            range_at[i] += 1;
             if let Some(y) = crossing {
-                crossings[next_crossing[i]] = y;
-                next_crossing[i] += 1;
+                crossings[crossing_at[i]] = y;
+                crossing_at[i] += 1;
             }
         });
+        for at in [&mut range_at, &mut crossing_at] {
+            at.copy_within(0..count, 1);
+            at[0] = 0;
+        }
         for i in 0..count {
             ranges[range_at[i]..range_at[i + 1]].sort_unstable();
             crossings[crossing_at[i]..crossing_at[i + 1]].sort_by(f64::total_cmp);

@@ -431,10 +431,16 @@ impl ScrambledNet {
         let kept: Vec<Levels> = excess.iter().map(|&(k, _)| k).collect();
         let tops = columns(&grids_read(&kept, d), d);
         let cells: usize = tops.iter().map(|g| cells_of(g, d)).sum();
+        // One column's cell masses, or a separable integrand's rows of masses and squares on
+        // each axis' finest level.
+        let column_bytes = 8.0 * tops.iter().map(|g| cells_of(g, d)).max().unwrap_or(1) as f64;
+        let row_bytes: f64 = (0..d)
+            .map(|l| 16.0 * 2f64.powi(tops.iter().map(|g| g[l]).max().unwrap_or(0) as i32))
+            .sum();
         budget.check(
             "Owen's gains",
             Needs {
-                memory_bytes: 8.0 * tops.iter().map(|g| cells_of(g, d)).max().unwrap_or(1) as f64,
+                memory_bytes: column_bytes.max(row_bytes),
                 work_seconds: cells as f64 * cell_seconds,
             },
             "lower N",
