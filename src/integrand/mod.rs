@@ -84,8 +84,9 @@ pub(crate) fn constant_on_cell(mass: f64, square: f64, volume: f64) -> bool {
 pub struct GridMasses {
     /// `∫_c f` for each cell `c`, axis 0 varying fastest.
     pub masses: Vec<f64>,
-    /// The cells on which the integrand is constant ([`CELL_ROUNDING`] of its mean square), cell
-    /// `c` at bit `c % 64` of word `c / 64`, where the integrand knows them; `None` otherwise.
+    /// The cells on which the integrand is constant (its variance inside within `1e-13` of its
+    /// mean square), cell `c` at bit `c % 64` of word `c / 64`, where the integrand knows them;
+    /// `None` otherwise.
     pub constant: Option<Vec<u64>>,
 }
 
@@ -190,9 +191,10 @@ pub trait CoefficientTables: Send + Sync {
 }
 
 /// The torus coefficients of an integrand radial about a centre `c`,
-/// `f̂(k) = T(|k|) e^{−2πi k·c}`, on `|k_a| ≤ K` ([`Integrand::radial_coefficients`]): `T` once
-/// per squared radius `|k|²` the box holds, the phase as a product of one table per axis, so
-/// a coefficient costs a lookup and `d` complex products, no Bessel function nor sine.
+/// `f̂(k) = T(|k|) e^{−2πi k·c}`, on `|k_a| ≤ K` (a ball's
+/// [`Integrand::coefficient_tables`]): `T` once per squared radius `|k|²` the box holds, the
+/// phase as a product of one table per axis, so a coefficient costs a lookup and `d` complex
+/// products, no Bessel function nor sine.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RadialCoefficients {
     kmax: i64,

@@ -335,7 +335,7 @@ pub(crate) fn predict_walsh(
 }
 
 /// Where an exact prediction of a linear net under a digital shift comes from
-/// ([`super::walsh_net`]).
+/// (the Walsh sum of a linear net's dual).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 pub struct WalshNetOrigin {
     /// Binary digits per axis of the net.
