@@ -34,7 +34,16 @@ pub(super) fn clip_into(polygon: &[[f64; 2]], n: [f64; 2], level: f64, out: &mut
         }
         if (sa < 0.0 && sb > 0.0) || (sa > 0.0 && sb < 0.0) {
             let t = sa / (sa - sb);
-            out.push([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]);
+            let mut p = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
+            // On a line of one axis (a cell's side) the crossing lies on it exactly: the
+            // interpolated coordinate would carry the rounding of the vertices' size, which
+            // on a cell a millionth wide is a part in 10^10 of its width.
+            if n[1] == 0.0 {
+                p[0] = level / n[0];
+            } else if n[0] == 0.0 {
+                p[1] = level / n[1];
+            }
+            out.push(p);
         }
     }
 }
