@@ -138,21 +138,20 @@ impl Polygon {
                 signed.abs()
             )
         });
-        let next = vertices.iter().skip(1).chain(vertices.first());
-        let spans = vertices
-            .iter()
-            .zip(next)
-            .filter_map(|(&a, &b)| Span::of(a, b))
-            .collect();
-        Ok(Self {
+        let mut polygon = Self {
             area: signed.abs(),
             bounds: bounds(&vertices),
             vertices,
             height,
             label,
             triangles: std::sync::OnceLock::new(),
-            spans,
-        })
+            spans: Vec::new(),
+        };
+        polygon.spans = polygon
+            .edges()
+            .filter_map(|(a, b)| Span::of(a, b))
+            .collect();
+        Ok(polygon)
     }
 
     /// The half-plane `{x : n·x ≤ t}` clipped to the unit square, `n = (cos θ, sin θ)` with `θ`
@@ -279,8 +278,7 @@ fn crossing_edges(v: &[[f64; 2]]) -> Option<(usize, usize)> {
 
 impl Polygon {
     /// The area of the polygon inside the box `[lo, hi]`: the polygon clipped by the box's four
-    /// half-planes (Sutherland–Hodgman keeps the area of any simple polygon clipped by a convex
-    /// window; the edges it adds along the window enclose nothing).
+    /// half-planes ([`clipped_area`]).
     fn area_in_box(&self, lo: &[f64], hi: &[f64]) -> f64 {
         let [x0, y0, x1, y1] = [lo[0], lo[1], hi[0], hi[1]];
         let (min, max) = self.bounds;
@@ -290,32 +288,45 @@ impl Polygon {
         // Called for every cell of every grid the cell forms read: the clipped parts live in
         // two buffers of the thread's, reused from call to call.
         CLIP_BUFFERS.with_borrow_mut(|[part, next]| {
-            part.clear();
-            part.extend_from_slice(&self.vertices);
-            for (n, level) in [
+            let planes = [
                 ([-1.0, 0.0], -x0),
                 ([1.0, 0.0], x1),
                 ([0.0, -1.0], -y0),
                 ([0.0, 1.0], y1),
-            ] {
-                if part.len() < 3 {
-                    return 0.0;
-                }
-                clip_into(part, n, level, next);
-                std::mem::swap(part, next);
-            }
-            if part.len() < 3 {
-                return 0.0;
-            }
-            // About the box's corner: the shoelace's products are then of the box's size, not
-            // the square's, so a small cell's area rounds relative to itself (a cell of 1e-6
-            // about the origin would carry 1e-10 of rounding).
-            for p in part.iter_mut() {
-                *p = [p[0] - x0, p[1] - y0];
-            }
-            signed_area(part).max(0.0)
+            ];
+            clipped_area(&self.vertices, &planes, [x0, y0], [part, next])
         })
     }
+}
+
+/// The area of the part of the simple polygon `polygon` where `n·x ≤ level` for each of
+/// `planes` (Sutherland–Hodgman keeps the area of any simple polygon clipped by a convex
+/// window; the edges it adds along the window enclose nothing), in the buffers `part` and
+/// `next`, whose allocations the caller reuses. The shoelace is summed about `corner`: its
+/// products are then of the window's size, not the square's, so a small cell's area rounds
+/// relative to itself (a cell of 1e-6 about the origin would carry 1e-10 of rounding).
+fn clipped_area(
+    polygon: &[[f64; 2]],
+    planes: &[([f64; 2], f64)],
+    corner: [f64; 2],
+    [part, next]: [&mut Vec<[f64; 2]>; 2],
+) -> f64 {
+    part.clear();
+    part.extend_from_slice(polygon);
+    for &(n, level) in planes {
+        if part.len() < 3 {
+            return 0.0;
+        }
+        clip_into(part, n, level, next);
+        std::mem::swap(part, next);
+    }
+    if part.len() < 3 {
+        return 0.0;
+    }
+    for p in part.iter_mut() {
+        *p = [p[0] - corner[0], p[1] - corner[1]];
+    }
+    signed_area(part).max(0.0)
 }
 
 /// Where the boundary meets the strips of a grid across one axis (strip `i`: the cells whose
@@ -521,15 +532,8 @@ impl Polygon {
                 clip_into(next, [0.0, 1.0], y1, row_part);
                 for i in strip.touched() {
                     let (x0, x1) = (i as f64 / fx, (i + 1) as f64 / fx);
-                    clip_into(row_part, [-1.0, 0.0], -x0, next);
-                    clip_into(next, [1.0, 0.0], x1, part);
-                    let clipped = if part.len() < 3 {
-                        0.0
-                    } else {
-                        // About the cell's corner, as in `area_in_box`.
-                        part.iter_mut().for_each(|p| *p = [p[0] - x0, p[1] - y0]);
-                        signed_area(part).max(0.0)
-                    };
+                    let planes = [([-1.0, 0.0], -x0), ([1.0, 0.0], x1)];
+                    let clipped = clipped_area(row_part, &planes, [x0, y0], [part, next]);
                     row[i] = self.height * clipped;
                     if !super::constant_on_cell(row[i], self.height * row[i], area) {
                         constant.clear(j * mx + i);
