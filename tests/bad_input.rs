@@ -252,6 +252,22 @@ fn late_validation_is_gone() {
 
 #[test]
 fn every_size_goes_through_the_budget_with_its_reason() {
+    // Owen's gains hold a copy of the points' digits per axis and one column's counts: checked
+    // before they are taken (at 2^20 points, 80 MiB).
+    refuses_with(
+        &[
+            "predict",
+            "-s",
+            "sobol",
+            "-f",
+            "disk",
+            "-n",
+            "1048576",
+            "--budget-memory",
+            "0.05",
+        ],
+        "Owen's gains' pair counts would need 80 MiB, above the budget of 51 MiB",
+    );
     let budget = "above the budget of 8.0 GiB";
     for sampler in ["sobol", "jitter"] {
         refuses_with(
