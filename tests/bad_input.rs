@@ -1,6 +1,8 @@
 //! Inputs that once crashed, hung or gave wrong answers: each must now give one line on
 //! standard error and exit code 2, within a bounded time, without a panic.
 
+mod common;
+
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -23,17 +25,7 @@ fn run_bounded(args: &[&str], codes: &[i32]) -> String {
         .stderr(Stdio::piped())
         .spawn()
         .expect("the binary runs");
-    let start = Instant::now();
-    let status = loop {
-        if let Some(status) = child.try_wait().expect("wait") {
-            break status;
-        }
-        if start.elapsed() > LIMIT {
-            let _ = child.kill();
-            panic!("{args:?} ran past {LIMIT:?}");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    };
+    let status = common::wait_bounded(&mut child, LIMIT, &|| format!("{args:?}"));
     let out = child.wait_with_output().expect("output");
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(

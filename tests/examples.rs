@@ -3,6 +3,8 @@
 //! show the error it prints, within a generous time.
 
 use std::path::Path;
+mod common;
+
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -163,20 +165,9 @@ fn run(example: &Example, dir: &Path, cache: &Path) {
         .stderr(Stdio::piped())
         .spawn()
         .expect("the binary runs");
-    let start = Instant::now();
-    let status = loop {
-        if let Some(status) = child.try_wait().expect("wait") {
-            break status;
-        }
-        if start.elapsed() > LIMIT {
-            let _ = child.kill();
-            panic!(
-                "{}:{} ran past {LIMIT:?}: {:?}",
-                example.source, example.line, example.args
-            );
-        }
-        std::thread::sleep(Duration::from_millis(50));
-    };
+    let status = common::wait_bounded(&mut child, LIMIT, &|| {
+        format!("{}:{} {:?}", example.source, example.line, example.args)
+    });
     let err =
         String::from_utf8_lossy(&child.wait_with_output().expect("output").stderr).into_owned();
     let expected = if example.fails { 2 } else { 0 };

@@ -5,8 +5,9 @@
 //! of the integrand onto the axis), is counted as white (`P_S = 1`), and the deviation from
 //! white is bounded: `|truncation| ≤ (δ_axis E_axis + δ_off E_rest) / N`.
 
-use super::SpectrumSource;
+use super::low_band::{LowBand, FIT_DEGREE};
 use super::{check_dimension, check_n, ErrorBudget, Form, Prediction, Route, SpectrumOrigin};
+use super::{Alternative, SpectrumSource};
 use crate::budget::{try_filled, Budget, Needs, COEFFICIENT_SECONDS};
 use crate::error::{finite, invalid, Error, Result};
 use crate::integrand::Integrand;
@@ -464,6 +465,9 @@ pub struct PatternPlan {
     /// Average the weights over the cube's symmetries (for samplers whose distribution has
     /// them).
     pub symmetric: bool,
+    /// Read the low band from a fit over this disc (for stationary, isotropic samplers; the
+    /// raw estimate is kept beside it, and the narrower is reported).
+    pub low_band: Option<LowBand>,
 }
 
 /// The lattice form pattern by pattern: each pattern's `V_r = (1/N) Σ_{k≠0} |f̂(k)|² P_r(k)` (its
@@ -513,14 +517,15 @@ pub fn predict_on_patterns_many(
             plan.spectrum.kmax, p.lattice.kmax
         )));
     }
-    let weights: Vec<Vec<f64>> = powers
+    let weights: Vec<PowerWeights> = powers
         .iter()
         .map(|p| {
-            if plan.symmetric {
+            let raw = if plan.symmetric {
                 p.symmetrized().power
             } else {
                 p.power.clone()
-            }
+            };
+            PowerWeights::new(raw, lattice, plan.low_band)
         })
         .collect();
     let cap = source
@@ -532,7 +537,8 @@ pub fn predict_on_patterns_many(
         realizations: cap.min(plan.max_realizations.max(plan.initial)),
         ..plan.spectrum
     };
-    let mut acc = SpectrumAccumulator::new(source, &spectrum, weights.clone())?;
+    let flat: Vec<Vec<f64>> = weights.iter().flat_map(PowerWeights::vectors).collect();
+    let mut acc = SpectrumAccumulator::new(source, &spectrum, flat)?;
     let mut target = round_up(plan.initial, cap);
     loop {
         progress.begin(
@@ -542,10 +548,11 @@ pub fn predict_on_patterns_many(
         acc.extend_to(target, progress)?;
         progress.end();
         // A relative error that is not a number (one realization, a zero mean) cannot improve.
-        let worst = acc
-            .weighted()
+        let sums = acc.weighted();
+        let worst = weights
             .iter()
-            .map(|w| w.stderr / w.mean)
+            .zip(PowerWeights::split(&weights, &sums))
+            .map(|(w, s)| w.relative_noise(s))
             .filter(|rel| rel.is_finite())
             .fold(0.0, f64::max);
         if worst <= plan.target_noise || target >= cap {
@@ -555,51 +562,173 @@ pub fn predict_on_patterns_many(
         target = round_up(wanted.max(target + 4), cap);
     }
     let estimate = acc.estimate();
-    let n = estimate.lattice.n;
     let deviation = measured_tail_deviation(&estimate.lattice);
+    let sums = acc.weighted();
     powers
         .iter()
         .zip(&weights)
-        .zip(acc.weighted())
-        .map(|((power, w), sums)| {
-            let WeightedMean {
-                mean,
-                stderr,
-                realizations,
-            } = sums;
-            let variance = finite((mean + power.beyond) / n as f64, || {
-                format!("the lattice form of {} is not finite", power.label)
-            })?;
-            Ok(Prediction {
-                randomization: crate::randomization::Randomization::Shift,
-                variance,
-                route: Route {
-                    form: Form::Lattice,
-                    spectrum: SpectrumOrigin::Estimated {
-                        n,
-                        realizations,
-                        kmax: lattice.kmax,
-                    },
-                },
-                reason: String::new(),
-                budget: ErrorBudget {
-                    spectrum_noise: if stderr.is_finite() {
-                        stderr / n as f64
-                    } else {
-                        0.0
-                    },
-                    quadrature: engine_bound(w, &estimate.lattice),
-                    truncation: power.tail_bound(deviation) / n as f64,
-                    model: 0.0,
-                },
-                n,
-                dimension: lattice.dimension,
-                dc_term: 0.0,
-                evaluations: (lattice.len() * realizations) as u64,
-                alternatives: Vec::new(),
-            })
+        .zip(PowerWeights::split(&weights, &sums))
+        .map(|((power, w), s)| {
+            let on = |weights: &[f64], sums: &WeightedMean, low_band: Option<f64>| {
+                pattern_prediction(
+                    power,
+                    (weights, sums),
+                    &estimate.lattice,
+                    deviation,
+                    low_band,
+                )
+            };
+            let raw = on(&w.raw, s[0], None)?;
+            let (Some(band), Some(fitted)) = (&w.band, s.get(1)) else {
+                return Ok(raw);
+            };
+            let mut smooth = on(&band.fitted, fitted, Some(band.radius))?;
+            smooth.budget.model = low_band_model(s[2]) / estimate.lattice.n as f64;
+            // The fit is reported where its 99% budget, model term included, is the narrower,
+            // with the raw sums beside it; where it is not, the fit is no answer (a spectrum that
+            // vanishes at the origin, as CCVT's, leaves a line fit far off) and is not shown.
+            let width = |p: &Prediction| p.budget.half_width(crate::montecarlo::Z_99);
+            if width(&smooth) >= width(&raw) {
+                return Ok(raw);
+            }
+            smooth.alternatives.push(Alternative {
+                route: raw.route,
+                variance: raw.variance,
+                budget: raw.budget,
+            });
+            Ok(smooth)
         })
         .collect()
+}
+
+/// The weights one power's per-pattern sums are taken with: the raw power, and for a sampler
+/// with a low band ([`LowBand`]) the weights of its fit and the difference the fit one degree
+/// higher makes (whose mean and paired standard error bound the fit's model error).
+struct PowerWeights {
+    raw: Vec<f64>,
+    band: Option<FittedWeights>,
+}
+
+/// A low band's weights: the reported fit, and the check's difference from it.
+struct FittedWeights {
+    radius: f64,
+    fitted: Vec<f64>,
+    check: Vec<f64>,
+}
+
+impl PowerWeights {
+    fn new(raw: Vec<f64>, lattice: Lattice, low_band: Option<LowBand>) -> Self {
+        let band = low_band.and_then(|band| {
+            let fitted = band.smoothed(&raw, lattice, FIT_DEGREE)?;
+            let higher = band.smoothed(&raw, lattice, FIT_DEGREE + 1)?;
+            let check = higher.iter().zip(&fitted).map(|(h, f)| h - f).collect();
+            Some(FittedWeights {
+                radius: band.radius,
+                fitted,
+                check,
+            })
+        });
+        Self { raw, band }
+    }
+
+    /// The vectors accumulated, in the order [`split`](Self::split) reads them back.
+    fn vectors(&self) -> Vec<Vec<f64>> {
+        let mut out = vec![self.raw.clone()];
+        if let Some(b) = &self.band {
+            out.push(b.fitted.clone());
+            out.push(b.check.clone());
+        }
+        out
+    }
+
+    /// The accumulated sums, one slice per power (raw, then fitted and check if any).
+    fn split<'a>(all: &[Self], sums: &'a [WeightedMean]) -> Vec<Vec<&'a WeightedMean>> {
+        let mut rest = sums.iter();
+        all.iter()
+            .map(|w| {
+                let count = if w.band.is_some() { 3 } else { 1 };
+                rest.by_ref().take(count).collect()
+            })
+            .collect()
+    }
+
+    /// The relative noise of the narrower of the raw and fitted estimates (the fit's model
+    /// bound counted as noise at 99%): realizations are added until the one reported meets
+    /// the target.
+    fn relative_noise(&self, sums: Vec<&WeightedMean>) -> f64 {
+        let raw = sums[0].stderr / sums[0].mean;
+        match (sums.get(1), sums.get(2)) {
+            (Some(fitted), Some(check)) => {
+                let fit =
+                    (fitted.stderr + low_band_model(check) / crate::montecarlo::Z_99) / fitted.mean;
+                if fit.is_finite() {
+                    fit.min(raw)
+                } else {
+                    raw
+                }
+            }
+            _ => raw,
+        }
+    }
+}
+
+/// The fit's model term (unnormalized): the mean difference the next degree makes and its
+/// paired standard error at 99%.
+fn low_band_model(check: &WeightedMean) -> f64 {
+    let stderr = if check.stderr.is_finite() {
+        check.stderr
+    } else {
+        0.0
+    };
+    check.mean.abs() + crate::montecarlo::Z_99 * stderr
+}
+
+/// The lattice form of one power from its per-pattern sums with `weights`.
+fn pattern_prediction(
+    power: &LatticePower,
+    (weights, sums): (&[f64], &WeightedMean),
+    spectrum: &LatticeSpectrum,
+    deviation: TailDeviation,
+    low_band: Option<f64>,
+) -> Result<Prediction> {
+    let n = spectrum.n;
+    let WeightedMean {
+        mean,
+        stderr,
+        realizations,
+    } = *sums;
+    let variance = finite((mean + power.beyond) / n as f64, || {
+        format!("the lattice form of {} is not finite", power.label)
+    })?;
+    Ok(Prediction {
+        randomization: crate::randomization::Randomization::Shift,
+        variance,
+        route: Route {
+            form: Form::Lattice,
+            spectrum: SpectrumOrigin::Estimated {
+                n,
+                realizations,
+                kmax: power.lattice.kmax,
+                low_band,
+            },
+        },
+        reason: String::new(),
+        budget: ErrorBudget {
+            spectrum_noise: if stderr.is_finite() {
+                stderr / n as f64
+            } else {
+                0.0
+            },
+            quadrature: engine_bound(weights, spectrum),
+            truncation: power.tail_bound(deviation) / n as f64,
+            model: 0.0,
+        },
+        n,
+        dimension: power.lattice.dimension,
+        dc_term: 0.0,
+        evaluations: (power.lattice.len() * realizations) as u64,
+        alternatives: Vec::new(),
+    })
 }
 
 /// What the spectrum engine's error can add to `(1/N) Σ_k w(k) P(k)`: `(1/N) Σ |w(k)| δP(k)`

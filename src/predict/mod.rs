@@ -28,6 +28,7 @@ mod cells;
 mod gaussian_jitter;
 mod lattice;
 mod linear_net;
+mod low_band;
 mod measured_tail;
 mod owen_gains;
 mod pair;
@@ -53,6 +54,7 @@ pub use gaussian_jitter::gaussian_jitter_bias;
 pub use lattice::{
     predict_from_power, predict_lattice, predict_on_patterns, LatticePower, PatternPlan,
 };
+pub use low_band::LowBand;
 pub use pair::{pair_correlation_variance, PcfVariance};
 pub use polar::{predict_polar, PolarParams};
 pub use route::{default_kmax, default_reference_n, polar_validity};
@@ -92,6 +94,7 @@ impl SpectrumSource<'_> {
                 n: e.lattice.n,
                 realizations: e.lattice.realizations,
                 kmax: e.lattice.lattice.kmax,
+                low_band: None,
             },
         }
     }
@@ -124,6 +127,9 @@ pub enum SpectrumOrigin {
         realizations: usize,
         /// The lattice extent.
         kmax: usize,
+        /// The radius of the disc over which a stationary, isotropic sampler's low band was
+        /// fitted (`None`: every frequency read as measured).
+        low_band: Option<f64>,
     },
     /// Each pattern's own transform on the lattice `|k_i| ≤ kmax`, and beyond it the residual
     /// of its error at `shifts` shifts each, over `patterns` patterns of `n` points.
@@ -154,10 +160,17 @@ impl fmt::Display for SpectrumOrigin {
                 n,
                 realizations,
                 kmax,
-            } => write!(
-                f,
-                "estimated at N = {n} ({realizations} realizations, |k_i| ≤ {kmax})"
-            ),
+                low_band,
+            } => {
+                write!(
+                    f,
+                    "estimated at N = {n} ({realizations} realizations, |k_i| ≤ {kmax}"
+                )?;
+                if let Some(radius) = low_band {
+                    write!(f, ", the low band fitted over |k| ≤ {radius:.1}")?;
+                }
+                f.write_str(")")
+            }
             SpectrumOrigin::MeasuredTail {
                 n,
                 patterns,

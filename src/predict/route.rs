@@ -3,6 +3,7 @@
 
 use super::cells::CellSource;
 use super::lattice::{predict_on_patterns_many, white_noise, LatticePower, PatternPlan};
+use super::low_band::LowBand;
 use super::space::{
     kronecker_variance, rank1_lattice_variance, regular_grid_variance, sets_shift_variance,
 };
@@ -935,6 +936,10 @@ fn estimated_lattice_many(
             budget: params.budget,
         },
         symmetric: kind.is_some_and(|k| k.is_symmetric_at(n, d)),
+        low_band: match source {
+            PatternSource::Sampler { .. } => kind.and_then(|k| LowBand::for_sampler(k, n, d)),
+            PatternSource::Sets(_) => None,
+        },
     };
     let mut done: Vec<Option<Prediction>> = vec![None; problems.len()];
     let mut tail_tried = vec![false; problems.len()];
@@ -1104,12 +1109,24 @@ fn estimated_reason(
         | SpectrumOrigin::Pairs { .. } => 0,
     };
     let why = why_estimated((kind, asked), what, n);
+    let low_band = match p.route.spectrum {
+        SpectrumOrigin::Estimated {
+            low_band: Some(radius),
+            ..
+        } => format!(
+            "; the low band |k| ≤ {radius:.1} read from a fit of each pattern's periodogram \
+             linear in |k|² (the sampler's law is stationary and isotropic, its spectrum smooth \
+             there), its model term the mean change a quadratic fit makes plus that change's \
+             paired noise at 99%"
+        ),
+        _ => String::new(),
+    };
     with_reason(
         p,
         format!(
             "{why}: the lattice form with the spectrum of {realizations} patterns at N = {n}, \
-             pattern by pattern, on |k_i| ≤ {kmax}; noise from the patterns' spread, tail bounded \
-             by the spectrum's deviation from white at the lattice's edge"
+             pattern by pattern, on |k_i| ≤ {kmax}{low_band}; noise from the patterns' spread, \
+             tail bounded by the spectrum's deviation from white at the lattice's edge"
         ),
     )
 }

@@ -239,6 +239,9 @@ pub fn predict_mse(
             budget: crate::budget::Budget::default(),
         },
         symmetric: sampler.kind().is_some_and(|k| k.is_symmetric_at(n, 2)),
+        low_band: sampler
+            .kind()
+            .and_then(|k| crate::predict::LowBand::for_sampler(k, n, 2)),
     };
     let source = PatternSource::Sampler { sampler, n, seed };
     predict_on_patterns(power, source, &plan, &crate::progress::Silent)

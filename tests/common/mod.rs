@@ -218,3 +218,26 @@ pub fn kept_on_disk(sampler: Box<dyn specvar::sampler::Sampler>) -> specvar::cac
 fn pattern_dir() -> std::path::PathBuf {
     std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("test-patterns")
 }
+
+/// Waits for `child` to end, killing it and panicking (with `what`) past `limit`. The pause
+/// between polls starts at a millisecond and doubles to 50 ms: most commands end in a few
+/// milliseconds, and a fixed 20–50 ms pause made the waiting longer than the commands.
+pub fn wait_bounded(
+    child: &mut std::process::Child,
+    limit: std::time::Duration,
+    what: &dyn Fn() -> String,
+) -> std::process::ExitStatus {
+    let start = std::time::Instant::now();
+    let mut pause = std::time::Duration::from_millis(1);
+    loop {
+        if let Some(status) = child.try_wait().expect("wait") {
+            return status;
+        }
+        if start.elapsed() > limit {
+            let _ = child.kill();
+            panic!("{} ran past {limit:?}", what());
+        }
+        std::thread::sleep(pause);
+        pause = (pause * 2).min(std::time::Duration::from_millis(50));
+    }
+}
