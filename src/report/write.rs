@@ -21,8 +21,20 @@ use std::path::Path;
 fn route_short(p: &Prediction) -> String {
     match p.route.spectrum {
         SpectrumOrigin::Closed(c) => format!("{}, {}", p.route.form, c.name()),
-        SpectrumOrigin::Estimated { realizations, .. } => {
-            format!("{}, estimated at N ({realizations} patterns)", p.route.form)
+        SpectrumOrigin::Estimated {
+            realizations,
+            low_band,
+            ..
+        } => {
+            let fitted = if low_band.is_some() {
+                ", its low band fitted"
+            } else {
+                ""
+            };
+            format!(
+                "{}, estimated at N{fitted} ({realizations} patterns)",
+                p.route.form
+            )
         }
         SpectrumOrigin::MeasuredTail { patterns, .. } => format!(
             "{}, estimated at N with a measured tail ({patterns} patterns)",
