@@ -5,7 +5,7 @@
 //! of the integrand onto the axis), is counted as white (`P_S = 1`), and the deviation from
 //! white is bounded: `|truncation| ≤ (δ_axis E_axis + δ_off E_rest) / N`.
 
-use super::low_band::{LowBand, FIT_DEGREE};
+use super::low_band::{DiscFit, LowBand, FIT_DEGREE};
 use super::{check_dimension, check_n, ErrorBudget, Form, Prediction, Route, SpectrumOrigin};
 use super::{Alternative, SpectrumSource};
 use crate::budget::{try_filled, Budget, Needs, COEFFICIENT_SECONDS};
@@ -517,6 +517,13 @@ pub fn predict_on_patterns_many(
             plan.spectrum.kmax, p.lattice.kmax
         )));
     }
+    let fits = plan.low_band.and_then(|band| {
+        Some(LowBandFits {
+            radius: band.radius,
+            reported: band.fit(lattice, FIT_DEGREE)?,
+            check: band.fit(lattice, FIT_DEGREE + 1)?,
+        })
+    });
     let weights: Vec<PowerWeights> = powers
         .iter()
         .map(|p| {
@@ -525,7 +532,7 @@ pub fn predict_on_patterns_many(
             } else {
                 p.power.clone()
             };
-            PowerWeights::new(raw, lattice, plan.low_band)
+            PowerWeights::new(raw, fits.as_ref())
         })
         .collect();
     let cap = source
@@ -609,6 +616,14 @@ struct PowerWeights {
     band: Option<FittedWeights>,
 }
 
+/// The low band's two fits over one lattice, shared by every power: the reported one and the
+/// check one degree higher.
+struct LowBandFits {
+    radius: f64,
+    reported: DiscFit,
+    check: DiscFit,
+}
+
 /// A low band's weights: the reported fit, and the check's difference from it.
 struct FittedWeights {
     radius: f64,
@@ -617,13 +632,13 @@ struct FittedWeights {
 }
 
 impl PowerWeights {
-    fn new(raw: Vec<f64>, lattice: Lattice, low_band: Option<LowBand>) -> Self {
-        let band = low_band.and_then(|band| {
-            let fitted = band.smoothed(&raw, lattice, FIT_DEGREE)?;
-            let higher = band.smoothed(&raw, lattice, FIT_DEGREE + 1)?;
+    fn new(raw: Vec<f64>, fits: Option<&LowBandFits>) -> Self {
+        let band = fits.and_then(|f| {
+            let fitted = f.reported.smoothed(&raw)?;
+            let higher = f.check.smoothed(&raw)?;
             let check = higher.iter().zip(&fitted).map(|(h, f)| h - f).collect();
             Some(FittedWeights {
-                radius: band.radius,
+                radius: f.radius,
                 fitted,
                 check,
             })

@@ -54,58 +54,107 @@ impl LowBand {
         Some(Self { radius })
     }
 
-    /// The weights `w̃` whose sum against a periodogram is `w`'s sum against the degree-`degree`
-    /// fit of that periodogram over the disc (clipped to the lattice), `w` kept outside it;
-    /// `None` where the disc holds too few distinct `|k|²` for a fit of degree `degree + 1`.
-    pub fn smoothed(&self, weights: &[f64], lattice: Lattice, degree: usize) -> Option<Vec<f64>> {
-        let disc = self.disc(lattice);
-        let mut values: Vec<u64> = disc.iter().map(|&(_, u)| u).collect();
+    /// The least-squares fit of degree `degree` over the disc (clipped to `lattice`), ready to
+    /// change any number of weight vectors; `None` where the disc holds too few distinct `|k|²`
+    /// for a fit of degree `degree + 1`.
+    pub fn fit(&self, lattice: Lattice, degree: usize) -> Option<DiscFit> {
+        let members = self.disc(lattice);
+        let mut values: Vec<u64> = members.iter().map(|&(_, u)| u).collect();
         values.sort_unstable();
         values.dedup();
         if values.len() < VALUES_PER_COEFFICIENT * (degree + 2) {
             return None;
         }
-        let scale = self.radius * self.radius;
-        let basis = |u: u64| -> Vec<f64> {
-            let x = u as f64 / scale;
-            (0..=degree)
-                .scan(1.0, |p, _| {
-                    let v = *p;
-                    *p *= x;
-                    Some(v)
-                })
-                .collect()
+        let fit = DiscFit {
+            members,
+            scale: self.radius * self.radius,
+            degree,
+            gram: Vec::new(),
         };
         let m = degree + 1;
         let mut gram = vec![0.0; m * m];
-        let mut moments = vec![0.0; m];
-        for &(i, u) in &disc {
-            let phi = basis(u);
+        for &(_, u) in &fit.members {
+            let phi = fit.basis(u);
             for a in 0..m {
-                moments[a] += weights[i] * phi[a];
                 for b in 0..m {
                     gram[a * m + b] += phi[a] * phi[b];
                 }
             }
         }
-        let coefficients = solve(gram, moments)?;
-        let mut out = weights.to_vec();
-        for &(i, u) in &disc {
-            out[i] = basis(u).iter().zip(&coefficients).map(|(p, c)| p * c).sum();
-        }
-        Some(out)
+        Some(DiscFit { gram, ..fit })
     }
 
-    /// The lattice's frequencies in the disc, as (flat index, `|k|²`), DC excluded.
+    /// The lattice's frequencies in the disc, as (flat index, `|k|²`), DC excluded, visited over
+    /// the disc's bounding box only.
     fn disc(&self, lattice: Lattice) -> Vec<(usize, u64)> {
         let r2 = self.radius * self.radius;
-        (0..lattice.len())
-            .filter_map(|i| {
-                let k = lattice.frequency(i);
-                let u = k.iter().map(|c| (c * c) as u64).sum::<u64>();
-                (u > 0 && u as f64 <= r2).then_some((i, u))
+        let reach = (self.radius.floor() as i64).min(lattice.kmax as i64);
+        let d = lattice.dimension;
+        let side = 2 * reach + 1;
+        let mut members = Vec::new();
+        for flat in 0..side.pow(d as u32) {
+            let mut k = [0i64; 3];
+            let mut rest = flat;
+            for c in k.iter_mut().take(d) {
+                *c = rest % side - reach;
+                rest /= side;
+            }
+            let u = k.iter().map(|c| (c * c) as u64).sum::<u64>();
+            if u > 0
+                && u as f64 <= r2
+                && let Some(i) = lattice.index(&k[..d])
+            {
+                members.push((i, u));
+            }
+        }
+        members
+    }
+}
+
+/// A least-squares fit polynomial in `u = |k|²` over a disc of lattice frequencies: its members
+/// and Gram matrix, computed once for every weight vector it changes.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DiscFit {
+    members: Vec<(usize, u64)>,
+    scale: f64,
+    degree: usize,
+    gram: Vec<f64>,
+}
+
+impl DiscFit {
+    /// `(1, x, x², …)` at `x = u / R²`.
+    fn basis(&self, u: u64) -> Vec<f64> {
+        let x = u as f64 / self.scale;
+        (0..=self.degree)
+            .scan(1.0, |p, _| {
+                let v = *p;
+                *p *= x;
+                Some(v)
             })
             .collect()
+    }
+
+    /// The weights `w̃` whose sum against a periodogram is `w`'s sum against this fit of that
+    /// periodogram over the disc, `w` kept outside it; `None` if the fit's system is singular.
+    pub fn smoothed(&self, weights: &[f64]) -> Option<Vec<f64>> {
+        let m = self.degree + 1;
+        let mut moments = vec![0.0; m];
+        for &(i, u) in &self.members {
+            for (moment, phi) in moments.iter_mut().zip(self.basis(u)) {
+                *moment += weights[i] * phi;
+            }
+        }
+        let coefficients = solve(self.gram.clone(), moments)?;
+        let mut out = weights.to_vec();
+        for &(i, u) in &self.members {
+            out[i] = self
+                .basis(u)
+                .iter()
+                .zip(&coefficients)
+                .map(|(p, c)| p * c)
+                .sum();
+        }
+        Some(out)
     }
 }
 
@@ -159,7 +208,11 @@ mod tests {
             })
             .collect();
         for degree in 0..=2 {
-            let smooth = band.smoothed(&weights, lattice, degree).unwrap();
+            let smooth = band
+                .fit(lattice, degree)
+                .unwrap()
+                .smoothed(&weights)
+                .unwrap();
             let spectrum = |i: usize| {
                 let k = lattice.frequency(i);
                 let u = (k[0] * k[0] + k[1] * k[1]) as f64;
@@ -193,13 +246,11 @@ mod tests {
             dimension: 2,
             kmax: 8,
         };
-        let weights = vec![1.0; lattice.len()];
-        assert!(LowBand { radius: 2.3 }
-            .smoothed(&weights, lattice, 1)
-            .is_none());
-        assert!(LowBand { radius: 5.0 }
-            .smoothed(&weights, lattice, 1)
-            .is_some());
+        assert!(LowBand { radius: 2.3 }.fit(lattice, 1).is_none());
+        assert!(LowBand { radius: 5.0 }.fit(lattice, 1).is_some());
+        // The disc is clipped to the lattice.
+        let fit = LowBand { radius: 50.0 }.fit(lattice, 1).unwrap();
+        assert_eq!(fit.members.len(), lattice.len() - 1);
     }
 
     /// Only relaxed, isotropic samplers have a low band to fit.

@@ -54,7 +54,7 @@ pub use gaussian_jitter::gaussian_jitter_bias;
 pub use lattice::{
     predict_from_power, predict_lattice, predict_on_patterns, LatticePower, PatternPlan,
 };
-pub use low_band::LowBand;
+pub use low_band::{DiscFit, LowBand};
 pub use pair::{pair_correlation_variance, PcfVariance};
 pub use polar::{predict_polar, PolarParams};
 pub use route::{default_kmax, default_reference_n, polar_validity};
