@@ -6,8 +6,8 @@
 //! white is bounded: `|truncation| ≤ (δ_axis E_axis + δ_off E_rest) / N`.
 
 use super::low_band::{DiscFit, LowBand, FIT_DEGREE};
+use super::SpectrumSource;
 use super::{check_dimension, check_n, ErrorBudget, Form, Prediction, Route, SpectrumOrigin};
-use super::{Alternative, SpectrumSource};
 use crate::budget::{try_filled, Budget, Needs, COEFFICIENT_SECONDS};
 use crate::error::{finite, invalid, Error, Result};
 use crate::integrand::Integrand;
@@ -586,10 +586,10 @@ pub fn predict_on_patterns_many(
                 )
             };
             let raw = on(&w.raw, s[0], None)?;
-            let (Some(band), Some(fitted)) = (&w.band, s.get(1)) else {
+            let (Some(band), Some(fits), Some(fitted)) = (&w.band, &fits, s.get(1)) else {
                 return Ok(raw);
             };
-            let mut smooth = on(&band.fitted, fitted, Some(band.radius))?;
+            let mut smooth = on(&band.fitted, fitted, Some(fits.radius))?;
             smooth.budget.model = low_band_model(s[2]) / estimate.lattice.n as f64;
             // The fit is reported where its 99% budget, model term included, is the narrower,
             // with the raw sums beside it; where it is not, the fit is no answer (a spectrum that
@@ -598,11 +598,7 @@ pub fn predict_on_patterns_many(
             if width(&smooth) >= width(&raw) {
                 return Ok(raw);
             }
-            smooth.alternatives.push(Alternative {
-                route: raw.route,
-                variance: raw.variance,
-                budget: raw.budget,
-            });
+            smooth.alternatives.push(raw.as_alternative());
             Ok(smooth)
         })
         .collect()
@@ -626,7 +622,6 @@ struct LowBandFits {
 
 /// A low band's weights: the reported fit, and the check's difference from it.
 struct FittedWeights {
-    radius: f64,
     fitted: Vec<f64>,
     check: Vec<f64>,
 }
@@ -637,11 +632,7 @@ impl PowerWeights {
             let fitted = f.reported.smoothed(&raw)?;
             let higher = f.check.smoothed(&raw)?;
             let check = higher.iter().zip(&fitted).map(|(h, f)| h - f).collect();
-            Some(FittedWeights {
-                radius: f.radius,
-                fitted,
-                check,
-            })
+            Some(FittedWeights { fitted, check })
         });
         Self { raw, band }
     }

@@ -299,6 +299,15 @@ impl Prediction {
         (value - self.variance).abs() <= self.budget.half_width(z)
     }
 
+    /// This prediction as another route's value, to stand beside a chosen one.
+    pub(crate) fn as_alternative(&self) -> Alternative {
+        Alternative {
+            route: self.route,
+            variance: self.variance,
+            budget: self.budget,
+        }
+    }
+
     /// The gap between this prediction and a Monte Carlo measurement beyond the prediction's
     /// bounds (quadrature, truncation, model), in units of their combined standard errors
     /// (the spectrum noise and the measurement's, read from its 99% interval): 0 when the

@@ -8,8 +8,8 @@ use super::space::{
     kronecker_variance, rank1_lattice_variance, regular_grid_variance, sets_shift_variance,
 };
 use super::{
-    predict_from_power, predict_polar, Alternative, ErrorBudget, Form, FormChoice, Patterns,
-    PredictParams, Prediction, Problem, Route, SpectrumChoice, SpectrumOrigin, SpectrumSource,
+    predict_from_power, predict_polar, ErrorBudget, Form, FormChoice, Patterns, PredictParams,
+    Prediction, Problem, Route, SpectrumChoice, SpectrumOrigin, SpectrumSource,
 };
 use crate::budget::{Budget, Needs, COEFFICIENT_SECONDS};
 use crate::error::{invalid, Error, Result};
@@ -607,7 +607,7 @@ fn tighter_of(mut lattice: Prediction, mut polar: Prediction) -> Prediction {
     let width = |p: &Prediction| p.budget.half_width(crate::montecarlo::Z_99);
     let lattice_share = width(&lattice) / lattice.variance;
     if lattice_share <= CLOSED_TAIL_SHARE || width(&polar) >= width(&lattice) {
-        lattice.alternatives.push(alternative(&polar));
+        lattice.alternatives.push(polar.as_alternative());
         return lattice;
     }
     polar.reason = format!(
@@ -617,7 +617,7 @@ fn tighter_of(mut lattice: Prediction, mut polar: Prediction) -> Prediction {
         100.0 * lattice_share,
         100.0 * width(&polar) / polar.variance
     );
-    polar.alternatives.push(alternative(&lattice));
+    polar.alternatives.push(lattice.as_alternative());
     polar
 }
 
@@ -1079,7 +1079,7 @@ fn with_measured_tail(
     if width(&p) >= width(white) {
         return Ok(None);
     }
-    p.alternatives.push(alternative(white));
+    p.alternatives.push(white.as_alternative());
     Ok(Some(p))
 }
 
@@ -1206,12 +1206,4 @@ fn affordable_realizations(
     let transform = 30.0 * (2.0 * lattice.side() as f64).powi(lattice.dimension as i32);
     let affordable = params.work_budget_seconds * 1e9 / (draw + transform);
     (affordable as usize).clamp(INITIAL_REALIZATIONS, MAX_REALIZATIONS)
-}
-
-fn alternative(p: &Prediction) -> Alternative {
-    Alternative {
-        route: p.route,
-        variance: p.variance,
-        budget: p.budget,
-    }
 }
