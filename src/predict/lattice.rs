@@ -589,6 +589,9 @@ pub fn predict_on_patterns_many(
             let (Some(band), Some(fits), Some(fitted)) = (&w.band, &fits, s.get(1)) else {
                 return Ok(raw);
             };
+            if !fit_agrees(s[3]) {
+                return Ok(raw);
+            }
             let mut smooth = on(&band.fitted, fitted, Some(fits.radius))?;
             smooth.budget.model = low_band_model(s[2]) / estimate.lattice.n as f64;
             // The fit is reported where its 99% budget, model term included, is the narrower,
@@ -620,10 +623,12 @@ struct LowBandFits {
     check: DiscFit,
 }
 
-/// A low band's weights: the reported fit, and the check's difference from it.
+/// A low band's weights: the reported fit, the check's difference from it, and the fit's
+/// difference from the raw weights (its departure from the raw sums, tested per pattern).
 struct FittedWeights {
     fitted: Vec<f64>,
     check: Vec<f64>,
+    departure: Vec<f64>,
 }
 
 impl PowerWeights {
@@ -632,7 +637,12 @@ impl PowerWeights {
             let fitted = f.reported.smoothed(&raw)?;
             let higher = f.check.smoothed(&raw)?;
             let check = higher.iter().zip(&fitted).map(|(h, f)| h - f).collect();
-            Some(FittedWeights { fitted, check })
+            let departure = fitted.iter().zip(&raw).map(|(f, r)| f - r).collect();
+            Some(FittedWeights {
+                fitted,
+                check,
+                departure,
+            })
         });
         Self { raw, band }
     }
@@ -643,28 +653,30 @@ impl PowerWeights {
         if let Some(b) = &self.band {
             out.push(b.fitted.clone());
             out.push(b.check.clone());
+            out.push(b.departure.clone());
         }
         out
     }
 
-    /// The accumulated sums, one slice per power (raw, then fitted and check if any).
+    /// The accumulated sums, one slice per power (raw, then fitted, check and departure if
+    /// any).
     fn split<'a>(all: &[Self], sums: &'a [WeightedMean]) -> Vec<Vec<&'a WeightedMean>> {
         let mut rest = sums.iter();
         all.iter()
             .map(|w| {
-                let count = if w.band.is_some() { 3 } else { 1 };
+                let count = if w.band.is_some() { 4 } else { 1 };
                 rest.by_ref().take(count).collect()
             })
             .collect()
     }
 
     /// The relative noise of the narrower of the raw and fitted estimates (the fit's model
-    /// bound counted as noise at 99%): realizations are added until the one reported meets
-    /// the target.
+    /// bound counted as noise at 99%; a fit the raw sums reject is no candidate): realizations
+    /// are added until the one reported meets the target.
     fn relative_noise(&self, sums: Vec<&WeightedMean>) -> f64 {
         let raw = sums[0].stderr / sums[0].mean;
-        match (sums.get(1), sums.get(2)) {
-            (Some(fitted), Some(check)) => {
+        match (sums.get(1), sums.get(2), sums.get(3)) {
+            (Some(fitted), Some(check), Some(departure)) if fit_agrees(departure) => {
                 let fit =
                     (fitted.stderr + low_band_model(check) / crate::montecarlo::Z_99) / fitted.mean;
                 if fit.is_finite() {
@@ -676,6 +688,16 @@ impl PowerWeights {
             _ => raw,
         }
     }
+}
+
+/// Whether the fit's mean departure from the raw sums is within its paired noise at 99%. The
+/// raw sums are unbiased whatever the spectrum's shape, so a significant departure shows a low
+/// band the fit's polynomial does not describe (a spectrum that changes faster than the disc's
+/// scale, as Gaussian blue noise's, which climbs back to white noise's at the lowest
+/// frequencies); the degree check cannot see a change both fits smooth over.
+fn fit_agrees(departure: &WeightedMean) -> bool {
+    departure.stderr.is_finite()
+        && departure.mean.abs() <= crate::montecarlo::Z_99 * departure.stderr
 }
 
 /// The fit's model term (unnormalized): the mean difference the next degree makes and its

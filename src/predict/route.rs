@@ -1117,7 +1117,8 @@ fn estimated_reason(
             "; the low band |k| ≤ {radius:.1} read from a fit of each pattern's periodogram \
              linear in |k|² (the sampler's law is stationary and isotropic, its spectrum smooth \
              there), its model term the mean change a quadratic fit makes plus that change's \
-             paired noise at 99%"
+             paired noise at 99%, and its mean departure from the raw sums within that \
+             departure's paired noise at 99%"
         ),
         _ => String::new(),
     };

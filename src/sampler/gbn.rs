@@ -10,7 +10,7 @@
 //! The descent relaxes a density wave of scaled frequency `ν` like diffusion, its power falling
 //! as `exp(-ν²/ν_r²)` over the steps: with the default 100 steps the spectrum is about 1e-6
 //! from `ν ≈ 0.03` to its rise near `ν ≈ 0.5`, but climbs back to white noise's below
-//! `ν_r ≈ 0.01` (0.29 in the lowest ring at N = 16384). The spectrum is a function of `ν` alone
+//! `ν_r ≈ 0.0085` (0.29 in the lowest ring at N = 16384). The spectrum is a function of `ν` alone
 //! (every length is in spacings), its `α` is 0, and integration converges like `N^{-1}` once N
 //! is so large that an integrand's power reaches below `ν_r` (`docs/theory.md`). Each step moves every point from the same old positions (a Jacobi
 //! step), so a pattern is the same bits for any thread count.
@@ -41,11 +41,22 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     scaling: Scaling::Invariant,
     isotropic: true,
     symmetry: Symmetry::Cube,
-    correlation_reach: 2.0,
+    correlation_reach: RELAXED_REACH,
     cost_per_point_ns: 180_000.0,
     cost_growth: 0.0,
     working_bytes: super::facts::one_word_per_point,
 };
+
+/// The scaled frequency `ν_r` below which the descent leaves density waves unrelaxed: the power
+/// left at `ν` falls like `exp(-ν²/ν_r²)` (measured in 2D at N = 16384, `docs/theory.md`).
+const RELAXATION_FREQUENCY: f64 = 0.0085;
+
+/// How far the pair correlations reach, in spacings: the spectrum's drop from white to blue over
+/// `ν ≈ ν_r` is a Gaussian component of `g − 1` with standard deviation `1/(√2 π ν_r)` (26.5
+/// spacings), counted to three of them. Far beyond the nearest neighbours: routes that assume
+/// short correlations (the polar form's images, the low band's smoothness) see it.
+const RELAXED_REACH: f64 =
+    3.0 / (std::f64::consts::SQRT_2 * std::f64::consts::PI * RELAXATION_FREQUENCY);
 
 /// The kernel is cut where it falls below `exp(-CUTOFF_SIGMAS² / 2)` (3e-4 of its peak).
 const CUTOFF_SIGMAS: f64 = 4.0;
