@@ -76,7 +76,7 @@ fn main() {
             counts.push(kind.nearest_count(16 * COST_REFERENCE_N as usize, 2));
         }
         for n in counts {
-            let (declared, measured) = (kind.cost_per_point_ns_at(n), measured_ns(kind, n));
+            let (declared, measured) = (kind.cost_per_point_ns_at(n, 2), measured_ns(kind, n));
             let ratio = measured / declared;
             println!(
                 "{:<11} {n:>8} {declared:>12.1} {measured:>12.1} {ratio:>7.2}",

@@ -519,7 +519,7 @@ pub(crate) fn predict_cells(
             Some((sampler, NetPairs::EveryNet))
         }
         CellSource::Sampler(sampler, SamplerKind::Pmj02) => {
-            let cost = SamplerKind::Pmj02.cost_per_point_ns_at(n);
+            let cost = SamplerKind::Pmj02.cost_per_point_ns_at(n, 2);
             Some((sampler, NetPairs::PerPattern(cost)))
         }
         _ => None,
@@ -715,7 +715,7 @@ fn estimate_occupancy(
                 n,
                 seed: params.seed,
             },
-            kind.cost_per_point_ns_at(n),
+            kind.cost_per_point_ns_at(n, grid.len()),
         ),
         CellSource::Sets(sets, _) => {
             if sets.len() < 2 {

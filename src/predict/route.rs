@@ -1203,7 +1203,7 @@ fn affordable_realizations(
     lattice: Lattice,
     params: &PredictParams,
 ) -> usize {
-    let draw = n as f64 * kind.map_or(1_000.0, |k| k.cost_per_point_ns_at(n));
+    let draw = n as f64 * kind.map_or(1_000.0, |k| k.cost_per_point_ns_at(n, lattice.dimension));
     let transform = 30.0 * (2.0 * lattice.side() as f64).powi(lattice.dimension as i32);
     let affordable = params.work_budget_seconds * 1e9 / (draw + transform);
     (affordable as usize).clamp(INITIAL_REALIZATIONS, MAX_REALIZATIONS)

@@ -81,7 +81,7 @@ pub(crate) fn predict_shifted_cells(
     }
     // Each point's cell wrapped across the faces: up to 2^d boxes' moments.
     let per_pair =
-        n as f64 * (kind.cost_per_point_ns_at(n) * 1e-9 + CELL_SECONDS * (1u32 << d) as f64);
+        n as f64 * (kind.cost_per_point_ns_at(n, d) * 1e-9 + CELL_SECONDS * (1u32 << d) as f64);
     let (initial, max) = terms_within_budget(params, per_pair, (INITIAL_PAIRS, MAX_PAIRS));
     params.budget.check(
         "the occupancy estimate under shifts",

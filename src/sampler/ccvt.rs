@@ -15,7 +15,7 @@ use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
 use super::facts::{
-    CellRule, ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry,
+    CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling, Symmetry,
 };
 use super::{check_supported, uniform, PoissonDisk, Sampler, SamplerKind};
 use crate::error::{invalid, Result};
@@ -47,6 +47,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     correlation_reach: 2.0,
     cost_per_point_ns: 190_000.0,
     cost_growth: 0.0,
+    cost_dimension: DimensionCost::PerDimension(4.5),
     working_bytes,
 };
 

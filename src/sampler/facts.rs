@@ -54,9 +54,34 @@ pub struct SamplerFacts {
     /// ([`COST_REFERENCE_N`]): `cost_per_point_ns · max(1, N / COST_REFERENCE_N)^cost_growth`
     /// (0 where it stays flat; PMJ02's occupancy tables leave the caches).
     pub cost_growth: f64,
+    /// How the cost per point changes with the dimension, from the 2D cost declared.
+    pub cost_dimension: DimensionCost,
     /// The generator's working memory, in bytes, for `n` points in dimension `d` (beyond the
     /// points themselves).
     pub working_bytes: fn(n: f64, d: usize) -> f64,
+}
+
+/// How a sampler's cost per point changes with the dimension, from its 2D cost.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DimensionCost {
+    /// In proportion to the coordinates drawn: `d/2` of the 2D cost (strata, nets, lattices).
+    PerCoordinate,
+    /// By a measured factor per dimension above two: the optimizers, whose work per point is
+    /// over neighbourhoods that grow as a ball of a few spacings does (measured at N = 4096 in
+    /// 2D and 3D). 1D is counted at the 2D cost, an upper bound (CCVT's 1D cost is 0.8 of its
+    /// 2D one).
+    PerDimension(f64),
+}
+
+impl DimensionCost {
+    /// The factor on the 2D cost per point in dimension `d`.
+    pub fn factor(self, d: usize) -> f64 {
+        match self {
+            Self::PerCoordinate => d as f64 / 2.0,
+            Self::PerDimension(step) => step.powi(d.max(2) as i32 - 2),
+        }
+    }
 }
 
 /// The count at which [`SamplerFacts::cost_per_point_ns`] holds (1024 for the optimizers,

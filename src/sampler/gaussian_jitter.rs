@@ -1,7 +1,7 @@
 //! Gaussian jitter: grid centres moved by Gaussian offsets (Subr and Kautz 2013).
 
 use super::facts::{
-    CellRule, ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry,
+    CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling, Symmetry,
 };
 use super::regular::{check_strata, for_each_cell};
 use super::ClosedForm;
@@ -31,6 +31,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     correlation_reach: 2.0,
     cost_per_point_ns: 55.0,
     cost_growth: 0.0,
+    cost_dimension: DimensionCost::PerCoordinate,
     working_bytes: super::facts::one_word_per_point,
 };
 

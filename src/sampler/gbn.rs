@@ -16,7 +16,7 @@
 //! step), so a pattern is the same bits for any thread count.
 
 use super::facts::{
-    CellRule, ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry,
+    CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling, Symmetry,
 };
 use super::{check_positive, check_supported, uniform, Sampler, SamplerKind};
 use crate::error::{invalid, Result};
@@ -44,6 +44,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     correlation_reach: RELAXED_REACH,
     cost_per_point_ns: 180_000.0,
     cost_growth: 0.0,
+    cost_dimension: DimensionCost::PerDimension(8.5),
     working_bytes: super::facts::one_word_per_point,
 };
 

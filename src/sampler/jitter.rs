@@ -1,7 +1,7 @@
 //! Jittered (stratified) sampling.
 
 use super::facts::{
-    CellRule, ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry,
+    CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling, Symmetry,
 };
 use super::regular::{check_strata, for_each_cell};
 use super::ClosedForm;
@@ -29,6 +29,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     correlation_reach: 1.0,
     cost_per_point_ns: 8.0,
     cost_growth: 0.0,
+    cost_dimension: DimensionCost::PerCoordinate,
     working_bytes: super::facts::one_word_per_point,
 };
 

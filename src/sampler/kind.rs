@@ -270,22 +270,29 @@ impl SamplerKind {
         self.facts().cost_per_point_ns
     }
 
-    /// The time to generate one point of a 2D pattern of `n` points, in nanoseconds: the
-    /// declared cost, grown beyond [`COST_REFERENCE_N`](super::facts::COST_REFERENCE_N) by
-    /// [`SamplerFacts::cost_growth`](super::SamplerFacts).
+    /// The time to generate one point of a pattern of `n` points in dimension `d`, in
+    /// nanoseconds: the declared 2D cost, grown beyond
+    /// [`COST_REFERENCE_N`](super::facts::COST_REFERENCE_N) by
+    /// [`SamplerFacts::cost_growth`](super::SamplerFacts) and scaled to the dimension by
+    /// [`SamplerFacts::cost_dimension`](super::SamplerFacts).
     ///
     /// # Examples
     /// ```
     /// use specvar::sampler::SamplerKind;
     /// let pmj = SamplerKind::Pmj02;
-    /// assert_eq!(pmj.cost_per_point_ns_at(1024), pmj.cost_per_point_ns());
-    /// assert!(pmj.cost_per_point_ns_at(65536) > 2.0 * pmj.cost_per_point_ns());
-    /// assert_eq!(SamplerKind::Jitter.cost_per_point_ns_at(1 << 20), SamplerKind::Jitter.cost_per_point_ns());
+    /// assert_eq!(pmj.cost_per_point_ns_at(1024, 2), pmj.cost_per_point_ns());
+    /// assert!(pmj.cost_per_point_ns_at(65536, 2) > 2.0 * pmj.cost_per_point_ns());
+    /// let jitter = SamplerKind::Jitter;
+    /// assert_eq!(jitter.cost_per_point_ns_at(1 << 20, 2), jitter.cost_per_point_ns());
+    /// // Gaussian blue noise's neighbourhoods grow with the dimension far faster than its
+    /// // coordinates do.
+    /// let gbn = SamplerKind::GaussianBlueNoise;
+    /// assert!(gbn.cost_per_point_ns_at(4096, 3) > 5.0 * gbn.cost_per_point_ns_at(4096, 2));
     /// ```
-    pub fn cost_per_point_ns_at(self, n: usize) -> f64 {
+    pub fn cost_per_point_ns_at(self, n: usize, d: usize) -> f64 {
         let f = self.facts();
         let beyond = (n as f64 / super::facts::COST_REFERENCE_N).max(1.0);
-        f.cost_per_point_ns * beyond.powf(f.cost_growth)
+        f.cost_per_point_ns * beyond.powf(f.cost_growth) * f.cost_dimension.factor(d)
     }
 
     /// The memory and time one pattern of `n` points in dimension `d` takes to draw (the time
@@ -296,7 +303,7 @@ impl SamplerKind {
         let (n, points) = (n as f64, n as f64 * d as f64 * 8.0);
         Needs {
             memory_bytes: points + (self.facts().working_bytes)(n, d),
-            work_seconds: n * self.cost_per_point_ns_at(n as usize) * 1e-9,
+            work_seconds: n * self.cost_per_point_ns_at(n as usize, d) * 1e-9,
         }
     }
 
@@ -377,6 +384,7 @@ impl SamplerKind {
             symmetry: f.symmetry,
             known_alpha: f.known_alpha,
             cost_per_point_ns: f.cost_per_point_ns,
+            cost_dimension: f.cost_dimension,
         }
     }
 
@@ -522,6 +530,8 @@ pub struct SamplerSummary {
     pub known_alpha: Option<f64>,
     /// Its generation cost per 2D point, in nanoseconds.
     pub cost_per_point_ns: f64,
+    /// How that cost changes with the dimension.
+    pub cost_dimension: super::DimensionCost,
 }
 
 impl fmt::Display for SamplerKind {

@@ -3,7 +3,7 @@
 //! `orthogonal` sampler of renderers draws them.
 
 use super::facts::{
-    CellRule, ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry,
+    CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling, Symmetry,
 };
 use super::{
     check_positive, check_supported, in_cell, perfect_root, random_permutation, uniform, Sampler,
@@ -34,6 +34,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     correlation_reach: 2.0,
     cost_per_point_ns: 14.0,
     cost_growth: 0.0,
+    cost_dimension: DimensionCost::PerCoordinate,
     working_bytes: super::facts::one_word_per_point,
 };
 

@@ -1,7 +1,7 @@
 //! Progressive multi-jittered (0,2) sequences (Christensen, Kensler and Kilpatrick 2018).
 
 use super::facts::{
-    CellRule, ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry,
+    CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling, Symmetry,
 };
 use super::{check_supported, uniform, uniform_index, Sampler, SamplerKind};
 use crate::error::{Error, Result};
@@ -28,6 +28,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     correlation_reach: 2.0,
     cost_per_point_ns: 330.0,
     cost_growth: 0.5,
+    cost_dimension: DimensionCost::PerCoordinate,
     working_bytes: super::facts::one_word_per_point,
 };
 

@@ -8,7 +8,7 @@
 //! In 2D this is `r_max = √(2 / (√3 N))` (Lagae and Dutré 2008).
 
 use super::facts::{
-    CellRule, ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry,
+    CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling, Symmetry,
 };
 use super::{check_supported, uniform, uniform_index, Sampler, SamplerKind};
 use crate::error::{invalid, Error, Result};
@@ -36,6 +36,7 @@ pub(crate) const DART_FACTS: SamplerFacts = SamplerFacts {
     correlation_reach: 2.0,
     cost_per_point_ns: 4_500.0,
     cost_growth: 0.0,
+    cost_dimension: DimensionCost::PerDimension(5.3),
     working_bytes: |n, _| n * 64.0,
 };
 
@@ -57,6 +58,7 @@ pub(crate) const BRIDSON_FACTS: SamplerFacts = SamplerFacts {
     correlation_reach: 2.0,
     cost_per_point_ns: 8_400.0,
     cost_growth: 0.0,
+    cost_dimension: DimensionCost::PerDimension(4.1),
     working_bytes: |n, _| n * 64.0,
 };
 

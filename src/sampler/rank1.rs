@@ -1,7 +1,7 @@
 //! Rank-1 lattices in 2D: Korobov's with the best spectral test, and Fibonacci's.
 
 use super::facts::{
-    CellRule, ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry,
+    CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling, Symmetry,
 };
 use super::fibonacci::{fibonacci_below, fibonacci_numbers};
 use super::ClosedForm;
@@ -28,6 +28,7 @@ pub(crate) const KOROBOV_FACTS: SamplerFacts = SamplerFacts {
     correlation_reach: 2.0,
     cost_per_point_ns: 40.0,
     cost_growth: 0.0,
+    cost_dimension: DimensionCost::PerCoordinate,
     working_bytes: super::facts::one_word_per_point,
 };
 
@@ -49,6 +50,7 @@ pub(crate) const FIBONACCI_FACTS: SamplerFacts = SamplerFacts {
     correlation_reach: 2.0,
     cost_per_point_ns: 16.0,
     cost_growth: 0.0,
+    cost_dimension: DimensionCost::PerCoordinate,
     working_bytes: super::facts::one_word_per_point,
 };
 

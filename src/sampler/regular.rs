@@ -1,7 +1,7 @@
 //! The cell-centred regular grid.
 
 use super::facts::{
-    CellRule, ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry,
+    CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling, Symmetry,
 };
 use super::ClosedForm;
 use super::{check_supported, cmj::near_square_factors, perfect_root, Sampler, SamplerKind};
@@ -27,6 +27,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     correlation_reach: 2.0,
     cost_per_point_ns: 4.0,
     cost_growth: 0.0,
+    cost_dimension: DimensionCost::PerCoordinate,
     working_bytes: super::facts::one_word_per_point,
 };
 

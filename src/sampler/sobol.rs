@@ -1,7 +1,7 @@
 //! Sobol sequence with Owen (nested uniform) scrambling.
 
 use super::facts::{
-    CellRule, ClosedFormRule, CountRule, Randomness, SamplerFacts, Scaling, Symmetry,
+    CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling, Symmetry,
 };
 use super::{check_supported, Sampler, SamplerKind};
 use crate::error::Result;
@@ -27,6 +27,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     correlation_reach: 2.0,
     cost_per_point_ns: 25.0,
     cost_growth: 0.0,
+    cost_dimension: DimensionCost::PerCoordinate,
     working_bytes: |_, _| 4096.0,
 };
 
