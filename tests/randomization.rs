@@ -73,8 +73,9 @@ fn independent_points_under_a_digital_shift_are_white_noise() {
 #[test]
 fn an_estimator_the_routes_do_not_predict_is_refused_and_measured() {
     let f = Ball::new(0.25, vec![0.5, 0.5], 1.0).unwrap();
-    // Halton's digit permutations as drawn and Gaussian jitter under a digital shift: neither
-    // a cell form (their points are not uniform in cells) nor a spectral route.
+    // Halton's digit permutations as drawn on a disk (not a product of one factor per axis)
+    // and Gaussian jitter under a digital shift: neither a cell form (their points are not
+    // uniform in cells) nor a spectral route.
     let halton = specvar::sampler::Halton::new(2).unwrap();
     let jitter = specvar::sampler::GaussianJitter::new(2).unwrap();
     let cases: [(&dyn Sampler, Randomization); 2] = [

@@ -643,7 +643,8 @@ def plan(
     search follows the predictions' own rate, a handful of predictions per sampler. A sampler
     that no N up to ``max_n`` (default 2^20 in 2D) brings to the target is a row with
     ``reached=False``, its largest N and the RMSE there, and ``limit`` saying what stopped it.
-    A sampler whose estimator has no valid route (Halton used as drawn) is left out with a
+    A sampler whose estimator has no valid route (Halton used as drawn on an integrand that is
+    not a product of one factor per axis) is left out with a
     ``UserWarning`` that gives the reason. Raises ``ValueError`` for a target that is not
     positive and finite, one that no sampler reaches (naming that N and its RMSE), or when
     every sampler is refused."""

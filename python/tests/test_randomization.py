@@ -39,7 +39,12 @@ def test_predictions_are_for_the_estimator_asked_or_refused():
     assert (p.randomization, p.route.form) == ("none", "aliased_pairs")
     m = specvar.monte_carlo("disk", sampler="gjitter", n=64, trials=8000, seed=4)
     assert m.ci_low <= p.variance <= m.ci_high, (p, m)
-    # Halton's digit permutations as drawn have no route: refused, naming the Monte Carlo.
+    # Halton's digit permutations as drawn: exact on a product of one factor per axis, and
+    # refused on a disk, naming the Monte Carlo.
+    gaussian = "gaussian:sigma=0.2,c=0.2;0.7"
+    p = specvar.predict(gaussian, sampler="halton", n=100, randomization="none")
+    m = specvar.monte_carlo(gaussian, sampler="halton", n=100, trials=20000, seed=4)
+    assert m.ci_low <= p.variance <= m.ci_high, (p, m)
     with pytest.raises(ValueError, match="mc --randomization none"):
         specvar.predict("disk", sampler="halton", n=64, randomization="none")
     # A fixed rule used as drawn has a bias, not a variance.

@@ -32,6 +32,7 @@ mod low_band;
 mod measured_tail;
 mod owen_gains;
 mod pair;
+mod permuted_digits;
 mod polar;
 mod radial_table;
 mod route;
@@ -56,6 +57,7 @@ pub use lattice::{
 };
 pub use low_band::{DiscFit, LowBand};
 pub use pair::{pair_correlation_variance, PcfVariance};
+pub use permuted_digits::PermutedDigitsOrigin;
 pub use polar::{predict_polar, PolarParams};
 pub use route::{default_kmax, default_reference_n, polar_validity};
 pub use space::{
@@ -113,6 +115,9 @@ pub enum SpectrumOrigin {
     /// Walsh energies of a product integrand's factors at every level, summed over a linear
     /// net's dual (a digital shift): exact to quadrature.
     WalshNet(WalshNetOrigin),
+    /// Each axis's factor by its energy on every support of digits, summed over the pairs of
+    /// Halton's points drawn with permuted digits: exact to quadrature.
+    PermutedDigits(PermutedDigitsOrigin),
     /// Each given set's own periodogram, summed in space over its pairs of points through the
     /// integrand's autocorrelation: exact.
     Pairs {
@@ -152,6 +157,7 @@ impl fmt::Display for SpectrumOrigin {
             SpectrumOrigin::Cells(c) => c.fmt(f),
             SpectrumOrigin::Walsh(w) => w.fmt(f),
             SpectrumOrigin::WalshNet(w) => w.fmt(f),
+            SpectrumOrigin::PermutedDigits(h) => h.fmt(f),
             SpectrumOrigin::Pairs { sets } => write!(
                 f,
                 "each set's own periodogram, summed in space over its pairs ({sets} sets)"
@@ -230,6 +236,7 @@ impl fmt::Display for Route {
             SpectrumOrigin::Cells(cells) => write!(f, "{}, {cells}", self.form),
             SpectrumOrigin::Walsh(walsh) => write!(f, "{}, {walsh}", self.form),
             SpectrumOrigin::WalshNet(net) => write!(f, "{}, {net}", self.form),
+            SpectrumOrigin::PermutedDigits(h) => write!(f, "{}, {h}", self.form),
             _ => write!(f, "{}, spectrum {}", self.form, self.spectrum),
         }
     }

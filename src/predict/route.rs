@@ -146,7 +146,11 @@ pub(crate) fn check_estimator(problem: &Problem<'_>) -> Result<()> {
         return Ok(());
     }
     let kind = problem.kind();
-    if uses_cells(problem) || uses_walsh(problem) || gaussian_jitter_as_drawn(problem).is_some() {
+    if uses_cells(problem)
+        || uses_walsh(problem)
+        || gaussian_jitter_as_drawn(problem).is_some()
+        || halton_as_drawn(problem).is_some()
+    {
         return Ok(());
     }
     match kind {
@@ -160,6 +164,16 @@ pub(crate) fn check_estimator(problem: &Problem<'_>) -> Result<()> {
                 ),
             })
         }
+        Some(SamplerKind::Halton) if r == Randomization::None => Err(Error::OutsideValidity {
+            route: "a spectral route".into(),
+            reason: format!(
+                "halton used as drawn is predicted exactly only on integrands that are a product \
+                 of one factor per axis (Gaussians, axis-aligned rectangles), and {} is not; \
+                 measure it with `specvar mc --randomization none`, or predict with \
+                 --randomization shift",
+                problem.integrand.label()
+            ),
+        }),
         None if matches!(problem.patterns, Patterns::PointSets(_)) => Err(Error::OutsideValidity {
             route: "a spectral route".into(),
             reason: format!(
@@ -223,6 +237,15 @@ fn gaussian_jitter_as_drawn(
     let form = sampler.closed_form(problem.n)?;
     let strata = crate::sampler::strata(problem.n, problem.integrand.dimension())?;
     Some((form, strata))
+}
+
+/// Halton used as drawn on a product integrand, whose variance the pairs of its points' digit
+/// agreements give exactly.
+fn halton_as_drawn(problem: &Problem<'_>) -> Option<crate::integrand::ProductForm> {
+    let as_drawn = problem.randomization == Randomization::None
+        && matches!(problem.patterns, Patterns::Sampler(_))
+        && problem.kind() == Some(SamplerKind::Halton);
+    as_drawn.then(|| problem.integrand.product_form()).flatten()
 }
 
 /// Whether `problem` is Owen-scrambled Sobol' under a digital shift, whose law is Owen's
@@ -336,6 +359,14 @@ pub(crate) fn predict_routed(
     }
     if uses_walsh(problem) {
         return super::walsh::predict_walsh(problem, params, progress);
+    }
+    if let Some(form) = halton_as_drawn(problem) {
+        return super::permuted_digits::predict_halton_as_drawn(
+            &form,
+            n,
+            params.work_budget_seconds,
+            &params.budget,
+        );
     }
     if let Some((form, strata)) = gaussian_jitter_as_drawn(problem) {
         return super::gaussian_jitter::predict_gaussian_jitter_as_drawn(
@@ -1106,6 +1137,7 @@ fn estimated_reason(
         | SpectrumOrigin::Cells(_)
         | SpectrumOrigin::Walsh(_)
         | SpectrumOrigin::WalshNet(_)
+        | SpectrumOrigin::PermutedDigits(_)
         | SpectrumOrigin::Pairs { .. } => 0,
     };
     let why = why_estimated((kind, asked), what, n);
@@ -1166,6 +1198,7 @@ pub(crate) fn predict_routed_many(
     if closed
         || uses_cells(first)
         || uses_walsh(first)
+        || halton_as_drawn(first).is_some()
         || kind.is_some_and(|k| k.is_deterministic())
         || problems.iter().any(|p| {
             shifted_scrambled_net(p, params).is_some() || shifted_strata(p, params).is_some()

@@ -81,7 +81,7 @@ struct FoldedAxis {
 
 /// The nodes and weights (summing to 1) of the rule on `[0, w)`: `panels` equal panels of
 /// each piece between the offsets of the factor's breakpoints within a cell.
-fn cell_rule(g: &AxisFactor, w: f64, panels: usize) -> Vec<(f64, f64)> {
+pub(crate) fn cell_rule(g: &AxisFactor, w: f64, panels: usize) -> Vec<(f64, f64)> {
     let mut ends = vec![0.0, w];
     for b in g.breakpoints() {
         let offset = b - (b / w).floor() * w;
