@@ -29,14 +29,18 @@ use super::{ErrorBudget, Form, Prediction, Route, SpectrumOrigin};
 use crate::budget::{Budget, Needs};
 use crate::error::{Error, Result};
 use crate::integrand::{AxisFactor, ProductForm};
+use crate::pointset::MAX_DIMENSION;
 use crate::quadrature::CompensatedSum;
 use crate::randomization::Randomization;
+use crate::sampler::HALTON_BASES;
 use rayon::prelude::*;
 use serde::Serialize;
 use std::fmt;
 
-/// The primes of Halton's axes.
-const PRIMES: [usize; 8] = [2, 3, 5, 7, 11, 13, 17, 19];
+/// The base of Halton's axis `l`.
+fn base(l: usize) -> usize {
+    HALTON_BASES[l] as usize
+}
 /// Two successive quadratures agreeing to this relative difference end the doubling; the
 /// difference is what the budget reports.
 const QUADRATURE_TOLERANCE: f64 = 1e-7;
@@ -58,7 +62,7 @@ pub(crate) struct PermutedVariance {
     /// A bound on the rounding of the pair sums.
     pub(crate) rounding: f64,
     /// Digit positions per axis that the points do not share.
-    pub(crate) digits: [u32; 8],
+    pub(crate) digits: [u32; MAX_DIMENSION],
 }
 
 /// Digits of `N − 1` in base `p` (at least one): the positions where points may differ.
@@ -227,15 +231,15 @@ fn pair_sums(kernels: &[AxisKernel], ms: &[u32], n: usize) -> (Vec<f64>, Vec<f64
     let digits: Vec<Vec<u64>> = ms
         .iter()
         .enumerate()
-        .map(|(l, &m)| packed_digits(n, PRIMES[l], m))
+        .map(|(l, &m)| packed_digits(n, base(l), m))
         .collect();
-    let bits: Vec<u32> = PRIMES[..d].iter().map(|&p| digit_bits(p)).collect();
+    let bits: Vec<u32> = (0..d).map(|l| digit_bits(base(l))).collect();
     let subsets = 1usize << d;
     let zero = || (vec![0.0; subsets], vec![0.0; subsets]);
     let (sums, magnitudes) = (0..n)
         .into_par_iter()
         .fold(zero, |(mut s, mut a), i| {
-            let mut k = [0.0; 8];
+            let mut k = [0.0; MAX_DIMENSION];
             for j in i..n {
                 // The diagonal once, the pairs i ≠ j twice.
                 let times = if j == i { 1.0 } else { 2.0 };
@@ -274,7 +278,7 @@ fn variance_at(form: &ProductForm, n: usize, ms: &[u32], panels: usize) -> (f64,
         .iter()
         .zip(ms)
         .enumerate()
-        .map(|(l, (g, &m))| axis_kernel(g, PRIMES[l], m, panels))
+        .map(|(l, (g, &m))| axis_kernel(g, base(l), m, panels))
         .collect();
     let (sums, magnitudes) = pair_sums(&kernels, ms, n);
     let d = kernels.len();
@@ -318,7 +322,7 @@ fn variance_at(form: &ProductForm, n: usize, ms: &[u32], panels: usize) -> (f64,
 /// quadrature: panels doubled until two answers agree to [`QUADRATURE_TOLERANCE`].
 pub(crate) fn halton_as_drawn_variance(form: &ProductForm, n: usize) -> PermutedVariance {
     let d = form.axes.len();
-    let ms: Vec<u32> = (0..d).map(|l| positions(n, PRIMES[l])).collect();
+    let ms: Vec<u32> = (0..d).map(|l| positions(n, base(l))).collect();
     let height_sq = form.height * form.height;
     let (mut previous, _) = variance_at(form, n, &ms, 1);
     let mut panels = 2;
@@ -326,7 +330,7 @@ pub(crate) fn halton_as_drawn_variance(form: &ProductForm, n: usize) -> Permuted
         let (v, rounding) = variance_at(form, n, &ms, panels);
         let difference = (v - previous).abs();
         if difference <= QUADRATURE_TOLERANCE * v.abs() || panels >= MAX_PANELS {
-            let mut digits = [0; 8];
+            let mut digits = [0; MAX_DIMENSION];
             digits[..d].copy_from_slice(&ms);
             return PermutedVariance {
                 variance: height_sq * v,
@@ -344,7 +348,7 @@ pub(crate) fn halton_as_drawn_variance(form: &ProductForm, n: usize) -> Permuted
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 pub struct PermutedDigitsOrigin {
     /// Digit positions per axis where the points differ (the rest they share).
-    pub digits: [u32; 8],
+    pub digits: [u32; MAX_DIMENSION],
     /// Axes.
     pub dimension: usize,
 }
@@ -353,7 +357,7 @@ impl fmt::Display for PermutedDigitsOrigin {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let per_axis: Vec<String> = self.digits[..self.dimension]
             .iter()
-            .zip(PRIMES)
+            .zip(HALTON_BASES)
             .map(|(m, p)| format!("{p}^{m}"))
             .collect();
         write!(
@@ -377,10 +381,10 @@ pub(crate) fn predict_halton_as_drawn(
     budget: &Budget,
 ) -> Result<Prediction> {
     let d = form.axes.len();
-    if d > PRIMES.len() || n == 0 {
+    if d > HALTON_BASES.len() || n == 0 {
         return Err(Error::Mismatch(format!(
             "Halton as drawn needs 1 to {} axes and N ≥ 1",
-            PRIMES.len()
+            HALTON_BASES.len()
         )));
     }
     let work = pair_work_seconds(n, d);
@@ -396,7 +400,7 @@ pub(crate) fn predict_halton_as_drawn(
         });
     }
     let cells: f64 = (0..d)
-        .map(|l| (PRIMES[l] as f64).powi(positions(n, PRIMES[l]) as i32))
+        .map(|l| (base(l) as f64).powi(positions(n, base(l)) as i32))
         .sum();
     budget.check(
         "Halton's pairs of digit agreements",
@@ -432,7 +436,7 @@ pub(crate) fn predict_halton_as_drawn(
         n,
         dimension: d,
         dc_term: 0.0,
-        evaluations: (n as u64).pow(2),
+        evaluations: (n as u64).saturating_mul(n as u64),
         alternatives: Vec::new(),
     })
 }
@@ -472,7 +476,7 @@ mod tests {
     /// Packed digits compare as the digits do, at every base (64 bits hold `m` digits).
     #[test]
     fn packed_digits_agree_where_the_digits_do() {
-        for p in PRIMES {
+        for p in HALTON_BASES.map(|b| b as usize) {
             let m = positions(1 << 18, p);
             assert!(m * digit_bits(p) <= 64);
             let packed = packed_digits(300, p, m);

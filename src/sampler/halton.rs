@@ -31,7 +31,8 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     working_bytes: |_, _| 4096.0,
 };
 
-const PRIMES: [u64; MAX_DIMENSION] = [2, 3, 5, 7, 11, 13, 17, 19];
+/// The base of each axis: the first primes.
+pub(crate) const PRIMES: [u64; MAX_DIMENSION] = [2, 3, 5, 7, 11, 13, 17, 19];
 
 /// The first N points of the Halton sequence (axis `j` in base `p_j`, the j-th prime), each
 /// digit position of each axis scrambled by its own random permutation of `{0, …, p-1}`.
