@@ -504,107 +504,176 @@ pub fn predict_on_patterns_many(
     plan: &PatternPlan,
     progress: &dyn Progress,
 ) -> Result<Vec<Prediction>> {
-    let Some(first) = powers.first() else {
+    if powers.is_empty() {
         return Ok(Vec::new());
-    };
-    let lattice = first.lattice;
-    if let Some(p) = powers
-        .iter()
-        .find(|p| p.lattice != lattice || plan.spectrum.kmax != p.lattice.kmax)
-    {
-        return Err(Error::Mismatch(format!(
-            "spectrum on |k_i| ≤ {} for a power on |k_i| ≤ {}",
-            plan.spectrum.kmax, p.lattice.kmax
-        )));
     }
-    let fits = plan.low_band.and_then(|band| {
-        Some(LowBandFits {
-            radius: band.radius,
-            reported: band.fit(lattice, FIT_DEGREE)?,
-            check: band.fit(lattice, FIT_DEGREE + 1)?,
-        })
-    });
-    let weights: Vec<PowerWeights> = powers
-        .iter()
-        .map(|p| {
-            let raw = if plan.symmetric {
-                p.symmetrized().power
-            } else {
-                p.power.clone()
-            };
-            PowerWeights::new(raw, fits.as_ref())
-        })
-        .collect();
-    let cap = source
-        .available()
-        .unwrap_or(usize::MAX)
-        .min(plan.max_realizations);
-    // The engine's tolerance follows the most realizations the estimate may reach.
-    let spectrum = SpectrumParams {
-        realizations: cap.min(plan.max_realizations.max(plan.initial)),
-        ..plan.spectrum
-    };
-    let flat: Vec<Vec<f64>> = weights.iter().flat_map(PowerWeights::vectors).collect();
-    let mut acc = SpectrumAccumulator::new(source, &spectrum, flat)?;
-    let mut target = round_up(plan.initial, cap);
-    loop {
-        progress.begin(
-            "spectrum realizations",
-            (target - acc.realizations()) as u64,
-        );
-        acc.extend_to(target, progress)?;
-        progress.end();
-        // A relative error that is not a number (one realization, a zero mean) cannot improve.
-        let sums = acc.weighted();
-        let worst = weights
+    let mut estimate = PatternEstimate::new(powers, source, plan)?;
+    let all: Vec<usize> = (0..powers.len()).collect();
+    estimate.extend(&all, usize::MAX, progress)?;
+    estimate.predictions(&all)
+}
+
+/// The per-pattern lattice form of several powers on the same patterns, resumable: a first
+/// look at a few realizations ([`extend`](Self::extend) with a limit) can be continued to the
+/// full estimate for some of the powers without drawing or transforming the first patterns
+/// again. The realizations are added in the same order whatever the stops on the way, so the
+/// result depends only on the final count.
+pub(crate) struct PatternEstimate<'a, 'p> {
+    powers: &'p [LatticePower],
+    weights: Vec<PowerWeights>,
+    fits: Option<LowBandFits>,
+    acc: SpectrumAccumulator<'a>,
+    cap: usize,
+    plan: PatternPlan,
+}
+
+impl<'a, 'p> PatternEstimate<'a, 'p> {
+    /// An estimate of `powers` (all on the plan's lattice) from `source`'s patterns, with no
+    /// realization yet. The spectrum engine's tolerance follows the most realizations the
+    /// plan may reach, whatever limit a first look stops at.
+    ///
+    /// # Errors
+    /// As [`SpectrumAccumulator::new`], or a power on another lattice than the plan's.
+    pub(crate) fn new(
+        powers: &'p [LatticePower],
+        source: PatternSource<'a>,
+        plan: &PatternPlan,
+    ) -> Result<Self> {
+        let Some(first) = powers.first() else {
+            return Err(Error::Mismatch("an estimate of no power".into()));
+        };
+        let lattice = first.lattice;
+        if let Some(p) = powers
             .iter()
-            .zip(PowerWeights::split(&weights, &sums))
-            .map(|(w, s)| w.relative_noise(s))
-            .filter(|rel| rel.is_finite())
-            .fold(0.0, f64::max);
-        if worst <= plan.target_noise || target >= cap {
-            break;
+            .find(|p| p.lattice != lattice || plan.spectrum.kmax != p.lattice.kmax)
+        {
+            return Err(Error::Mismatch(format!(
+                "spectrum on |k_i| ≤ {} for a power on |k_i| ≤ {}",
+                plan.spectrum.kmax, p.lattice.kmax
+            )));
         }
-        let wanted = (target as f64 * (worst / plan.target_noise).powi(2)).ceil() as usize;
-        target = round_up(wanted.max(target + 4), cap);
-    }
-    let estimate = acc.estimate();
-    let deviation = measured_tail_deviation(&estimate.lattice);
-    let sums = acc.weighted();
-    powers
-        .iter()
-        .zip(&weights)
-        .zip(PowerWeights::split(&weights, &sums))
-        .map(|((power, w), s)| {
-            let on = |weights: &[f64], sums: &WeightedMean, low_band: Option<f64>| {
-                pattern_prediction(
-                    power,
-                    (weights, sums),
-                    &estimate.lattice,
-                    deviation,
-                    low_band,
-                )
-            };
-            let raw = on(&w.raw, s[0], None)?;
-            let (Some(band), Some(fits), Some(fitted)) = (&w.band, &fits, s.get(1)) else {
-                return Ok(raw);
-            };
-            if !fit_agrees(s[3]) {
-                return Ok(raw);
-            }
-            let mut smooth = on(&band.fitted, fitted, Some(fits.radius))?;
-            smooth.budget.model = low_band_model(s[2]) / estimate.lattice.n as f64;
-            // The fit is reported where its 99% budget, model term included, is the narrower,
-            // with the raw sums beside it; where it is not, the fit is no answer (a spectrum that
-            // vanishes at the origin, as CCVT's, leaves a line fit far off) and is not shown.
-            let width = |p: &Prediction| p.budget.half_width(crate::montecarlo::Z_99);
-            if width(&smooth) >= width(&raw) {
-                return Ok(raw);
-            }
-            smooth.alternatives.push(raw.as_alternative());
-            Ok(smooth)
+        let fits = plan.low_band.and_then(|band| {
+            Some(LowBandFits {
+                radius: band.radius,
+                reported: band.fit(lattice, FIT_DEGREE)?,
+                check: band.fit(lattice, FIT_DEGREE + 1)?,
+            })
+        });
+        let weights: Vec<PowerWeights> = powers
+            .iter()
+            .map(|p| {
+                let raw = if plan.symmetric {
+                    p.symmetrized().power
+                } else {
+                    p.power.clone()
+                };
+                PowerWeights::new(raw, fits.as_ref())
+            })
+            .collect();
+        let cap = source
+            .available()
+            .unwrap_or(usize::MAX)
+            .min(plan.max_realizations);
+        let spectrum = SpectrumParams {
+            realizations: cap.min(plan.max_realizations.max(plan.initial)),
+            ..plan.spectrum
+        };
+        let flat: Vec<Vec<f64>> = weights.iter().flat_map(PowerWeights::vectors).collect();
+        Ok(Self {
+            powers,
+            weights,
+            fits,
+            acc: SpectrumAccumulator::new(source, &spectrum, flat)?,
+            cap,
+            plan: *plan,
         })
-        .collect()
+    }
+
+    /// Adds realizations from the plan's initial count on, while the relative error of any of
+    /// the powers `active` (indices into the powers) exceeds the plan's target, up to the
+    /// plan's cap and `limit`.
+    ///
+    /// # Errors
+    /// As [`SpectrumAccumulator::extend_to`].
+    pub(crate) fn extend(
+        &mut self,
+        active: &[usize],
+        limit: usize,
+        progress: &dyn Progress,
+    ) -> Result<()> {
+        let cap = self.cap.min(limit);
+        let mut target = round_up(self.plan.initial, cap);
+        loop {
+            if target > self.acc.realizations() {
+                progress.begin(
+                    "spectrum realizations",
+                    (target - self.acc.realizations()) as u64,
+                );
+                self.acc.extend_to(target, progress)?;
+                progress.end();
+            }
+            // A relative error that is not a number (one realization, a zero mean) cannot
+            // improve.
+            let sums = self.acc.weighted();
+            let split = PowerWeights::split(&self.weights, &sums);
+            let worst = active
+                .iter()
+                .map(|&i| self.weights[i].relative_noise(split[i].clone()))
+                .filter(|rel| rel.is_finite())
+                .fold(0.0, f64::max);
+            if worst <= self.plan.target_noise || target >= cap {
+                return Ok(());
+            }
+            let wanted = (target as f64 * (worst / self.plan.target_noise).powi(2)).ceil() as usize;
+            target = round_up(wanted.max(target + 4), cap);
+        }
+    }
+
+    /// The predictions of the powers `which` (indices into the powers) from the realizations so
+    /// far.
+    ///
+    /// # Errors
+    /// A power whose prediction cannot be formed (as [`predict_on_patterns`]).
+    pub(crate) fn predictions(&self, which: &[usize]) -> Result<Vec<Prediction>> {
+        let estimate = self.acc.estimate();
+        let deviation = measured_tail_deviation(&estimate.lattice);
+        let sums = self.acc.weighted();
+        let split = PowerWeights::split(&self.weights, &sums);
+        which
+            .iter()
+            .map(|&i| {
+                let (power, w, s) = (&self.powers[i], &self.weights[i], &split[i]);
+                let on = |weights: &[f64], sums: &WeightedMean, low_band: Option<f64>| {
+                    pattern_prediction(
+                        power,
+                        (weights, sums),
+                        &estimate.lattice,
+                        deviation,
+                        low_band,
+                    )
+                };
+                let raw = on(&w.raw, s[0], None)?;
+                let (Some(band), Some(fits), Some(fitted)) = (&w.band, &self.fits, s.get(1)) else {
+                    return Ok(raw);
+                };
+                if !fit_agrees(s[3]) {
+                    return Ok(raw);
+                }
+                let mut smooth = on(&band.fitted, fitted, Some(fits.radius))?;
+                smooth.budget.model = low_band_model(s[2]) / estimate.lattice.n as f64;
+                // The fit is reported where its 99% budget, model term included, is the
+                // narrower, with the raw sums beside it; where it is not, the fit is no answer
+                // (a spectrum that vanishes at the origin, as CCVT's, leaves a line fit far
+                // off) and is not shown.
+                let width = |p: &Prediction| p.budget.half_width(crate::montecarlo::Z_99);
+                if width(&smooth) >= width(&raw) {
+                    return Ok(raw);
+                }
+                smooth.alternatives.push(raw.as_alternative());
+                Ok(smooth)
+            })
+            .collect()
+    }
 }
 
 /// The weights one power's per-pattern sums are taken with: the raw power, and for a sampler

@@ -2,7 +2,7 @@
 //! (closed form or estimate, form, reference N, lattice extent, realizations) is made here.
 
 use super::cells::CellSource;
-use super::lattice::{predict_on_patterns_many, white_noise, LatticePower, PatternPlan};
+use super::lattice::{white_noise, LatticePower, PatternEstimate, PatternPlan};
 use super::low_band::LowBand;
 use super::space::{
     kronecker_variance, rank1_lattice_variance, regular_grid_variance, sets_shift_variance,
@@ -987,6 +987,18 @@ fn estimated_lattice_many(
             .unwrap_or_else(|| initial_kmax(n, d, 6.0, ESTIMATED_LATTICE_BUDGET)),
         (0..problems.len()).collect::<Vec<usize>>(),
     );
+    // A problem's estimate on a lattice is its answer, or it goes to the wider lattice its tail
+    // asks for.
+    let settle = |p: Prediction,
+                  i: usize,
+                  kmax: usize,
+                  done: &mut Vec<Option<Prediction>>,
+                  queue: &mut std::collections::BTreeMap<usize, Vec<usize>>| {
+        match wider_lattice(&p, kmax, d, params) {
+            Some(wider) => queue.entry(wider).or_default().push(i),
+            None => done[i] = Some(p),
+        }
+    };
     while let Some((kmax, group)) = queue.pop_first() {
         let powers = group
             .iter()
@@ -995,15 +1007,18 @@ fn estimated_lattice_many(
             })
             .collect::<Result<Vec<_>>>()?;
         // A first look from the initial patterns alone decides whether to measure the tail;
-        // the problems it does not settle are estimated in full on the same lattice after.
+        // the problems it does not settle are estimated in full on the same patterns after,
+        // the first look's realizations kept.
         let probing = may_probe && group.iter().any(|&i| !tail_tried[i]);
-        let mut full = plan(kmax);
-        if probing {
-            full.max_realizations = full.initial.min(full.max_realizations);
-        }
-        let predictions = predict_on_patterns_many(&powers, source, &full, progress)?;
-        for (&i, p) in group.iter().zip(predictions) {
-            let asked = params.spectrum == SpectrumChoice::Estimated;
+        let full = plan(kmax);
+        let mut estimate = PatternEstimate::new(&powers, source, &full)?;
+        let everyone: Vec<usize> = (0..group.len()).collect();
+        let limit = if probing { full.initial } else { usize::MAX };
+        estimate.extend(&everyone, limit, progress)?;
+        let asked = params.spectrum == SpectrumChoice::Estimated;
+        let mut unsettled = Vec::new();
+        for (at, p) in estimate.predictions(&everyone)?.into_iter().enumerate() {
+            let i = group[at];
             let p = estimated_reason(p, (kind, asked), &what, n, kmax);
             // A measured tail needs no wider lattice: it replaces the widening where the
             // budget allows it and its budget is the narrower (tried once per problem: its
@@ -1021,12 +1036,16 @@ fn estimated_lattice_many(
             }
             if probing {
                 tail_tried[i] = true;
-                queue.entry(kmax).or_insert_with(Vec::new).push(i);
-                continue;
+                unsettled.push(at);
+            } else {
+                settle(p, i, kmax, &mut done, &mut queue);
             }
-            match wider_lattice(&p, kmax, d, params) {
-                Some(wider) => queue.entry(wider).or_insert_with(Vec::new).push(i),
-                None => done[i] = Some(p),
+        }
+        if !unsettled.is_empty() {
+            estimate.extend(&unsettled, usize::MAX, progress)?;
+            for (&at, p) in unsettled.iter().zip(estimate.predictions(&unsettled)?) {
+                let p = estimated_reason(p, (kind, asked), &what, n, kmax);
+                settle(p, group[at], kmax, &mut done, &mut queue);
             }
         }
     }
