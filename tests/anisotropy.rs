@@ -302,19 +302,22 @@ fn anisotropic_gaussian_matches_quadrature() {
     assert!(f.autocorrelation(&[0.03, -0.02]).is_some() && f.full_space_leak() < 1e-14);
     check_against_quadrature(&f, tolerance);
     // Crossing the faces: a rotated lobe over the right face, a lobe centred on the top face,
-    // one wide enough to touch all four, and one in a corner.
-    for (s1, s2, angle, centre) in [
+    // one wide enough to touch all four, and one in a corner (independent: side by side).
+    use rayon::prelude::*;
+    [
         (0.15, 0.04, 30.0, [0.9, 0.4]),
         (0.2, 0.05, 0.0, [0.5, 1.0]),
         (0.5, 0.3, 70.0, [0.3, 0.6]),
         (0.1, 0.02, -45.0, [0.0, 0.0]),
         // Its slices' centres m(y) run from 0.05 to 1.75: beyond the right face.
         (0.3, 0.02, 30.0, [0.9, 0.5]),
-    ] {
+    ]
+    .into_par_iter()
+    .for_each(|(s1, s2, angle, centre)| {
         let g = AnisotropicGaussian::new(s1, s2, angle, centre, 1.5).unwrap();
         assert!(g.autocorrelation(&[0.03, -0.02]).is_none() && g.full_space_leak() > 1e-3);
         check_against_quadrature(&g, tolerance);
-    }
+    });
     let spec = parse_integrand("agaussian:s1=0.05,s2=0.01,angle=60,a=1").unwrap();
     assert_eq!(parse_integrand(&spec.to_string()).unwrap(), spec);
     assert!(AnisotropicGaussian::new(20.0, 0.01, 0.0, [0.5, 0.5], 1.0).is_err());

@@ -23,7 +23,7 @@ fn halton_as_drawn_meets_monte_carlo_on_products() {
         "polygon:0.2,0.3;0.7,0.3;0.7,0.8;0.2,0.8",
     ] {
         let f = parse_integrand(text).unwrap().build(2).unwrap();
-        for n in [16, 100, 1024] {
+        for n in [16, 100, 512] {
             let p = predict(
                 &Problem::new(halton.as_ref(), f.as_ref(), n).unwrap(),
                 &PredictParams::default(),

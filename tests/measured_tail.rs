@@ -32,7 +32,7 @@ fn halton_across_the_faces_agrees_with_monte_carlo() {
     let seam = Gaussian::new(0.2, vec![0.2, 0.7], 1.0).unwrap();
     let square = Polygon::new(vec![[0.2, 0.3], [0.7, 0.3], [0.7, 0.8], [0.2, 0.8]], 1.0).unwrap();
     for f in [&seam as &dyn Integrand, &square] {
-        let n = 1024;
+        let n = 256;
         let p = halton_shifted(f, n, &params());
         assert_eq!(p.route.form, Form::Lattice);
         assert!(

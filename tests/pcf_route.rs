@@ -127,7 +127,7 @@ fn pair_correlation_route_on_a_window_of_a_stationary_pattern() {
     use specvar::montecarlo::{result_from_estimates, McParams, Z_99};
     use specvar::pointset::toroidal_delta;
     use specvar::sampler::{Homogenized, Jitter, Sampler};
-    let (m, s) = (1024usize, 0.5);
+    let (m, s) = (256usize, 0.5);
     let area = s * s;
     let process = Homogenized::new(Jitter::new(2).unwrap());
     for power in [0, 1] {
@@ -175,7 +175,7 @@ fn pair_correlation_route_on_a_window_of_a_stationary_pattern() {
                 p.points().filter_map(f_w).sum::<f64>() / (mf * area)
             })
             .collect();
-        let mc = result_from_estimates(256, &params, &estimates, Some(integral)).unwrap();
+        let mc = result_from_estimates(m, &params, &estimates, Some(integral)).unwrap();
         let mc_se = (mc.ci_high - mc.ci_low) / (2.0 * Z_99);
         let z = (predicted - mc.variance) / predicted_se.hypot(mc_se);
         println!(

@@ -14,7 +14,7 @@ use crate::integrand::Integrand;
 use crate::progress::Progress;
 use crate::quadrature::CompensatedSum;
 use crate::spectrum::{
-    engine_error, ClosedForm, ClosedLattice, Lattice, LatticeSpectrum, PatternSource,
+    engine_error, ClosedForm, ClosedLattice, Engine, Lattice, LatticeSpectrum, PatternSource,
     SpectrumAccumulator, SpectrumParams, TailDeviation, WeightedMean,
 };
 use rayon::prelude::*;
@@ -509,20 +509,24 @@ pub fn predict_on_patterns_many(
     }
     let mut estimate = PatternEstimate::new(powers, source, plan)?;
     let all: Vec<usize> = (0..powers.len()).collect();
-    estimate.extend(&all, usize::MAX, progress)?;
+    estimate.extend(&all, progress)?;
     estimate.predictions(&all)
 }
 
 /// The per-pattern lattice form of several powers on the same patterns, resumable: a first
-/// look at a few realizations ([`extend`](Self::extend) with a limit) can be continued to the
-/// full estimate for some of the powers without drawing or transforming the first patterns
-/// again. The realizations are added in the same order whatever the stops on the way, so the
-/// result depends only on the final count.
+/// look at a few realizations can be continued under a plan with a larger cap
+/// ([`continue_under`](Self::continue_under)) for some of the powers without drawing or
+/// transforming the first patterns again. The realizations are added in the same order
+/// whatever the stops on the way, so the result depends only on the final count and the
+/// engine the patterns were transformed with.
 pub(crate) struct PatternEstimate<'a, 'p> {
     powers: &'p [LatticePower],
     weights: Vec<PowerWeights>,
     fits: Option<LowBandFits>,
+    source: PatternSource<'a>,
     acc: SpectrumAccumulator<'a>,
+    /// The engine the patterns are transformed with (its tolerance follows the cap).
+    engine: Engine,
     cap: usize,
     plan: PatternPlan,
 }
@@ -530,7 +534,7 @@ pub(crate) struct PatternEstimate<'a, 'p> {
 impl<'a, 'p> PatternEstimate<'a, 'p> {
     /// An estimate of `powers` (all on the plan's lattice) from `source`'s patterns, with no
     /// realization yet. The spectrum engine's tolerance follows the most realizations the
-    /// plan may reach, whatever limit a first look stops at.
+    /// plan may reach.
     ///
     /// # Errors
     /// As [`SpectrumAccumulator::new`], or a power on another lattice than the plan's.
@@ -570,6 +574,23 @@ impl<'a, 'p> PatternEstimate<'a, 'p> {
                 PowerWeights::new(raw, fits.as_ref())
             })
             .collect();
+        let (cap, spectrum, engine) = Self::spectrum(source, plan);
+        let flat: Vec<Vec<f64>> = weights.iter().flat_map(PowerWeights::vectors).collect();
+        Ok(Self {
+            powers,
+            weights,
+            fits,
+            source,
+            acc: SpectrumAccumulator::new(source, &spectrum, flat)?,
+            engine,
+            cap,
+            plan: *plan,
+        })
+    }
+
+    /// The most realizations `plan` may use of `source`, the spectrum parameters for them, and
+    /// the engine those resolve to.
+    fn spectrum(source: PatternSource<'_>, plan: &PatternPlan) -> (usize, SpectrumParams, Engine) {
         let cap = source
             .available()
             .unwrap_or(usize::MAX)
@@ -578,30 +599,36 @@ impl<'a, 'p> PatternEstimate<'a, 'p> {
             realizations: cap.min(plan.max_realizations.max(plan.initial)),
             ..plan.spectrum
         };
-        let flat: Vec<Vec<f64>> = weights.iter().flat_map(PowerWeights::vectors).collect();
-        Ok(Self {
-            powers,
-            weights,
-            fits,
-            acc: SpectrumAccumulator::new(source, &spectrum, flat)?,
-            cap,
-            plan: *plan,
-        })
+        let engine = spectrum.engine.resolve(
+            source.points(),
+            source.dimension(),
+            spectrum.kmax,
+            spectrum.realizations,
+        );
+        (cap, spectrum, engine)
+    }
+
+    /// Continues under `plan` (its cap and target; the same patterns and lattice) if its
+    /// engine is the one the patterns so far were transformed with, so that the result is the
+    /// one `plan` would give from the start; `false`, and nothing changed, otherwise.
+    pub(crate) fn continue_under(&mut self, plan: &PatternPlan) -> bool {
+        let (cap, spectrum, engine) = Self::spectrum(self.source, plan);
+        if engine != self.engine || spectrum.kmax != self.plan.spectrum.kmax {
+            return false;
+        }
+        self.cap = cap;
+        self.plan = *plan;
+        true
     }
 
     /// Adds realizations from the plan's initial count on, while the relative error of any of
     /// the powers `active` (indices into the powers) exceeds the plan's target, up to the
-    /// plan's cap and `limit`.
+    /// plan's cap.
     ///
     /// # Errors
     /// As [`SpectrumAccumulator::extend_to`].
-    pub(crate) fn extend(
-        &mut self,
-        active: &[usize],
-        limit: usize,
-        progress: &dyn Progress,
-    ) -> Result<()> {
-        let cap = self.cap.min(limit);
+    pub(crate) fn extend(&mut self, active: &[usize], progress: &dyn Progress) -> Result<()> {
+        let cap = self.cap;
         let mut target = round_up(self.plan.initial, cap);
         loop {
             if target > self.acc.realizations() {

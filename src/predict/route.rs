@@ -1011,10 +1011,17 @@ fn estimated_lattice_many(
         // the first look's realizations kept.
         let probing = may_probe && group.iter().any(|&i| !tail_tried[i]);
         let full = plan(kmax);
-        let mut estimate = PatternEstimate::new(&powers, source, &full)?;
+        let look = if probing {
+            PatternPlan {
+                max_realizations: full.initial.min(full.max_realizations),
+                ..full
+            }
+        } else {
+            full
+        };
+        let mut estimate = PatternEstimate::new(&powers, source, &look)?;
         let everyone: Vec<usize> = (0..group.len()).collect();
-        let limit = if probing { full.initial } else { usize::MAX };
-        estimate.extend(&everyone, limit, progress)?;
+        estimate.extend(&everyone, progress)?;
         let asked = params.spectrum == SpectrumChoice::Estimated;
         let mut unsettled = Vec::new();
         for (at, p) in estimate.predictions(&everyone)?.into_iter().enumerate() {
@@ -1042,7 +1049,12 @@ fn estimated_lattice_many(
             }
         }
         if !unsettled.is_empty() {
-            estimate.extend(&unsettled, usize::MAX, progress)?;
+            // The first look's patterns are kept where the full estimate transforms them
+            // alike (its tolerance follows its cap).
+            if !estimate.continue_under(&full) {
+                estimate = PatternEstimate::new(&powers, source, &full)?;
+            }
+            estimate.extend(&unsettled, progress)?;
             for (&at, p) in unsettled.iter().zip(estimate.predictions(&unsettled)?) {
                 let p = estimated_reason(p, (kind, asked), &what, n, kmax);
                 settle(p, group[at], kmax, &mut done, &mut queue);
