@@ -874,3 +874,83 @@ fn engine_bound(weights: &[f64], spectrum: &LatticeSpectrum) -> f64 {
 fn round_up(wanted: usize, cap: usize) -> usize {
     (wanted.div_ceil(4) * 4).min(cap).max(1)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::integrand::Gaussian;
+    use crate::progress::Silent;
+    use crate::sampler::{Jitter, Sampler};
+
+    /// A first look continued under the full plan is the full plan's estimate from the start,
+    /// to the bit, and a plan whose engine differs is not continued.
+    #[test]
+    fn a_continued_first_look_is_the_full_estimate() {
+        let jitter = Jitter::new(2).unwrap();
+        let source = PatternSource::Sampler {
+            sampler: &jitter as &dyn Sampler,
+            n: 64,
+            seed: 9,
+        };
+        let lattice = Lattice {
+            dimension: 2,
+            kmax: 8,
+        };
+        let f = Gaussian::new(0.1, vec![0.3, 0.6], 1.0).unwrap();
+        let powers = [LatticePower::of_within(&f, lattice, &Budget::default()).unwrap()];
+        // A target no count meets: the full estimate runs to its cap.
+        let full = PatternPlan {
+            initial: 8,
+            target_noise: 1e-6,
+            max_realizations: 40,
+            spectrum: SpectrumParams {
+                kmax: 8,
+                engine: Engine::Direct,
+                ..Default::default()
+            },
+            symmetric: false,
+            low_band: None,
+        };
+        let look = PatternPlan {
+            max_realizations: full.initial,
+            ..full
+        };
+        let mut estimate = PatternEstimate::new(&powers, source, &look).unwrap();
+        estimate.extend(&[0], &Silent).unwrap();
+        let first = estimate.predictions(&[0]).unwrap().remove(0);
+        assert!(estimate.continue_under(&full));
+        estimate.extend(&[0], &Silent).unwrap();
+        let continued = estimate.predictions(&[0]).unwrap().remove(0);
+        let fresh = predict_on_patterns_many(&powers, source, &full, &Silent)
+            .unwrap()
+            .remove(0);
+        assert_ne!(first.variance, fresh.variance, "the look stopped early");
+        assert_eq!(continued.variance.to_bits(), fresh.variance.to_bits());
+        assert_eq!(continued.budget, fresh.budget);
+        // An automatic engine (the fast transform at N = 4096) whose tolerance follows a much
+        // larger cap is not continued.
+        let source = PatternSource::Sampler {
+            sampler: &jitter as &dyn Sampler,
+            n: 4096,
+            seed: 9,
+        };
+        let lattice = Lattice {
+            dimension: 2,
+            kmax: 64,
+        };
+        let powers = [LatticePower::of_within(&f, lattice, &Budget::default()).unwrap()];
+        let auto = |max_realizations| PatternPlan {
+            max_realizations,
+            spectrum: SpectrumParams {
+                kmax: 64,
+                ..Default::default()
+            },
+            ..full
+        };
+        let (small, large) = (auto(8), auto(1 << 20));
+        let engine = |p: &PatternPlan| PatternEstimate::spectrum(source, p).2;
+        assert_ne!(engine(&small), engine(&large));
+        let mut estimate = PatternEstimate::new(&powers, source, &small).unwrap();
+        assert!(!estimate.continue_under(&large));
+    }
+}
