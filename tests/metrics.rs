@@ -65,7 +65,7 @@ fn white_noise_pair_correlation_is_one() {
     use specvar::sampler::{Random, Sampler};
     for d in 1..=3 {
         let s = Random::new(d).unwrap();
-        let patterns: Vec<_> = (0..200).map(|r| s.sample(512, 5, r).unwrap()).collect();
+        let patterns: Vec<_> = (0..100).map(|r| s.sample(512, 5, r).unwrap()).collect();
         let params = PcfParams {
             sigma: 0.1,
             ..PcfParams::default()
