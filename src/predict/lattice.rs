@@ -882,22 +882,25 @@ mod tests {
     use crate::progress::Silent;
     use crate::sampler::{Jitter, Sampler};
 
+    /// Jitter's patterns at `n` points and a Gaussian's power on `|k_i| ≤ kmax`.
+    fn problem(jitter: &Jitter, n: usize, kmax: usize) -> (PatternSource<'_>, [LatticePower; 1]) {
+        let f = Gaussian::new(0.1, vec![0.3, 0.6], 1.0).unwrap();
+        let lattice = Lattice { dimension: 2, kmax };
+        let source = PatternSource::Sampler {
+            sampler: jitter as &dyn Sampler,
+            n,
+            seed: 9,
+        };
+        let power = LatticePower::of_within(&f, lattice, &Budget::default()).unwrap();
+        (source, [power])
+    }
+
     /// A first look continued under the full plan is the full plan's estimate from the start,
     /// to the bit, and a plan whose engine differs is not continued.
     #[test]
     fn a_continued_first_look_is_the_full_estimate() {
         let jitter = Jitter::new(2).unwrap();
-        let source = PatternSource::Sampler {
-            sampler: &jitter as &dyn Sampler,
-            n: 64,
-            seed: 9,
-        };
-        let lattice = Lattice {
-            dimension: 2,
-            kmax: 8,
-        };
-        let f = Gaussian::new(0.1, vec![0.3, 0.6], 1.0).unwrap();
-        let powers = [LatticePower::of_within(&f, lattice, &Budget::default()).unwrap()];
+        let (source, powers) = problem(&jitter, 64, 8);
         // A target no count meets: the full estimate runs to its cap.
         let full = PatternPlan {
             initial: 8,
@@ -929,16 +932,7 @@ mod tests {
         assert_eq!(continued.budget, fresh.budget);
         // An automatic engine (the fast transform at N = 4096) whose tolerance follows a much
         // larger cap is not continued.
-        let source = PatternSource::Sampler {
-            sampler: &jitter as &dyn Sampler,
-            n: 4096,
-            seed: 9,
-        };
-        let lattice = Lattice {
-            dimension: 2,
-            kmax: 64,
-        };
-        let powers = [LatticePower::of_within(&f, lattice, &Budget::default()).unwrap()];
+        let (source, powers) = problem(&jitter, 4096, 64);
         let auto = |max_realizations| PatternPlan {
             max_realizations,
             spectrum: SpectrumParams {
