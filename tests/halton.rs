@@ -6,9 +6,10 @@
 mod common;
 
 use common::Z_STRICT;
-use specvar::integrand::parse_integrand;
-use specvar::montecarlo::{empirical_variance, McParams};
+use specvar::integrand::{parse_integrand, Integrand};
+use specvar::montecarlo::{empirical_variances, McParams};
 use specvar::predict::{predict, PredictParams, Problem, SpectrumOrigin};
+use specvar::progress::Silent;
 use specvar::randomization::Randomization;
 use specvar::sampler::SamplerKind;
 
@@ -18,14 +19,34 @@ use specvar::sampler::SamplerKind;
 #[test]
 fn halton_as_drawn_meets_monte_carlo_on_products() {
     let halton = SamplerKind::Halton.build(2).unwrap();
-    for text in [
+    let texts = [
         "gaussian:sigma=0.2,c=0.2;0.7",
         "polygon:0.2,0.3;0.7,0.3;0.7,0.8;0.2,0.8",
-    ] {
-        let f = parse_integrand(text).unwrap().build(2).unwrap();
-        for n in [16, 100, 512] {
+    ];
+    let fs: Vec<_> = texts
+        .iter()
+        .map(|t| parse_integrand(t).unwrap().build(2).unwrap())
+        .collect();
+    let refs: Vec<&dyn Integrand> = fs.iter().map(|f| f.as_ref()).collect();
+    for n in [16, 100, 512] {
+        // Both integrands on the same patterns.
+        let runs = empirical_variances(
+            halton.as_ref(),
+            &refs,
+            n,
+            &McParams {
+                patterns: 20_000,
+                shifts: 1,
+                seed: 29,
+                randomization: Randomization::None,
+                ..Default::default()
+            },
+            &Silent,
+        )
+        .unwrap();
+        for ((text, f), m) in texts.iter().zip(&refs).zip(runs) {
             let p = predict(
-                &Problem::new(halton.as_ref(), f.as_ref(), n).unwrap(),
+                &Problem::new(halton.as_ref(), *f, n).unwrap(),
                 &PredictParams::default(),
             )
             .unwrap();
@@ -35,19 +56,6 @@ fn halton_as_drawn_meets_monte_carlo_on_products() {
                 p.route
             );
             assert_eq!(p.randomization, Randomization::None);
-            let m = empirical_variance(
-                halton.as_ref(),
-                f.as_ref(),
-                n,
-                &McParams {
-                    patterns: 20_000,
-                    shifts: 1,
-                    seed: 29,
-                    randomization: Randomization::None,
-                    ..Default::default()
-                },
-            )
-            .unwrap();
             let band = p.budget.half_width(Z_STRICT);
             assert!(
                 p.variance - band <= m.ci_high && m.ci_low <= p.variance + band,
