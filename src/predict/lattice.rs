@@ -608,6 +608,13 @@ impl<'a, 'p> PatternEstimate<'a, 'p> {
         (cap, spectrum, engine)
     }
 
+    /// Stops this estimate's extensions at `count` realizations (a first look), its engine
+    /// still the plan's: [`continue_under`](Self::continue_under) the same plan then always
+    /// continues it.
+    pub(crate) fn limit_to(&mut self, count: usize) {
+        self.cap = self.cap.min(count);
+    }
+
     /// Continues under `plan` (its cap and target; the same patterns and lattice) if its
     /// engine is the one the patterns so far were transformed with, so that the result is the
     /// one `plan` would give from the start; `false`, and nothing changed, otherwise.

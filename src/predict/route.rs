@@ -1011,15 +1011,10 @@ fn estimated_lattice_many(
         // the first look's realizations kept.
         let probing = may_probe && group.iter().any(|&i| !tail_tried[i]);
         let full = plan(kmax);
-        let look = if probing {
-            PatternPlan {
-                max_realizations: full.initial.min(full.max_realizations),
-                ..full
-            }
-        } else {
-            full
-        };
-        let mut estimate = PatternEstimate::new(&powers, source, &look)?;
+        let mut estimate = PatternEstimate::new(&powers, source, &full)?;
+        if probing {
+            estimate.limit_to(full.initial);
+        }
         let everyone: Vec<usize> = (0..group.len()).collect();
         estimate.extend(&everyone, progress)?;
         let asked = params.spectrum == SpectrumChoice::Estimated;
