@@ -1,6 +1,8 @@
 //! Polygons and edges: exact transforms against independent routes, and the variance of an
 //! edge against its angle predicted within Monte Carlo's intervals.
 
+mod common;
+
 use num_complex::Complex64;
 use specvar::anisotropy::{variance_against_orientation, OrientationConfig};
 use specvar::integrand::{parse_integrand, Integrand, Polygon};
@@ -365,11 +367,7 @@ fn a_lobe_crossing_the_faces_is_predicted_on_the_lattice() {
         },
     )
     .unwrap();
-    let band = p.budget.half_width(3.0);
-    assert!(
-        p.variance - band <= m.ci_high && m.ci_low <= p.variance + band,
-        "{p:?} against {m:?}"
-    );
+    common::assert_intervals_meet(&p, &m, 3.0, "a lobe across the faces");
 }
 
 /// A lobe stretched along θ: jitter's prediction (its closed form on the lattice) inside Monte

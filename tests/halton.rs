@@ -56,14 +56,7 @@ fn halton_as_drawn_meets_monte_carlo_on_products() {
                 p.route
             );
             assert_eq!(p.randomization, Randomization::None);
-            let band = p.budget.half_width(Z_STRICT);
-            assert!(
-                p.variance - band <= m.ci_high && m.ci_low <= p.variance + band,
-                "{text}, N = {n}: {} ± {band:.2e} against Monte Carlo [{}, {}]",
-                p.variance,
-                m.ci_low,
-                m.ci_high
-            );
+            common::assert_intervals_meet(&p, &m, Z_STRICT, &format!("{text}, N = {n}"));
         }
     }
 }

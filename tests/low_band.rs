@@ -217,13 +217,6 @@ fn poisson_disk_through_the_low_band_meets_monte_carlo() {
             },
         )
         .unwrap();
-        let band = p.budget.half_width(common::Z_LOOSE);
-        assert!(
-            p.variance - band <= m.ci_high && m.ci_low <= p.variance + band,
-            "{text}: {} ± {band:.2e} against Monte Carlo [{}, {}]",
-            p.variance,
-            m.ci_low,
-            m.ci_high
-        );
+        common::assert_intervals_meet(&p, &m, common::Z_LOOSE, text);
     }
 }

@@ -169,6 +169,24 @@ pub fn assert_agrees(
     );
 }
 
+/// Asserts that prediction `p`'s budget, widened to `z` standard errors, meets Monte Carlo run
+/// `mc`'s 99% interval: the two intervals overlap.
+pub fn assert_intervals_meet(
+    p: &specvar::predict::Prediction,
+    mc: &specvar::montecarlo::McResult,
+    z: f64,
+    what: &str,
+) {
+    let band = p.budget.half_width(z);
+    assert!(
+        p.variance - band <= mc.ci_high && mc.ci_low <= p.variance + band,
+        "{what}: {} ± {band:.2e} against Monte Carlo [{}, {}]",
+        p.variance,
+        mc.ci_low,
+        mc.ci_high
+    );
+}
+
 /// A pixel's soft shadow on `m × m` cells: a penumbra of `width` across a line at `angle`
 /// degrees through `offset` (along the line's normal), over a gradient in x that makes the
 /// values at opposite faces differ (the seam an unshifted estimator never sees).
