@@ -14,7 +14,7 @@ use crate::integrand::Integrand;
 use crate::progress::Progress;
 use crate::quadrature::CompensatedSum;
 use crate::spectrum::{
-    engine_error, ClosedForm, ClosedLattice, Engine, Lattice, LatticeSpectrum, PatternSource,
+    engine_error, ClosedForm, ClosedLattice, Lattice, LatticeSpectrum, PatternSource,
     SpectrumAccumulator, SpectrumParams, TailDeviation, WeightedMean,
 };
 use rayon::prelude::*;
@@ -514,20 +514,20 @@ pub fn predict_on_patterns_many(
 }
 
 /// The per-pattern lattice form of several powers on the same patterns, resumable: a first
-/// look at a few realizations can be continued under a plan with a larger cap
-/// ([`continue_under`](Self::continue_under)) for some of the powers without drawing or
-/// transforming the first patterns again. The realizations are added in the same order
-/// whatever the stops on the way, so the result depends only on the final count and the
-/// engine the patterns were transformed with.
+/// look stopped at a few realizations ([`limit_to`](Self::limit_to)) can be continued for some
+/// of the powers ([`lift_limit`](Self::lift_limit)) without drawing or transforming the first
+/// patterns again. The engine is the plan's throughout (its tolerance follows the plan's cap)
+/// and the realizations are added in the same order whatever the stops on the way, so the
+/// result depends only on the final count.
 pub(crate) struct PatternEstimate<'a, 'p> {
     powers: &'p [LatticePower],
     weights: Vec<PowerWeights>,
     fits: Option<LowBandFits>,
-    source: PatternSource<'a>,
     acc: SpectrumAccumulator<'a>,
-    /// The engine the patterns are transformed with (its tolerance follows the cap).
-    engine: Engine,
+    /// The most realizations the plan may use.
     cap: usize,
+    /// Where a first look stops (`usize::MAX` for none).
+    limit: usize,
     plan: PatternPlan,
 }
 
@@ -574,23 +574,6 @@ impl<'a, 'p> PatternEstimate<'a, 'p> {
                 PowerWeights::new(raw, fits.as_ref())
             })
             .collect();
-        let (cap, spectrum, engine) = Self::spectrum(source, plan);
-        let flat: Vec<Vec<f64>> = weights.iter().flat_map(PowerWeights::vectors).collect();
-        Ok(Self {
-            powers,
-            weights,
-            fits,
-            source,
-            acc: SpectrumAccumulator::new(source, &spectrum, flat)?,
-            engine,
-            cap,
-            plan: *plan,
-        })
-    }
-
-    /// The most realizations `plan` may use of `source`, the spectrum parameters for them, and
-    /// the engine those resolve to.
-    fn spectrum(source: PatternSource<'_>, plan: &PatternPlan) -> (usize, SpectrumParams, Engine) {
         let cap = source
             .available()
             .unwrap_or(usize::MAX)
@@ -599,43 +582,37 @@ impl<'a, 'p> PatternEstimate<'a, 'p> {
             realizations: cap.min(plan.max_realizations.max(plan.initial)),
             ..plan.spectrum
         };
-        let engine = spectrum.engine.resolve(
-            source.points(),
-            source.dimension(),
-            spectrum.kmax,
-            spectrum.realizations,
-        );
-        (cap, spectrum, engine)
+        let flat: Vec<Vec<f64>> = weights.iter().flat_map(PowerWeights::vectors).collect();
+        Ok(Self {
+            powers,
+            weights,
+            fits,
+            acc: SpectrumAccumulator::new(source, &spectrum, flat)?,
+            cap,
+            limit: usize::MAX,
+            plan: *plan,
+        })
     }
 
-    /// Stops this estimate's extensions at `count` realizations (a first look), its engine
-    /// still the plan's: [`continue_under`](Self::continue_under) the same plan then always
-    /// continues it.
+    /// Stops this estimate's extensions at `count` realizations (a first look); the engine
+    /// stays the plan's, so the look can be continued ([`lift_limit`](Self::lift_limit)).
     pub(crate) fn limit_to(&mut self, count: usize) {
-        self.cap = self.cap.min(count);
+        self.limit = count;
     }
 
-    /// Continues under `plan` (its cap and target; the same patterns and lattice) if its
-    /// engine is the one the patterns so far were transformed with, so that the result is the
-    /// one `plan` would give from the start; `false`, and nothing changed, otherwise.
-    pub(crate) fn continue_under(&mut self, plan: &PatternPlan) -> bool {
-        let (cap, spectrum, engine) = Self::spectrum(self.source, plan);
-        if engine != self.engine || spectrum.kmax != self.plan.spectrum.kmax {
-            return false;
-        }
-        self.cap = cap;
-        self.plan = *plan;
-        true
+    /// Lets the extensions run to the plan's cap again, from the realizations so far.
+    pub(crate) fn lift_limit(&mut self) {
+        self.limit = usize::MAX;
     }
 
     /// Adds realizations from the plan's initial count on, while the relative error of any of
     /// the powers `active` (indices into the powers) exceeds the plan's target, up to the
-    /// plan's cap.
+    /// plan's cap (and the limit of a first look).
     ///
     /// # Errors
     /// As [`SpectrumAccumulator::extend_to`].
     pub(crate) fn extend(&mut self, active: &[usize], progress: &dyn Progress) -> Result<()> {
-        let cap = self.cap;
+        let cap = self.cap.min(self.limit);
         let mut target = round_up(self.plan.initial, cap);
         loop {
             if target > self.acc.realizations() {
@@ -889,25 +866,21 @@ mod tests {
     use crate::progress::Silent;
     use crate::sampler::{Jitter, Sampler};
 
-    /// Jitter's patterns at `n` points and a Gaussian's power on `|k_i| ≤ kmax`.
-    fn problem(jitter: &Jitter, n: usize, kmax: usize) -> (PatternSource<'_>, [LatticePower; 1]) {
-        let f = Gaussian::new(0.1, vec![0.3, 0.6], 1.0).unwrap();
-        let lattice = Lattice { dimension: 2, kmax };
-        let source = PatternSource::Sampler {
-            sampler: jitter as &dyn Sampler,
-            n,
-            seed: 9,
-        };
-        let power = LatticePower::of_within(&f, lattice, &Budget::default()).unwrap();
-        (source, [power])
-    }
-
-    /// A first look continued under the full plan is the full plan's estimate from the start,
-    /// to the bit, and a plan whose engine differs is not continued.
+    /// A first look continued is the full plan's estimate from the start, to the bit.
     #[test]
     fn a_continued_first_look_is_the_full_estimate() {
         let jitter = Jitter::new(2).unwrap();
-        let (source, powers) = problem(&jitter, 64, 8);
+        let source = PatternSource::Sampler {
+            sampler: &jitter as &dyn Sampler,
+            n: 64,
+            seed: 9,
+        };
+        let f = Gaussian::new(0.1, vec![0.3, 0.6], 1.0).unwrap();
+        let lattice = Lattice {
+            dimension: 2,
+            kmax: 8,
+        };
+        let powers = [LatticePower::of_within(&f, lattice, &Budget::default()).unwrap()];
         // A target no count meets: the full estimate runs to its cap.
         let full = PatternPlan {
             initial: 8,
@@ -915,20 +888,16 @@ mod tests {
             max_realizations: 40,
             spectrum: SpectrumParams {
                 kmax: 8,
-                engine: Engine::Direct,
                 ..Default::default()
             },
             symmetric: false,
             low_band: None,
         };
-        let look = PatternPlan {
-            max_realizations: full.initial,
-            ..full
-        };
-        let mut estimate = PatternEstimate::new(&powers, source, &look).unwrap();
+        let mut estimate = PatternEstimate::new(&powers, source, &full).unwrap();
+        estimate.limit_to(full.initial);
         estimate.extend(&[0], &Silent).unwrap();
         let first = estimate.predictions(&[0]).unwrap().remove(0);
-        assert!(estimate.continue_under(&full));
+        estimate.lift_limit();
         estimate.extend(&[0], &Silent).unwrap();
         let continued = estimate.predictions(&[0]).unwrap().remove(0);
         let fresh = predict_on_patterns_many(&powers, source, &full, &Silent)
@@ -937,21 +906,5 @@ mod tests {
         assert_ne!(first.variance, fresh.variance, "the look stopped early");
         assert_eq!(continued.variance.to_bits(), fresh.variance.to_bits());
         assert_eq!(continued.budget, fresh.budget);
-        // An automatic engine (the fast transform at N = 4096) whose tolerance follows a much
-        // larger cap is not continued.
-        let (source, powers) = problem(&jitter, 4096, 64);
-        let auto = |max_realizations| PatternPlan {
-            max_realizations,
-            spectrum: SpectrumParams {
-                kmax: 64,
-                ..Default::default()
-            },
-            ..full
-        };
-        let (small, large) = (auto(8), auto(1 << 20));
-        let engine = |p: &PatternPlan| PatternEstimate::spectrum(source, p).2;
-        assert_ne!(engine(&small), engine(&large));
-        let mut estimate = PatternEstimate::new(&powers, source, &small).unwrap();
-        assert!(!estimate.continue_under(&large));
     }
 }

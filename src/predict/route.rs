@@ -1010,10 +1010,9 @@ fn estimated_lattice_many(
         // the problems it does not settle are estimated in full on the same patterns after,
         // the first look's realizations kept.
         let probing = may_probe && group.iter().any(|&i| !tail_tried[i]);
-        let full = plan(kmax);
-        let mut estimate = PatternEstimate::new(&powers, source, &full)?;
+        let mut estimate = PatternEstimate::new(&powers, source, &plan(kmax))?;
         if probing {
-            estimate.limit_to(full.initial);
+            estimate.limit_to(initial);
         }
         let everyone: Vec<usize> = (0..group.len()).collect();
         estimate.extend(&everyone, progress)?;
@@ -1044,11 +1043,7 @@ fn estimated_lattice_many(
             }
         }
         if !unsettled.is_empty() {
-            // The first look's patterns are kept where the full estimate transforms them
-            // alike (its tolerance follows its cap).
-            if !estimate.continue_under(&full) {
-                estimate = PatternEstimate::new(&powers, source, &full)?;
-            }
+            estimate.lift_limit();
             estimate.extend(&unsettled, progress)?;
             for (&at, p) in unsettled.iter().zip(estimate.predictions(&unsettled)?) {
                 let p = estimated_reason(p, (kind, asked), &what, n, kmax);
