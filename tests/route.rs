@@ -435,3 +435,52 @@ fn given_sets_under_the_shift_are_summed_over_their_pairs() {
     let z = p.z_beyond_bounds(mc);
     assert!(z.abs() < common::Z_STRICT, "{} vs {mc:?}", p.variance);
 }
+
+/// A disk on CCVT at N = 64: its slowly falling tail widens the lattice far beyond N^(1/d),
+/// where each pattern's pairs cost less than its transform, so the default route sums each
+/// pattern in space (exact for the pattern, nothing truncated). Its mean over the same
+/// realizations equals each pattern's estimated lattice form plus its tail, so it must meet
+/// both Monte Carlo of the estimator and the lattice estimate asked for explicitly, within
+/// their budgets.
+#[test]
+fn a_jump_at_small_n_sums_each_pattern_in_space() {
+    let disk = Ball::new(0.25, vec![0.5, 0.5], 1.0).unwrap();
+    let ccvt = common::cached_sampler(SamplerKind::Ccvt, 2);
+    let n = 64;
+    let p = predict_default(ccvt.as_ref(), &disk, n);
+    assert!(
+        matches!(p.route.spectrum, SpectrumOrigin::PatternPairs { n: 64, .. }),
+        "{}",
+        p.route
+    );
+    assert_eq!(p.budget.truncation, 0.0);
+    assert!(p.budget.spectrum_noise > 0.0 && p.budget.spectrum_noise < 0.05 * p.variance);
+    let mc = empirical_variance(
+        ccvt.as_ref(),
+        &disk,
+        n,
+        &McParams::pooled(SamplerKind::Ccvt, 40_000, 92, Randomization::Shift),
+    )
+    .unwrap();
+    assert!(agrees_with_monte_carlo(&p, &mc), "{p:?} vs {mc:?}");
+    let lattice = predict(
+        &Problem::new(ccvt.as_ref(), &disk, n)
+            .unwrap()
+            .with_randomization(Randomization::Shift),
+        &PredictParams {
+            spectrum: SpectrumChoice::Estimated,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert!(
+        matches!(lattice.route.spectrum, SpectrumOrigin::Estimated { .. }),
+        "{}",
+        lattice.route
+    );
+    let allowed = lattice.budget.half_width(Z_99) + p.budget.half_width(Z_99);
+    assert!(
+        (p.variance - lattice.variance).abs() <= allowed,
+        "pairs {p:?} against the lattice {lattice:?}"
+    );
+}

@@ -124,6 +124,15 @@ pub enum SpectrumOrigin {
         /// Sets averaged.
         sets: usize,
     },
+    /// Each of `patterns` patterns of `n` points by its own periodogram, summed in space over
+    /// its pairs of points through the integrand's autocorrelation: exact for each pattern,
+    /// their mean estimated.
+    PatternPairs {
+        /// The N of the patterns.
+        n: usize,
+        /// Patterns averaged.
+        patterns: usize,
+    },
     /// Estimated from `realizations` patterns of `n` points on the lattice `|k_i| ≤ kmax`.
     Estimated {
         /// The N of the patterns.
@@ -161,6 +170,11 @@ impl fmt::Display for SpectrumOrigin {
             SpectrumOrigin::Pairs { sets } => write!(
                 f,
                 "each set's own periodogram, summed in space over its pairs ({sets} sets)"
+            ),
+            SpectrumOrigin::PatternPairs { n, patterns } => write!(
+                f,
+                "each of {patterns} patterns at N = {n} by its own periodogram, summed in space \
+                 over its pairs"
             ),
             SpectrumOrigin::Estimated {
                 n,

@@ -716,6 +716,128 @@ fn fixed_sets_in_space(
     }))
 }
 
+/// Pairs of points per pattern up to which the patterns of a sampler without a closed form may
+/// be summed in space under the shift: at [`COEFFICIENT_SECONDS`] a pair, 13 ms a pattern of
+/// 256 points, about a transform of the widest lattice an integrand that jumps asks for there.
+const PATTERN_PAIRS: usize = 1 << 16;
+/// Seconds a transform takes per cell of its oversampled grid.
+const TRANSFORM_CELL_SECONDS: f64 = 3e-8;
+
+/// Whether `problem`'s patterns are summed in space ([`pattern_pairs`]) for less than their
+/// transforms on `lattice` cost: `N²` pairs at [`COEFFICIENT_SECONDS`] against the `(2(2K+1))^d`
+/// cells of the oversampled grid.
+fn pairs_cost_less(problem: &Problem<'_>, lattice: Lattice, params: &PredictParams) -> bool {
+    let pairs = (problem.n as f64).powi(2) * COEFFICIENT_SECONDS;
+    let transform =
+        TRANSFORM_CELL_SECONDS * (2.0 * lattice.side() as f64).powi(lattice.dimension as i32);
+    pairs < transform && pattern_pairs(problem, params).is_some()
+}
+
+/// The sampler of a problem whose shifted variance may be the mean over its patterns of each
+/// pattern's own variance summed exactly in space ([`patterns_in_space`]): a stochastic
+/// sampler with no closed form at N, an integrand with a closed-form autocorrelation in at
+/// most 3D, at most [`PATTERN_PAIRS`] pairs a pattern, and neither a spectrum, a form nor a
+/// lattice asked for. `None` otherwise.
+fn pattern_pairs<'a>(problem: &Problem<'a>, params: &PredictParams) -> Option<&'a dyn Sampler> {
+    let Patterns::Sampler(sampler) = problem.patterns else {
+        return None;
+    };
+    let f = problem.integrand;
+    let d = f.dimension();
+    let n = problem.n;
+    let defaults = params.spectrum == SpectrumChoice::Auto
+        && params.form == FormChoice::Auto
+        && params.kmax.is_none();
+    let stochastic = problem.kind().is_some_and(|k| !k.is_deterministic());
+    (defaults
+        && stochastic
+        && n.checked_mul(n).is_some_and(|pairs| pairs <= PATTERN_PAIRS)
+        && d <= 3
+        && sampler.closed_form(n).is_none()
+        && !uses_cells(problem)
+        && !uses_walsh(problem)
+        && f.autocorrelation(&vec![0.0; d]).is_some())
+    .then_some(sampler)
+}
+
+/// The shifted variance of `sampler`'s patterns at `n` points on `f`: each pattern's variance
+/// under the shift is, by Poisson summation, its own lattice form summed in space,
+/// `(1/N²) Σ_(i,j) a_f(x_i − x_j) − I²`, exact; their mean over patterns, drawn until its
+/// standard error (from their spread) reaches the target noise, is unbiased for the
+/// estimator's. Nothing is truncated or modelled.
+fn patterns_in_space(
+    f: &dyn Integrand,
+    sampler: &dyn Sampler,
+    n: usize,
+    params: &PredictParams,
+    progress: &dyn Progress,
+) -> Result<Prediction> {
+    let d = f.dimension();
+    let pairs = (n * n) as f64;
+    let draw = sampler
+        .kind()
+        .map_or(0.0, |k| k.pattern_needs(n, d).work_seconds);
+    let per_pattern = draw + pairs * COEFFICIENT_SECONDS;
+    let counts = super::term_mean::terms_within_budget(
+        params,
+        per_pattern,
+        (INITIAL_REALIZATIONS, MAX_REALIZATIONS),
+    );
+    params.budget.check(
+        "the pair sums over the patterns",
+        Needs {
+            memory_bytes: 8.0 * (n * d) as f64,
+            work_seconds: counts.0 as f64 * per_pattern,
+        },
+        "lower N",
+    )?;
+    let label = format!("pair sums of {} at N = {n}", sampler.name());
+    let (estimate, rounding) = super::term_mean::mean_of_exact_terms(
+        &label,
+        counts,
+        params.target_noise,
+        |i| {
+            let pattern = sampler.sample(n, params.seed, i as u64)?;
+            let (variance, rounding) = super::space::pattern_shift_variance(f, &pattern)?
+                .ok_or_else(|| {
+                    Error::Mismatch(format!(
+                        "{} has no autocorrelation in closed form",
+                        f.label()
+                    ))
+                })?;
+            Ok(super::cell_moments::CellSum { variance, rounding })
+        },
+        progress,
+    )?;
+    let patterns = estimate.patterns;
+    Ok(Prediction {
+        variance: estimate.variance,
+        randomization: Randomization::Shift,
+        route: Route {
+            form: Form::Lattice,
+            spectrum: SpectrumOrigin::PatternPairs { n, patterns },
+        },
+        reason: format!(
+            "{} has no closed form at N = {n}: each pattern's variance under the shift is its \
+             own lattice form, by Poisson summation (1/N²) Σ_(i,j) a_f(x_i − x_j) − I² over its \
+             {} pairs with the integrand's autocorrelation in closed form, exact; their mean \
+             over {patterns} patterns, noise from their spread, nothing truncated",
+            sampler.name(),
+            n * n
+        ),
+        budget: ErrorBudget {
+            spectrum_noise: estimate.standard_error,
+            quadrature: rounding,
+            ..Default::default()
+        },
+        n,
+        dimension: d,
+        dc_term: 0.0,
+        evaluations: (patterns * n * n) as u64,
+        alternatives: Vec::new(),
+    })
+}
+
 /// The lattice forms whose peaks continue beyond any lattice (the regular grid's replicas, a
 /// rank-1 lattice's dual lattice, a Kronecker sequence's Fejér peaks), summed exactly in space
 /// through the integrand's autocorrelation.
@@ -981,12 +1103,10 @@ fn estimated_lattice_many(
         && matches!(source, PatternSource::Sampler { .. });
     // Lattice sizes still to estimate, each with the problems that need it.
     let mut queue = std::collections::BTreeMap::new();
-    queue.insert(
-        params
-            .kmax
-            .unwrap_or_else(|| initial_kmax(n, d, 6.0, ESTIMATED_LATTICE_BUDGET)),
-        (0..problems.len()).collect::<Vec<usize>>(),
-    );
+    let first_kmax = params
+        .kmax
+        .unwrap_or_else(|| initial_kmax(n, d, 6.0, ESTIMATED_LATTICE_BUDGET));
+    queue.insert(first_kmax, (0..problems.len()).collect::<Vec<usize>>());
     // A problem's estimate on a lattice is its answer, or it goes to the wider lattice its tail
     // asks for.
     let settle = |p: Prediction,
@@ -1000,6 +1120,22 @@ fn estimated_lattice_many(
         }
     };
     while let Some((kmax, group)) = queue.pop_first() {
+        // Where the first lattice left too much beyond it (an integrand that jumps, whose tail
+        // falls slowly) and a pattern's pairs cost less than its transform on the wider one,
+        // each pattern is summed in space instead: exact, with nothing to truncate. (On the
+        // first lattice a smooth integrand's few frequencies are the cheaper route.)
+        let (paired, group): (Vec<usize>, Vec<usize>) = group.into_iter().partition(|&i| {
+            kmax > first_kmax && pairs_cost_less(problems[i], lattice(d, kmax), params)
+        });
+        for i in paired {
+            if let Some(sampler) = pattern_pairs(problems[i], params) {
+                let f = problems[i].integrand;
+                done[i] = Some(patterns_in_space(f, sampler, n, params, progress)?);
+            }
+        }
+        if group.is_empty() {
+            continue;
+        }
         let powers = group
             .iter()
             .map(|&i| {
@@ -1159,7 +1295,8 @@ fn estimated_reason(
         | SpectrumOrigin::Walsh(_)
         | SpectrumOrigin::WalshNet(_)
         | SpectrumOrigin::PermutedDigits(_)
-        | SpectrumOrigin::Pairs { .. } => 0,
+        | SpectrumOrigin::Pairs { .. }
+        | SpectrumOrigin::PatternPairs { .. } => 0,
     };
     let why = why_estimated((kind, asked), what, n);
     let low_band = match p.route.spectrum {
@@ -1258,7 +1395,8 @@ fn affordable_realizations(
     params: &PredictParams,
 ) -> usize {
     let draw = n as f64 * kind.map_or(1_000.0, |k| k.cost_per_point_ns_at(n, lattice.dimension));
-    let transform = 30.0 * (2.0 * lattice.side() as f64).powi(lattice.dimension as i32);
+    let transform =
+        TRANSFORM_CELL_SECONDS * 1e9 * (2.0 * lattice.side() as f64).powi(lattice.dimension as i32);
     let affordable = params.work_budget_seconds * 1e9 / (draw + transform);
     (affordable as usize).clamp(INITIAL_REALIZATIONS, MAX_REALIZATIONS)
 }

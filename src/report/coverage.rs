@@ -12,7 +12,8 @@
 use crate::error::{Error, Result};
 use crate::integrand::{Integrand, IntegrandSpec};
 use crate::montecarlo::Z_99;
-use crate::predict::{predict, PredictParams, Prediction, Problem, SpectrumChoice};
+use crate::predict::{predict, predict_many, PredictParams, Prediction, Problem, SpectrumChoice};
+use crate::progress::Silent;
 use crate::randomization::Randomization;
 use crate::sampler::{Sampler, SamplerKind};
 use rayon::prelude::*;
@@ -125,18 +126,31 @@ pub struct CoverageSection {
     pub median_relative_width: f64,
 }
 
-/// One estimator, count and integrand: its exact truth and its estimate.
-fn coverage_row(
+/// One estimator and count, every integrand: their exact truths, and their estimates drawn
+/// from the same patterns (each row's interval is its own; the patterns they share make the
+/// misses of one estimator and count dependent, which moves the spread of the miss count, not
+/// its expectation).
+fn coverage_rows(
     case: CoverageCase,
     sampler: &dyn Sampler,
     n: usize,
-    f: &dyn Integrand,
+    fs: &[&dyn Integrand],
     exact: &PredictParams,
     estimated: &PredictParams,
-) -> Result<CoverageRow> {
-    let problem = Problem::new(sampler, f, n)?.with_randomization(case.randomization);
-    let truth = predict(&problem, exact)?;
-    if truth.budget.spectrum_noise != 0.0 {
+) -> Result<Vec<CoverageRow>> {
+    let problems = fs
+        .iter()
+        .map(|f| Ok(Problem::new(sampler, *f, n)?.with_randomization(case.randomization)))
+        .collect::<Result<Vec<_>>>()?;
+    let truths = problems
+        .iter()
+        .map(|problem| predict(problem, exact))
+        .collect::<Result<Vec<_>>>()?;
+    if let Some((truth, f)) = truths
+        .iter()
+        .zip(fs)
+        .find(|(truth, _)| truth.budget.spectrum_noise != 0.0)
+    {
         return Err(Error::Mismatch(format!(
             "{} {} at N = {n} on {}: the default route ({}) has noise, so it is no truth",
             case.sampler,
@@ -145,16 +159,23 @@ fn coverage_row(
             truth.route
         )));
     }
-    let estimate = predict(&problem, estimated)?;
-    let allowed = estimate.budget.half_width(Z_99) + truth.budget.half_width(0.0);
-    Ok(CoverageRow {
-        case,
-        integrand: f.label(),
-        n,
-        covered: (estimate.variance - truth.variance).abs() <= allowed,
-        truth,
-        estimate,
-    })
+    let estimates = predict_many(&problems, estimated, &Silent)?;
+    Ok(truths
+        .into_iter()
+        .zip(estimates)
+        .zip(fs)
+        .map(|((truth, estimate), f)| {
+            let allowed = estimate.budget.half_width(Z_99) + truth.budget.half_width(0.0);
+            CoverageRow {
+                case,
+                integrand: f.label(),
+                n,
+                covered: (estimate.variance - truth.variance).abs() <= allowed,
+                truth,
+                estimate,
+            }
+        })
+        .collect())
 }
 
 /// Runs the section.
@@ -182,19 +203,26 @@ pub fn compute(config: &CoverageConfig, seed: u64) -> Result<CoverageSection> {
         .iter()
         .map(|case| case.sampler.build(2))
         .collect::<Result<Vec<_>>>()?;
+    let f_refs: Vec<&dyn Integrand> = fs.iter().map(|f| f.as_ref()).collect();
     let mut cells = Vec::new();
     for (c, case) in config.cases.iter().enumerate() {
-        for n in case.sampler.nearest_counts(&config.ns, 2) {
-            cells.extend(fs.iter().map(|f| (c, n, f.as_ref())));
-        }
+        cells.extend(
+            case.sampler
+                .nearest_counts(&config.ns, 2)
+                .into_iter()
+                .map(|n| (c, n)),
+        );
     }
-    let rows = cells
+    let rows: Vec<CoverageRow> = cells
         .par_iter()
-        .map(|&(c, n, f)| {
+        .map(|&(c, n)| {
             let case = config.cases[c];
-            coverage_row(case, samplers[c].as_ref(), n, f, &exact, &estimated)
+            coverage_rows(case, samplers[c].as_ref(), n, &f_refs, &exact, &estimated)
         })
-        .collect::<Result<Vec<_>>>()?;
+        .collect::<Result<Vec<_>>>()?
+        .into_iter()
+        .flatten()
+        .collect();
     let misses = rows.iter().filter(|r| !r.covered).count();
     let mut widths: Vec<f64> = rows
         .iter()

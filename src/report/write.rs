@@ -47,6 +47,10 @@ fn route_short(p: &Prediction) -> String {
         SpectrumOrigin::Pairs { sets } => {
             format!("{}, summed in space over pairs ({sets} sets)", p.route.form)
         }
+        SpectrumOrigin::PatternPairs { patterns, .. } => format!(
+            "{}, each pattern summed in space over pairs ({patterns} patterns)",
+            p.route.form
+        ),
     }
 }
 
