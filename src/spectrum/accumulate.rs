@@ -176,11 +176,15 @@ fn weighted_sums(weights: &[Vec<f64>], power: &[f64]) -> Vec<f64> {
             let w = &w[start..start + p.len()];
             let (w_body, w_tail) = w.split_at(p.len() - p.len() % LANES);
             let (p_body, p_tail) = p.split_at(w_body.len());
+            // The lanes in registers for the block (through `lane` they would be stored back
+            // on every step).
+            let mut acc = *lane;
             for (wc, pc) in w_body.chunks_exact(LANES).zip(p_body.chunks_exact(LANES)) {
                 for l in 0..LANES {
-                    lane[l] += wc[l] * pc[l];
+                    acc[l] += wc[l] * pc[l];
                 }
             }
+            *lane = acc;
             *tail += w_tail.iter().zip(p_tail).map(|(w, p)| w * p).sum::<f64>();
         }
     }
