@@ -488,15 +488,25 @@ impl Polygon {
         let (fx, fy) = (grid[0] as f64, grid[1] as f64);
         let (a, cells_f) = (self.height, fx * fy);
         let strips = self.strips(grid, 0);
-        let column = |i: usize| {
+        // The polygon is clipped to each column once, and that part to each cell the boundary
+        // touches: the same clips, in the same order, as the cell's own four (so the same
+        // bits as `area_in_box`), with the column's two done once for all its cells.
+        let column = |[column_part, part, next]: &mut [Vec<[f64; 2]>; 3], i: usize| {
             let strip = strips.strip(i);
-            let x = [i as f64 / fx, (i + 1) as f64 / fx];
+            let (x0, x1) = (i as f64 / fx, (i + 1) as f64 / fx);
             let (mut squares, mut within) = (CompensatedSum::default(), CompensatedSum::default());
             let inside: usize = strip.inside_runs().map(|(start, end)| end - start).sum();
             squares.add(a * a * inside as f64);
+            clip_into(&self.vertices, [-1.0, 0.0], -x0, next);
+            column_part.clear();
+            if next.len() >= 3 {
+                clip_into(next, [1.0, 0.0], x1, column_part);
+            }
             let mut touched = 0;
             for j in strip.touched() {
-                let area = self.area_in_box(&[x[0], j as f64 / fy], &[x[1], (j + 1) as f64 / fy]);
+                let (y0, y1) = (j as f64 / fy, (j + 1) as f64 / fy);
+                let planes = [([0.0, -1.0], -y0), ([0.0, 1.0], y1)];
+                let area = clipped_area(column_part, &planes, [x0, y0], [part, next]);
                 let mean = a * area * cells_f;
                 squares.add(mean * mean);
                 within.add((a * a * area * cells_f - mean * mean).max(0.0));
@@ -504,7 +514,10 @@ impl Polygon {
             }
             (squares.value(), within.value(), touched)
         };
-        let columns: Vec<(f64, f64, u64)> = (0..strips.len()).into_par_iter().map(column).collect();
+        let columns: Vec<(f64, f64, u64)> = (0..strips.len())
+            .into_par_iter()
+            .map_init(|| [Vec::new(), Vec::new(), Vec::new()], column)
+            .collect();
         super::CellSums::of_columns(columns)
     }
 

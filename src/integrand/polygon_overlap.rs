@@ -26,9 +26,16 @@ pub(super) fn clip(polygon: &[[f64; 2]], n: [f64; 2], level: f64) -> Vec<[f64; 2
 pub(super) fn clip_into(polygon: &[[f64; 2]], n: [f64; 2], level: f64, out: &mut Vec<[f64; 2]>) {
     let side = |p: [f64; 2]| n[0] * p[0] + n[1] * p[1] - level;
     out.clear();
+    let Some(&first) = polygon.first() else {
+        return;
+    };
+    // Each vertex's side is computed once and carried to the next edge (the same values as
+    // computing both ends of every edge), and the wrap to the first vertex is a comparison,
+    // not a division: this runs once per cell a boundary touches.
+    let (mut a, mut sa) = (first, side(first));
     for i in 0..polygon.len() {
-        let (a, b) = (polygon[i], polygon[(i + 1) % polygon.len()]);
-        let (sa, sb) = (side(a), side(b));
+        let b = polygon.get(i + 1).copied().unwrap_or(first);
+        let sb = side(b);
         if sa <= 0.0 {
             out.push(a);
         }
@@ -45,6 +52,7 @@ pub(super) fn clip_into(polygon: &[[f64; 2]], n: [f64; 2], level: f64, out: &mut
             }
             out.push(p);
         }
+        (a, sa) = (b, sb);
     }
 }
 
