@@ -723,14 +723,18 @@ const PATTERN_PAIRS: usize = 1 << 16;
 /// Seconds a transform takes per cell of its oversampled grid.
 const TRANSFORM_CELL_SECONDS: f64 = 3e-8;
 
-/// Whether `problem`'s patterns are summed in space ([`pattern_pairs`]) for less than their
-/// transforms on `lattice` cost: `N²` pairs at [`COEFFICIENT_SECONDS`] against the `(2(2K+1))^d`
-/// cells of the oversampled grid.
-fn pairs_cost_less(problem: &Problem<'_>, lattice: Lattice, params: &PredictParams) -> bool {
+/// The sampler of `problem` ([`pattern_pairs`]) if its patterns are summed in space for less
+/// than their transforms on `lattice` cost: `N²` pairs at [`COEFFICIENT_SECONDS`] against the
+/// `(2(2K+1))^d` cells of the oversampled grid. `None` otherwise.
+fn cheaper_pairs<'a>(
+    problem: &Problem<'a>,
+    lattice: Lattice,
+    params: &PredictParams,
+) -> Option<&'a dyn Sampler> {
     let pairs = (problem.n as f64).powi(2) * COEFFICIENT_SECONDS;
     let transform =
         TRANSFORM_CELL_SECONDS * (2.0 * lattice.side() as f64).powi(lattice.dimension as i32);
-    pairs < transform && pattern_pairs(problem, params).is_some()
+    pattern_pairs(problem, params).filter(|_| pairs < transform)
 }
 
 /// The sampler of a problem whose shifted variance may be the mean over its patterns of each
@@ -1124,15 +1128,20 @@ fn estimated_lattice_many(
         // falls slowly) and a pattern's pairs cost less than its transform on the wider one,
         // each pattern is summed in space instead: exact, with nothing to truncate. (On the
         // first lattice a smooth integrand's few frequencies are the cheaper route.)
-        let (paired, group): (Vec<usize>, Vec<usize>) = group.into_iter().partition(|&i| {
-            kmax > first_kmax && pairs_cost_less(problems[i], lattice(d, kmax), params)
-        });
-        for i in paired {
-            if let Some(sampler) = pattern_pairs(problems[i], params) {
-                let f = problems[i].integrand;
-                done[i] = Some(patterns_in_space(f, sampler, n, params, progress)?);
+        let mut on_lattice = Vec::new();
+        for i in group {
+            let paired = (kmax > first_kmax)
+                .then(|| cheaper_pairs(problems[i], lattice(d, kmax), params))
+                .flatten();
+            match paired {
+                Some(sampler) => {
+                    let f = problems[i].integrand;
+                    done[i] = Some(patterns_in_space(f, sampler, n, params, progress)?);
+                }
+                None => on_lattice.push(i),
             }
         }
+        let group = on_lattice;
         if group.is_empty() {
             continue;
         }
