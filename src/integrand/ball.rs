@@ -372,8 +372,12 @@ impl Integrand for Ball {
         self.height * self.height * self.volume()
     }
     fn coefficient(&self, k: &[i64]) -> Complex64 {
-        let omega: Vec<f64> = k.iter().map(|&c| c as f64).collect();
-        self.fourier(&omega)
+        // On the stack: a lattice sum calls this once per frequency.
+        let mut omega = [0.0; crate::pointset::MAX_DIMENSION];
+        for (w, &c) in omega.iter_mut().zip(k) {
+            *w = c as f64;
+        }
+        self.fourier(&omega[..k.len()])
     }
     fn coefficient_tables(&self, kmax: usize) -> Option<Box<dyn CoefficientTables>> {
         self.radial_coefficients(kmax)
