@@ -318,8 +318,9 @@ fn coverage_markdown(section: &crate::report::CoverageSection) -> String {
          sums of Latin hypercube and multi-jitter, Owen's gains, a fixed net's pair sum); the \
          same problem predicted with `--spectrum estimated` (spectra or occupancies from \
          patterns) must hold that exact value within its 99% interval (2.576 standard errors of \
-         its noise plus its bounds). With no noise in the truth, the share of misses measures \
-         the budgets' coverage directly: {} of {} ({:.1}%; nominal 1%, at most {:.0}% allowed), \
+         its noise plus its bounds; each estimator and N predicts its integrands from the same \
+         patterns, so their misses may come together). With no noise in the truth, the share of \
+         misses measures the budgets' coverage directly: {} of {} ({:.1}%; nominal 1%, at most {:.0}% allowed), \
          with intervals of median half-width {:.1}% of the value.\n",
         section.misses,
         section.rows.len(),
