@@ -753,7 +753,8 @@ fn cheaper_pairs<'a>(
 /// pattern's own variance summed exactly in space ([`patterns_in_space`]): a stochastic
 /// sampler with no closed form at N, an integrand with a closed-form autocorrelation in at
 /// most 3D, at most [`PATTERN_PAIRS`] pairs a pattern, and neither a spectrum, a form nor a
-/// lattice asked for. `None` otherwise.
+/// lattice asked for. `None` otherwise. Asked only by the per-pattern lattice form, which the
+/// problems of the cell and Walsh forms never reach.
 fn pattern_pairs<'a>(problem: &Problem<'a>, params: &PredictParams) -> Option<&'a dyn Sampler> {
     let Patterns::Sampler(sampler) = problem.patterns else {
         return None;
@@ -770,8 +771,6 @@ fn pattern_pairs<'a>(problem: &Problem<'a>, params: &PredictParams) -> Option<&'
         && n.checked_mul(n).is_some_and(|pairs| pairs <= PATTERN_PAIRS)
         && d <= 3
         && sampler.closed_form(n).is_none()
-        && !uses_cells(problem)
-        && !uses_walsh(problem)
         && f.autocorrelation(&vec![0.0; d]).is_some())
     .then_some(sampler)
 }
