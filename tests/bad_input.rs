@@ -405,7 +405,7 @@ fn a_closed_form_answers_at_any_n() {
             "1000000000000",
             "--json",
         ],
-        // A budget below the lattice's work: the polar form still answers.
+        // A budget below the lattice's work and the tent's: the polar form still answers.
         vec![
             "--budget-seconds",
             "0.1",
@@ -449,7 +449,11 @@ fn a_closed_form_answers_at_any_n() {
             start.elapsed()
         );
         let doc: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
-        assert_eq!(doc["form"], "polar", "{args:?}: {doc}");
+        // Exact at any N: the polar form's radial integral, or the strata's tent in space.
+        let tent = doc["reason"]
+            .as_str()
+            .is_some_and(|r| r.contains("strata's tent"));
+        assert!(doc["form"] == "polar" || tent, "{args:?}: {doc}");
         let v = doc["variance"].as_f64().expect("variance");
         assert!(v > 0.0 && v < 1e-18, "{args:?}: {v}");
     }

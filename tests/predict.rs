@@ -476,8 +476,9 @@ fn the_polar_form_by_the_mean_agrees_with_every_oscillation_followed() {
     }
 }
 
-/// Jitter's polar form at N = 10^12 answers at once, and its value continues the N^-1.5 law
-/// of the disk from N = 2^20 (the next term of the expansion is of relative order N^-1/2).
+/// Jitter at N = 10^12 answers at once (the strata's tent in space), and its value continues
+/// the N^-1.5 law of the disk from N = 2^20 (the next term of the expansion is of relative
+/// order N^-1/2).
 #[test]
 fn jitter_at_a_trillion_points_continues_its_rate() {
     let disk = disk();
@@ -492,7 +493,7 @@ fn jitter_at_a_trillion_points_continues_its_rate() {
         .unwrap()
     };
     let (small, huge) = (at(1 << 20), at(1_000_000_000_000));
-    assert_eq!(huge.route.form, Form::Polar, "{}", huge.reason);
+    assert!(huge.reason.contains("strata's tent"), "{}", huge.reason);
     let ratio = (1e12 / (1u64 << 20) as f64).powf(-1.5);
     let extrapolated = small.variance * ratio;
     assert!(

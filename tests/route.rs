@@ -7,7 +7,6 @@ use specvar::predict::*;
 use specvar::randomization::Randomization;
 use specvar::sampler::*;
 use specvar::spectrum::ClosedForm;
-use std::f64::consts::PI;
 
 mod common;
 
@@ -19,54 +18,6 @@ fn predict_default(sampler: &dyn Sampler, f: &dyn Integrand, n: usize) -> Predic
         &PredictParams::default(),
     )
     .unwrap()
-}
-
-/// `∫_a^b exp(-(x - c)²/(2s²)) dx` by libm's real erf (no Faddeeva function).
-fn segment(a: f64, b: f64, c: f64, s: f64) -> f64 {
-    let k = s * std::f64::consts::SQRT_2;
-    s * (PI / 2.0).sqrt() * (libm::erf((b - c) / k) - libm::erf((a - c) / k))
-}
-
-/// The 1D truncated Gaussian integrated over the torus interval `[a, a + w)` (wrapping at 1).
-fn wrapped_segment(a: f64, w: f64, c: f64, s: f64) -> f64 {
-    let a = a - a.floor();
-    if a + w <= 1.0 {
-        segment(a, a + w, c, s)
-    } else {
-        segment(a, 1.0, c, s) + segment(0.0, a + w - 1.0, c, s)
-    }
-}
-
-/// Homogenized jitter's variance for a product of truncated 1D Gaussians (centre `c`, width
-/// `s`, strata `m` per axis), without Fourier analysis: with the strata shifted by `u`,
-/// `Var = (1/N) ∫f² - E_u Σ_cells (∫_cell f)²`, and both factor over the axes; the mean over
-/// each axis's shift by 64-point Gauss–Legendre on each of 32 panels of `[0, 1/m)`.
-fn jitter_variance_of_product(c: &[f64], s: f64, m: usize) -> f64 {
-    let (nodes, weights) = specvar::quadrature::gauss_legendre(64);
-    let w = 1.0 / m as f64;
-    let mut mean_square_cells = 1.0;
-    let mut square_integral = 1.0;
-    for &ci in c {
-        let panels = 32;
-        let mut acc = 0.0;
-        for p in 0..panels {
-            let (lo, hi) = (
-                p as f64 * w / panels as f64,
-                (p + 1) as f64 * w / panels as f64,
-            );
-            for (x, wt) in nodes.iter().zip(&weights) {
-                let u = (lo + hi) / 2.0 + (hi - lo) / 2.0 * x;
-                let cells: f64 = (0..m)
-                    .map(|i| wrapped_segment(u + i as f64 * w, w, ci, s).powi(2))
-                    .sum();
-                acc += wt * (hi - lo) / 2.0 * cells;
-            }
-        }
-        mean_square_cells *= acc / w;
-        square_integral *= segment(0.0, 1.0, ci, s / std::f64::consts::SQRT_2);
-    }
-    let n = m.pow(c.len() as u32) as f64;
-    square_integral / n - mean_square_cells
 }
 
 /// The trust table's closed-form rows: jitter on a centred Gaussian at N = 65536, on an
@@ -85,7 +36,7 @@ fn closed_form_rows_match_independent_values() {
         let n = m * m;
         let p = predict_default(&Jitter::new(2).unwrap(), &f, n);
         assert_eq!(p.route.spectrum, SpectrumOrigin::Closed(ClosedForm::Jitter));
-        let truth = jitter_variance_of_product(c, s, m);
+        let truth = common::jitter_variance_of_product(c, s, m);
         let allowed = p.budget.half_width(Z_99) + common::QUADRATURE * truth;
         assert!(
             (p.variance - truth).abs() <= allowed,
@@ -230,7 +181,7 @@ fn large_n_takes_the_closed_form_and_refuses_to_extrapolate() {
     let f = Gaussian::new(0.1, vec![0.5, 0.5], 1.0).unwrap();
     let jitter = Jitter::new(2).unwrap();
     let p = predict_default(&jitter, &f, 65536);
-    let truth = jitter_variance_of_product(&[0.5, 0.5], 0.1, 256);
+    let truth = common::jitter_variance_of_product(&[0.5, 0.5], 0.1, 256);
     assert!(
         common::close(p.variance, truth, 1e-6),
         "{} vs {truth}",

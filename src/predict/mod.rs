@@ -26,6 +26,7 @@ mod cell_moments;
 mod cell_pairs;
 mod cells;
 mod gaussian_jitter;
+mod jitter_tent;
 mod lattice;
 mod linear_net;
 mod low_band;
@@ -52,6 +53,7 @@ pub use cell_pairs::{
 };
 pub use cells::{fixed_strata_variance, occupancy_variance, CellOrigin, Occupancy};
 pub use gaussian_jitter::gaussian_jitter_bias;
+pub use jitter_tent::jitter_shift_variance;
 pub use lattice::{
     predict_from_power, predict_lattice, predict_on_patterns, LatticePower, PatternPlan,
 };

@@ -5,7 +5,8 @@ use super::cells::CellSource;
 use super::lattice::{white_noise, LatticePower, PatternEstimate, PatternPlan};
 use super::low_band::LowBand;
 use super::space::{
-    kronecker_variance, rank1_lattice_variance, regular_grid_variance, sets_shift_variance,
+    autocorrelation_seconds, kronecker_variance, rank1_lattice_variance, regular_grid_variance,
+    sets_shift_variance,
 };
 use super::{
     predict_from_power, predict_polar, ErrorBudget, Form, FormChoice, Patterns, PredictParams,
@@ -13,7 +14,7 @@ use super::{
 };
 use crate::budget::{Budget, Needs, COEFFICIENT_SECONDS};
 use crate::error::{invalid, Error, Result};
-use crate::integrand::{Integrand, IntegrandKind};
+use crate::integrand::Integrand;
 use crate::progress::{stage, Progress};
 use crate::randomization::Randomization;
 use crate::sampler::{perfect_root, strata, CellRule, Sampler, SamplerKind};
@@ -536,9 +537,41 @@ fn closed_lattice(
     params: &PredictParams,
 ) -> Result<Prediction> {
     let (n, d) = (problem.n, problem.dimension());
-    let name = kind.map_or("the sampler".to_string(), |k| k.to_string());
     // A lattice that cannot reach ν = 1 within its budget leaves most of the variance to its
     // tail bound: where the polar form is valid it answers alone.
+    let widest = largest_kmax(d, CLOSED_LATTICE_BUDGET);
+    let reaches_one = widest as f64 >= (n as f64).powf(1.0 / d as f64);
+    // Jitter's spectrum is exact in space over one stratum's width, at any N: alone where its
+    // quadrature keeps its digits, else beside the other routes, the narrower budget answering.
+    let tent = if params.form == FormChoice::Auto
+        && params.kmax.is_none()
+        && closed == ClosedForm::Jitter
+        && !reaches_one
+    {
+        jitter_tent(problem, params)?
+    } else {
+        None
+    };
+    let width = |p: &Prediction| p.budget.half_width(crate::montecarlo::Z_99);
+    match tent {
+        Some(tent) if width(&tent) <= TENT_ROUNDING_SHARE * tent.variance => Ok(tent),
+        Some(tent) => match closed_lattice_or_polar(problem, closed, kind, params) {
+            Ok(other) if width(&other) < width(&tent) => Ok(other),
+            _ => Ok(tent),
+        },
+        None => closed_lattice_or_polar(problem, closed, kind, params),
+    }
+}
+
+/// [`closed_lattice`] without the strata's tent.
+fn closed_lattice_or_polar(
+    problem: &Problem<'_>,
+    closed: ClosedForm,
+    kind: Option<SamplerKind>,
+    params: &PredictParams,
+) -> Result<Prediction> {
+    let (n, d) = (problem.n, problem.dimension());
+    let name = kind.map_or("the sampler".to_string(), |k| k.to_string());
     let widest = largest_kmax(d, CLOSED_LATTICE_BUDGET);
     let reaches_one = widest as f64 >= (n as f64).powf(1.0 / d as f64);
     if params.form == FormChoice::Auto
@@ -577,6 +610,31 @@ fn closed_lattice(
         };
     }
     p
+}
+
+/// Jitter under a shift by the strata's tent in space, where the integrand has a closed-form
+/// autocorrelation in 1D or 2D and the budget affords the quadrature (`None` otherwise).
+fn jitter_tent(problem: &Problem<'_>, params: &PredictParams) -> Result<Option<Prediction>> {
+    let (n, d) = (problem.n, problem.dimension());
+    let f = problem.integrand;
+    let Some(strata) = crate::sampler::strata(n, d) else {
+        return Ok(None);
+    };
+    if d > 2 || f.autocorrelation(&vec![0.0; d]).is_none() {
+        return Ok(None);
+    }
+    // The tent's work is bounded for the coarsest strata; a budget below that bound leaves
+    // the other routes to answer.
+    let tent = match super::jitter_tent::predict_jitter_tent(f, &strata, &params.budget) {
+        Err(Error::TooLarge { .. }) => return Ok(None),
+        other => other?,
+    };
+    let reason = format!(
+        "{}; the lattice form's widest lattice, |k_i| ≤ {}, does not reach ν = 1 at N = {n}",
+        tent.reason,
+        largest_kmax(d, CLOSED_LATTICE_BUDGET)
+    );
+    Ok(Some(with_reason(tent, reason)))
 }
 
 /// The lattice form with a closed form (white noise by Parseval; the regular grid, rank-1
@@ -723,27 +781,21 @@ const PATTERN_PAIRS: usize = 1 << 16;
 /// Seconds a transform takes per cell of its oversampled grid.
 const TRANSFORM_CELL_SECONDS: f64 = 3e-8;
 
-/// Seconds of one autocorrelation value, by the integrand's kind: about what a pair sum over
-/// 1024 points measures (disk 0.19 µs, Gaussian 0.39 µs, a triangle 0.32 µs, an axis-aligned
-/// square 0.51 µs, an edge, whose copies wrap across the faces, 1.5 µs), rounded up; the
-/// grids' and the anisotropic Gaussians' at the dearest.
-fn pair_seconds(f: &dyn Integrand) -> f64 {
-    match f.kind() {
-        IntegrandKind::Ball => 2e-7,
-        IntegrandKind::Gaussian => 4e-7,
-        IntegrandKind::Polygon | IntegrandKind::Grid | IntegrandKind::AnisotropicGaussian => 2e-6,
-    }
-}
+/// The share of the variance up to which the strata's tent answers alone: beyond it (smooth
+/// integrands, whose autocorrelation falls only quadratically over a fine stratum, and 1D at
+/// the finest strata, so that `a_f(0) − a_f(r)` keeps few digits) the lattice and polar forms
+/// are tried beside it.
+const TENT_ROUNDING_SHARE: f64 = 1e-6;
 
 /// The sampler of `problem` ([`pattern_pairs`]) if its patterns are summed in space for less
-/// than their transforms on `lattice` cost: `N²` pairs at [`pair_seconds`] against the
+/// than their transforms on `lattice` cost: `N²` pairs at [`autocorrelation_seconds`] against the
 /// `(2(2K+1))^d` cells of the oversampled grid. `None` otherwise.
 fn cheaper_pairs<'a>(
     problem: &Problem<'a>,
     lattice: Lattice,
     params: &PredictParams,
 ) -> Option<&'a dyn Sampler> {
-    let pairs = (problem.n as f64).powi(2) * pair_seconds(problem.integrand);
+    let pairs = (problem.n as f64).powi(2) * autocorrelation_seconds(problem.integrand);
     let transform =
         TRANSFORM_CELL_SECONDS * (2.0 * lattice.side() as f64).powi(lattice.dimension as i32);
     pattern_pairs(problem, params).filter(|_| pairs < transform)
@@ -792,7 +844,7 @@ fn patterns_in_space(
     let draw = sampler
         .kind()
         .map_or(0.0, |k| k.pattern_needs(n, d).work_seconds);
-    let per_pattern = draw + pairs * pair_seconds(f);
+    let per_pattern = draw + pairs * autocorrelation_seconds(f);
     let counts = super::term_mean::terms_within_budget(
         params,
         per_pattern,

@@ -3,11 +3,23 @@
 //! torus autocorrelation. Exact where `a_f` has a closed form, with no truncation at all.
 
 use crate::error::{invalid, Result};
-use crate::integrand::Integrand;
+use crate::integrand::{Integrand, IntegrandKind};
 use crate::pointset::PointSet;
 use crate::quadrature::CompensatedSum;
 use crate::sampler::strata;
 use rayon::prelude::*;
+
+/// Seconds of one autocorrelation value, by the integrand's kind: about what a pair sum over
+/// 1024 points measures (disk 0.19 µs, Gaussian 0.39 µs, a triangle 0.32 µs, an axis-aligned
+/// square 0.51 µs, an edge, whose copies wrap across the faces, 1.5 µs), rounded up; the
+/// grids' and the anisotropic Gaussians' at the dearest.
+pub(crate) fn autocorrelation_seconds(f: &dyn Integrand) -> f64 {
+    match f.kind() {
+        IntegrandKind::Ball => 2e-7,
+        IntegrandKind::Gaussian => 4e-7,
+        IntegrandKind::Polygon | IntegrandKind::Grid | IntegrandKind::AnisotropicGaussian => 2e-6,
+    }
+}
 
 /// The variance of one pattern under uniform random shifts (the lattice form with its own
 /// periodogram), exactly: `(1/N²) Σ_{i,j} a_f(x_i - x_j) - I²`, in `O(N²)`. `None` if `f` has
