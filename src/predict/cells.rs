@@ -531,11 +531,7 @@ pub(crate) fn predict_cells(
             || scrambled.is_some_and(|(_, p)| !matches!(p, NetPairs::PerPattern(_))));
     check_choices(params, &name, exact)?;
     let cells: usize = grid.iter().product();
-    let strata = grid
-        .iter()
-        .map(|m| m.to_string())
-        .collect::<Vec<_>>()
-        .join(" × ");
+    let strata = super::grid_label(&grid);
     let (variance, budget, occupancy, evaluations, reason) = if exact && rule.is_fixed() {
         let s = fixed_strata_variance(f, &grid, n, &params.budget)?;
         let why = match rule {

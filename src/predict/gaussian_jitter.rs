@@ -504,7 +504,7 @@ pub(crate) fn predict_gaussian_jitter_shifted(
         "gjitter, randomly shifted: its closed-form spectrum 1 − φ² + N φ² [k ∈ m Z^d] summed \
          exactly, the white part by Parseval ((∫f² − Σ_k |f̂|² φ²)/N) and the grid's replicas \
          one by one, so no energy beyond a lattice is counted as white ({} grid)",
-        grid_label(strata)
+        super::grid_label(strata)
     );
     Ok(exact_prediction(
         m,
@@ -534,7 +534,7 @@ pub(crate) fn predict_gaussian_jitter_as_drawn(
          centre in the {} grid, so the variance is exact as a sum over the frequency pairs \
          the strata alias together (bias E μ − I = {:.6e}, exact; it is not part of the \
          variance)",
-        grid_label(strata),
+        super::grid_label(strata),
         m.bias
     );
     Ok(exact_prediction(
@@ -559,14 +559,6 @@ fn check_form(f: &dyn Integrand, form: ClosedForm, strata: &[usize]) -> Result<(
         )));
     }
     Ok((width, d))
-}
-
-fn grid_label(strata: &[usize]) -> String {
-    strata
-        .iter()
-        .map(|s| s.to_string())
-        .collect::<Vec<_>>()
-        .join(" × ")
 }
 
 /// An exact route's prediction: rounding and truncation its only budget.

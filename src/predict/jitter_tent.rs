@@ -218,11 +218,7 @@ pub(crate) fn predict_jitter_tent(
             route: "the strata's tent in space".into(),
             reason: format!("{} has no closed-form autocorrelation", f.label()),
         })?;
-    let grid = strata
-        .iter()
-        .map(|m| m.to_string())
-        .collect::<Vec<_>>()
-        .join(" × ");
+    let grid = super::grid_label(strata);
     let reason = format!(
         "jitter under a random shift ({grid} strata): its closed-form spectrum 1 − Π sinc² \
          summed exactly in space, (1/N) ∫ (a_f(0) − a_f(r)) Λ(r) dr over the strata's tent Λ \

@@ -896,3 +896,12 @@ fn finite_prediction(p: Prediction) -> Result<Prediction> {
     }
     Ok(p)
 }
+
+/// A grid of strata in words: `16 × 8`.
+pub(crate) fn grid_label(strata: &[usize]) -> String {
+    strata
+        .iter()
+        .map(|s| s.to_string())
+        .collect::<Vec<_>>()
+        .join(" × ")
+}

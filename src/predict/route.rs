@@ -536,17 +536,12 @@ fn closed_lattice(
     kind: Option<SamplerKind>,
     params: &PredictParams,
 ) -> Result<Prediction> {
-    let (n, d) = (problem.n, problem.dimension());
-    // A lattice that cannot reach ν = 1 within its budget leaves most of the variance to its
-    // tail bound: where the polar form is valid it answers alone.
-    let widest = largest_kmax(d, CLOSED_LATTICE_BUDGET);
-    let reaches_one = widest as f64 >= (n as f64).powf(1.0 / d as f64);
     // Jitter's spectrum is exact in space over one stratum's width, at any N: alone where its
     // quadrature keeps its digits, else beside the other routes, the narrower budget answering.
     let tent = if params.form == FormChoice::Auto
         && params.kmax.is_none()
         && closed == ClosedForm::Jitter
-        && !reaches_one
+        && !widest_closed_lattice(problem).1
     {
         jitter_tent(problem, params)?
     } else {
@@ -563,6 +558,14 @@ fn closed_lattice(
     }
 }
 
+/// The widest lattice extent a closed form may take within its budget, and whether it reaches
+/// `ν = 1` (the strata's frequencies) at the problem's N.
+fn widest_closed_lattice(problem: &Problem<'_>) -> (usize, bool) {
+    let (n, d) = (problem.n, problem.dimension());
+    let widest = largest_kmax(d, CLOSED_LATTICE_BUDGET);
+    (widest, widest as f64 >= (n as f64).powf(1.0 / d as f64))
+}
+
 /// [`closed_lattice`] without the strata's tent.
 fn closed_lattice_or_polar(
     problem: &Problem<'_>,
@@ -570,10 +573,11 @@ fn closed_lattice_or_polar(
     kind: Option<SamplerKind>,
     params: &PredictParams,
 ) -> Result<Prediction> {
-    let (n, d) = (problem.n, problem.dimension());
+    let n = problem.n;
     let name = kind.map_or("the sampler".to_string(), |k| k.to_string());
-    let widest = largest_kmax(d, CLOSED_LATTICE_BUDGET);
-    let reaches_one = widest as f64 >= (n as f64).powf(1.0 / d as f64);
+    // A lattice that cannot reach ν = 1 within its budget leaves most of the variance to its
+    // tail bound: where the polar form is valid it answers alone.
+    let (widest, reaches_one) = widest_closed_lattice(problem);
     if params.form == FormChoice::Auto
         && params.kmax.is_none()
         && closed.is_scale_invariant()
@@ -632,7 +636,7 @@ fn jitter_tent(problem: &Problem<'_>, params: &PredictParams) -> Result<Option<P
     let reason = format!(
         "{}; the lattice form's widest lattice, |k_i| ≤ {}, does not reach ν = 1 at N = {n}",
         tent.reason,
-        largest_kmax(d, CLOSED_LATTICE_BUDGET)
+        widest_closed_lattice(problem).0
     );
     Ok(Some(with_reason(tent, reason)))
 }

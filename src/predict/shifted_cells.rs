@@ -103,11 +103,7 @@ pub(crate) fn predict_shifted_cells(
         },
         progress,
     )?;
-    let strata = grid
-        .iter()
-        .map(|m| m.to_string())
-        .collect::<Vec<_>>()
-        .join(" × ");
+    let strata = super::grid_label(grid);
     let reason = format!(
         "{}, randomly shifted: its points are independent and uniform in the cells of the \
          {strata} grid once their cells are known, so each pattern under each shift has its \
