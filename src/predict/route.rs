@@ -12,7 +12,7 @@ use super::{
     predict_from_power, predict_polar, ErrorBudget, Form, FormChoice, Patterns, PredictParams,
     Prediction, Problem, Route, SpectrumChoice, SpectrumOrigin, SpectrumSource,
 };
-use crate::budget::{Budget, Needs, COEFFICIENT_SECONDS};
+use crate::budget::{Budget, Needs};
 use crate::error::{invalid, Error, Result};
 use crate::integrand::Integrand;
 use crate::progress::{stage, Progress};
@@ -742,7 +742,7 @@ fn fixed_sets_in_space(
         "the pair sum over the given sets",
         Needs {
             memory_bytes: 8.0 * n as f64,
-            work_seconds: pairs as f64 * COEFFICIENT_SECONDS,
+            work_seconds: pairs as f64 * autocorrelation_seconds(f),
         },
         "fewer or smaller sets",
     )?;
@@ -919,12 +919,12 @@ fn summed_in_space(
     name: &str,
     budget: &Budget,
 ) -> Result<Prediction> {
-    // One autocorrelation value (8 bytes) per point or lag.
+    // One autocorrelation value (8 bytes) per point or lag, at its integrand's cost.
     budget.check(
         &format!("the lattice form summed in space over N = {n} terms"),
         Needs {
             memory_bytes: 8.0 * n as f64,
-            work_seconds: n as f64 * COEFFICIENT_SECONDS,
+            work_seconds: n as f64 * autocorrelation_seconds(f),
         },
         "lower N",
     )?;
