@@ -98,6 +98,24 @@ fn long_runs_and_unbounded_inputs_are_refused_before_they_start() {
         "--reference-rays",
         "100000",
     ]);
+    // A sum in space at its integrand's cost: an edge's autocorrelation (its copies wrap
+    // across the faces) costs ten times a disk's, so the regular grid's 10^8 terms on it are
+    // minutes of work, above a budget of one minute (they were once counted at a disk's cost
+    // and ran).
+    refuses_with(
+        &[
+            "--budget-seconds",
+            "60",
+            "predict",
+            "-s",
+            "regular",
+            "-n",
+            "100000000",
+            "-f",
+            "edge:theta=30",
+        ],
+        "summed in space",
+    );
 }
 
 #[test]
