@@ -252,6 +252,20 @@ impl EmbeddedRules {
 /// returned is at least that move. Returns the compensated sum of the panels in their order
 /// along `[a, b]`, the error estimate reached (whether or not the target was) and the
 /// evaluations.
+///
+/// # Examples
+/// ```
+/// use specvar::quadrature::{adaptive, EmbeddedRules};
+/// // A kink at 1/3, which no panel boundary meets: ∫_0^1 |x − 1/3| dx = 5/18.
+/// let rules = EmbeddedRules::default();
+/// let f = |x: f64| (x - 1.0 / 3.0).abs();
+/// let result = adaptive((0.0, 1.0), (1e-12, 0.0), 200, |a, b| {
+///     let values: Vec<(f64, f64)> = rules.nodes(a, b).iter().map(|&(x, _)| (f(x), 0.0)).collect();
+///     rules.estimate(a, b, &values, values.len() as u64)
+/// });
+/// assert!((result.value - 5.0 / 18.0).abs() <= result.error);
+/// assert!(result.error <= 1e-12 * 5.0 / 18.0);
+/// ```
 pub fn adaptive(
     (a, b): (f64, f64),
     (relative, absolute): (f64, f64),

@@ -81,7 +81,8 @@ fn the_tent_matches_shifted_cells_of_gaussian_products() {
 
 /// Just beyond the widest lattice's reach (1049² strata) the default takes the tent, and the
 /// lattice form asked for, whose tail bound is a few % there, agrees within its budget: a
-/// disk, an edge at 30° (jumps at the square's faces too), a triangle and a binary grid.
+/// disk, an edge at 30° (jumps at the square's faces too), a triangle and a binary grid; and
+/// the edge on strata of two sizes.
 #[test]
 fn beyond_the_lattice_the_default_is_the_tent_and_the_lattice_agrees() {
     let n = 1049 * 1049;
@@ -108,6 +109,16 @@ fn beyond_the_lattice_the_default_is_the_tent_and_the_lattice_agrees() {
         let lattice = shifted(f.as_ref(), n, &lattice_form());
         assert_within_budgets(&tent, &lattice, &f.label());
     }
+    // Strata of two sizes (1100 × 1050): the tent scales each axis by its own.
+    let edge = Polygon::edge(30.0, 0.5, 1.0).unwrap();
+    let n = 1100 * 1050;
+    let tent = shifted(&edge, n, &PredictParams::default());
+    assert!(tent.reason.contains("1100 × 1050"), "{}", tent.reason);
+    assert_within_budgets(
+        &tent,
+        &shifted(&edge, n, &lattice_form()),
+        "edge, 1100 × 1050",
+    );
 }
 
 /// A 6 × 5 binary grid (a pixel-like integrand with jumps along its cells' sides).
