@@ -152,3 +152,57 @@ fn at_a_trillion_points_the_tent_is_exact_where_the_lattice_is_not() {
     // The lattice's interval holds the tent's value: the two routes do not contradict.
     assert!(tent.variance <= lattice.variance + lattice.budget.half_width(Z_99));
 }
+
+/// A triangle at 16 × 16 strata against Gauss–Legendre in polar coordinates with the angle
+/// split at every kink of `a_f(0) − a_f` (the edges' directions, found from the vertices, and
+/// the diagonal): on each piece the integrand is smooth in the angle and polynomial along the
+/// rays, so 60 × 12 points are exact to rounding. Bisection from a single start once missed
+/// this by 2e-7 of the value with an estimate of 2e-10.
+#[test]
+fn a_triangle_matches_gauss_legendre_split_at_its_kinks() {
+    let vertices = [[0.2, 0.2], [0.8, 0.3], [0.4, 0.9]];
+    let triangle = Polygon::new(vertices.to_vec(), 1.0).unwrap();
+    let m = 16;
+    let h = 1.0 / m as f64;
+    let a0 = triangle.autocorrelation(&[0.0, 0.0]).unwrap();
+    let drop = |u: f64, v: f64| a0 - triangle.autocorrelation(&[u * h, v * h]).unwrap();
+    // Kinks of D(u, v) and D(u, −v) on the quarter θ ∈ [0, π/2]: each edge's direction, or
+    // its mirror in the u axis, where it falls in the quarter.
+    let quarter = std::f64::consts::FRAC_PI_2;
+    let mut cuts = vec![0.0, quarter / 2.0, quarter];
+    for k in 0..3 {
+        let (p, q) = (vertices[k], vertices[(k + 1) % 3]);
+        let (dx, dy) = (q[0] - p[0], q[1] - p[1]);
+        for (x, y) in [(dx, dy), (-dx, -dy), (dx, -dy), (-dx, dy)] {
+            let angle = y.atan2(x);
+            if angle > 0.0 && angle < quarter {
+                cuts.push(angle);
+            }
+        }
+    }
+    cuts.sort_by(f64::total_cmp);
+    let (angles, radii) = (
+        specvar::quadrature::GaussLegendre::new(60),
+        specvar::quadrature::GaussLegendre::new(12),
+    );
+    let quarter_integral: f64 = cuts
+        .windows(2)
+        .map(|w| {
+            angles.integrate(w[0], w[1], |theta| {
+                let (s, c) = theta.sin_cos();
+                radii.integrate(0.0, 1.0 / c.max(s), |rho| {
+                    let (u, v) = (rho * c, rho * s);
+                    rho * (drop(u, v) + drop(u, -v)) * (1.0 - u) * (1.0 - v)
+                })
+            })
+        })
+        .sum();
+    let truth = 2.0 * quarter_integral / (m * m) as f64;
+    let (v, err, _) = jitter_shift_variance(&triangle, &[m, m], &Default::default())
+        .unwrap()
+        .unwrap();
+    assert!(
+        (v - truth).abs() <= err + common::ROUNDING * truth,
+        "{v} against {truth} ± {err:e}"
+    );
+}

@@ -21,7 +21,9 @@ use super::{ErrorBudget, Form, Prediction, Route, SpectrumOrigin};
 use crate::budget::{Budget, Needs};
 use crate::error::{invalid, Error, Result};
 use crate::integrand::Integrand;
-use crate::quadrature::{adaptive, EmbeddedRules, PanelEstimate, PanelResult};
+use crate::quadrature::{
+    adaptive, adaptive_from_two_starts, EmbeddedRules, PanelEstimate, PanelResult,
+};
 use crate::randomization::Randomization;
 use crate::sampler::ClosedForm;
 use rayon::prelude::*;
@@ -101,7 +103,7 @@ pub fn jitter_shift_variance(
     let result = if d == 1 {
         // (2/N) ∫_0^1 (a(0) − a(hu)) (1 − u) du.
         let line = |u: f64| drop(&[u]) * (1.0 - u);
-        adaptive(
+        adaptive_from_two_starts(
             (0.0, 1.0),
             (RELATIVE_TARGET, floor),
             MAX_OUTER_PANELS,
@@ -129,7 +131,7 @@ fn plane(rules: &EmbeddedRules, drop: &(dyn Fn(&[f64]) -> f64 + Sync), floor: f6
         evaluations: 0,
     };
     for half in [(0.0, FRAC_PI_4), (FRAC_PI_4, 2.0 * FRAC_PI_4)] {
-        let part = adaptive(
+        let part = adaptive_from_two_starts(
             half,
             (RELATIVE_TARGET, floor),
             MAX_OUTER_PANELS,
@@ -182,13 +184,14 @@ fn ray(
 
 /// The most autocorrelation values the quadrature may take: an adaptive integral ends with at
 /// most its cap of panels, halved once more by its check, after at most as many again before
-/// a failed check (3 × the cap, 15 nodes each); the plane has two angular halves, and its rays
-/// take two values a node. Coarse strata, whose tent meets many of the integrand's features,
+/// a failed check (3 × the cap, 15 nodes each), and the angular integral (the line's in 1D) is
+/// taken from two starts; the plane has two angular halves, and its rays take two values a
+/// node. Coarse strata, whose tent meets many of the integrand's features,
 /// come near it (a single stratum of a polygon: minutes); strata finer than the features take
 /// a few thousand.
 fn most_evaluations(rules: &EmbeddedRules, d: usize) -> f64 {
     let per_panel = rules.nodes(0.0, 1.0).len() as f64;
-    let outer = 3.0 * MAX_OUTER_PANELS as f64 * per_panel;
+    let outer = 2.0 * 3.0 * MAX_OUTER_PANELS as f64 * per_panel;
     let inner = 3.0 * MAX_INNER_PANELS as f64 * per_panel;
     if d == 1 {
         outer
