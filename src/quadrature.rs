@@ -224,9 +224,10 @@ impl EmbeddedRules {
         values: &[(f64, f64)],
         evaluations: u64,
     ) -> PanelEstimate {
-        let nodes = self.nodes(a, b);
+        // The weights in the order of [`EmbeddedRules::nodes`], without collecting them again.
+        let weights = self.low.on(a, b).chain(self.high.on(a, b)).map(|(_, w)| w);
         let (mut low, mut high, mut inner) = (0.0, 0.0, 0.0);
-        for (k, (&(_, w), &(v, e))) in nodes.iter().zip(values).enumerate() {
+        for (k, (w, &(v, e))) in weights.zip(values).enumerate() {
             if k < LOW_RULE_POINTS {
                 low += w * v;
             } else {
