@@ -67,16 +67,20 @@ struct Axis {
 }
 
 impl Axis {
+    /// `c` of `φ(k) = exp(−c k²)`, `c = 2π² (w/m)²`, and the frequency where `φ` falls below
+    /// [`TRUNCATION`].
+    fn decay_and_reach(strata: usize, width: f64) -> (f64, i64) {
+        let c = 2.0 * PI * PI * (width / strata as f64).powi(2);
+        (c, (-TRUNCATION.ln() / c).sqrt().ceil() as i64)
+    }
+
     fn new(strata: usize, width: f64) -> Self {
-        let m = strata as f64;
-        // φ_a(k) = exp(−c k²), c = 2π² (w/m)².
-        let c = 2.0 * PI * PI * (width / m).powi(2);
-        let kmax = (-TRUNCATION.ln() / c).sqrt().ceil() as i64;
+        let (c, kmax) = Self::decay_and_reach(strata, width);
         let weight: Vec<f64> = (-kmax..=kmax)
             .map(|k| (-c * (k * k) as f64).exp())
             .collect();
         let phase = (-kmax..=kmax)
-            .map(|k| Complex64::from_polar(1.0, PI * k as f64 / m))
+            .map(|k| Complex64::from_polar(1.0, PI * k as f64 / strata as f64))
             .collect();
         Self {
             strata,
@@ -164,6 +168,27 @@ fn moments(f: &dyn Integrand, strata: &[usize], width: f64, budget: &Budget) -> 
         truncation,
         frequencies: frequencies as u64 + squares.terms,
     })
+}
+
+/// The work of [`predict_gaussian_jitter_shifted`] on `strata` with `form`'s offsets: one
+/// coefficient per frequency where `φ²` is above [`TRUNCATION`], or next to none for a separable
+/// integrand, whose sum factors by axis. Zero for a form other than Gaussian jitter's.
+pub(crate) fn shifted_frequency_seconds(
+    f: &dyn Integrand,
+    form: ClosedForm,
+    strata: &[usize],
+) -> f64 {
+    let ClosedForm::GaussianJitter { width } = form else {
+        return 0.0;
+    };
+    if f.separable_coefficients(&vec![0; strata.len()]).is_some() {
+        return 0.0;
+    }
+    strata
+        .iter()
+        .map(|&m| (2 * Axis::decay_and_reach(m, width * std::f64::consts::SQRT_2).1 + 1) as f64)
+        .product::<f64>()
+        * COEFFICIENT_SECONDS
 }
 
 /// The variance of Gaussian jitter of width `width` (in strata) on the grid `strata` under a

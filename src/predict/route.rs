@@ -436,12 +436,37 @@ pub(crate) fn predict_routed(
         && params.kmax.is_none()
         && let Some(strata) = crate::sampler::strata(n, problem.integrand.dimension())
     {
-        return super::gaussian_jitter::predict_gaussian_jitter_shifted(
-            problem.integrand,
-            form,
-            &strata,
-            &params.budget,
-        );
+        let f = problem.integrand;
+        let parseval = || {
+            super::gaussian_jitter::predict_gaussian_jitter_shifted(
+                f,
+                form,
+                &strata,
+                &params.budget,
+            )
+        };
+        // Its frequencies grow like N, while the same spectrum in space costs the same at any
+        // N: space first where it is the cheaper, and where the frequencies exceed the budget.
+        let in_space = || {
+            super::jitter_tent::predict_gaussian_jitter_in_space(f, form, &strata, &params.budget)
+        };
+        let d = strata.len();
+        if d > 2 || f.autocorrelation(&vec![0.0; d]).is_none() {
+            return parseval();
+        }
+        if super::gaussian_jitter::shifted_frequency_seconds(f, form, &strata)
+            > super::jitter_tent::typical_weight_seconds(f)
+        {
+            let space = match in_space() {
+                Err(Error::TooLarge { .. }) => None,
+                other => Some(other?),
+            };
+            return tighter_in_space(space, parseval);
+        }
+        return match parseval() {
+            Err(Error::TooLarge { .. }) => in_space(),
+            other => other,
+        };
     }
     let pairs_route = params.spectrum == SpectrumChoice::Auto
         && params.form != FormChoice::Polar
@@ -547,14 +572,26 @@ fn closed_lattice(
     } else {
         None
     };
+    tighter_in_space(tent, || {
+        closed_lattice_or_polar(problem, closed, kind, params)
+    })
+}
+
+/// An exact sum in space (`space`, `None` where it was not taken or its budget refused it),
+/// alone where its quadrature keeps its digits (a budget within [`TENT_ROUNDING_SHARE`] of
+/// the value), else beside the routes in frequency (`other`), the narrower budget answering.
+fn tighter_in_space(
+    space: Option<Prediction>,
+    other: impl FnOnce() -> Result<Prediction>,
+) -> Result<Prediction> {
     let width = |p: &Prediction| p.budget.half_width(crate::montecarlo::Z_99);
-    match tent {
-        Some(tent) if width(&tent) <= TENT_ROUNDING_SHARE * tent.variance => Ok(tent),
-        Some(tent) => match closed_lattice_or_polar(problem, closed, kind, params) {
-            Ok(other) if width(&other) < width(&tent) => Ok(other),
-            _ => Ok(tent),
+    match space {
+        Some(space) if width(&space) <= TENT_ROUNDING_SHARE * space.variance => Ok(space),
+        Some(space) => match other() {
+            Ok(other) if width(&other) < width(&space) => Ok(other),
+            _ => Ok(space),
         },
-        None => closed_lattice_or_polar(problem, closed, kind, params),
+        None => other(),
     }
 }
 
