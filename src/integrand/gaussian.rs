@@ -167,6 +167,105 @@ fn gaussian_segment(a: f64, b: f64, c: f64, s: f64) -> f64 {
     }
 }
 
+/// The relative rounding of `exp(−t²)` at a point `t = (x − c)/s` of the unit interval: the
+/// point's own rounding, `δt ≤ ε (3/s + 3|t|)` from `x` (a few operations on numbers of the
+/// unit interval), `x − c` and the division, moves the value by `2|t| δt`, and `t²` and `exp`
+/// round by `ε t²` and `ε`.
+fn exp_rounding(t: f64, s: f64) -> f64 {
+    let t = t.abs();
+    f64::EPSILON * (8.0 * t * t + 8.0 * t / s + 4.0)
+}
+
+/// A bound on the relative rounding of [`gaussian_segment`] (of width `s`, centre `c`) over
+/// any piece of a cell of width `h` in the unit interval. A short piece is a Gauss–Legendre
+/// sum of positive terms, each within [`exp_rounding`] at the farthest point from `c`, twice
+/// over with the sum, its weights and the pieces' sum. Otherwise a difference of error
+/// functions, each within `2ε` and moved by its argument's rounding times
+/// `|d ln erfc(u)/du| ≤ 2u + 2`; the difference is at least `1 − e^{−1/16}` of the sum of the
+/// two (for `0 ≤ u < v`, `erfc(v) ≤ erfc(u) e^{−(v² − u²)}` and `v − u ≥ 1/4`), which
+/// multiplies their errors by at most 33.
+fn segment_rounding(c: f64, s: f64, h: f64) -> f64 {
+    let t = c.max(1.0 - c) / s;
+    let short = 2.0 * exp_rounding(t, s) + 8.0 * f64::EPSILON;
+    if h / s < SHORT_SEGMENT {
+        return short;
+    }
+    let argument = f64::EPSILON * (3.0 / s + 3.0 * t);
+    let each = (2.0 * t + 2.0) * argument + 2.0 * f64::EPSILON;
+    short.max(33.0 * 2.0 * each + 4.0 * f64::EPSILON)
+}
+
+/// `Σ_c ∫_c (g − ḡ_c)²` over the cells whose masses of `g(x) = exp(−((x − c)/s)²)` (shifted by
+/// `shift` on the torus) are `mass`, `ḡ_c = mass_c / |c|`, and a bound on its error: each
+/// piece of a cell split into segments shorter than [`SHORT_SEGMENT`] widths, on which
+/// 10-point Gauss–Legendre is exact to rounding (the 5-point rule's difference from it is
+/// counted as its error, a wide margin), and each node's `(g − ḡ)²` within
+/// `2|g − ḡ| e + e²`, `e` the rounding of `g` ([`exp_rounding`]) and of `ḡ` (`mass_rounding`).
+fn variance_within_cells(
+    mass: &[f64],
+    shift: f64,
+    c: f64,
+    s: f64,
+    mass_rounding: f64,
+) -> (f64, f64) {
+    static RULES: std::sync::OnceLock<[(Vec<f64>, Vec<f64>); 2]> = std::sync::OnceLock::new();
+    let [(x10, w10), (x5, w5)] = RULES.get_or_init(|| {
+        [
+            crate::quadrature::gauss_legendre(10),
+            crate::quadrature::gauss_legendre(5),
+        ]
+    });
+    let m = mass.len();
+    let cells: Vec<(f64, f64)> = (0..m)
+        .into_par_iter()
+        .map(|i| {
+            let mean = mass[i] * m as f64;
+            let mean_error = (mass_rounding + 2.0 * f64::EPSILON) * mean;
+            let (mut value, mut error) = (0.0, 0.0);
+            let cell = (i as f64 / m as f64, (i + 1) as f64 / m as f64);
+            for (a, b) in wrapped_interval(cell.0, cell.1, shift) {
+                if b <= a {
+                    continue;
+                }
+                let pieces = ((b - a) / (s * SHORT_SEGMENT)).ceil().max(1.0);
+                let step = (b - a) / pieces;
+                for j in 0..pieces as usize {
+                    let lo = a + j as f64 * step;
+                    let (mid, half) = (lo + step / 2.0, step / 2.0);
+                    let node = |x: f64| {
+                        let t = (mid + half * x - c) / s;
+                        let g = (-t * t).exp();
+                        let e = exp_rounding(t, s) * g + mean_error;
+                        ((g - mean).powi(2), 2.0 * (g - mean).abs() * e + e * e)
+                    };
+                    let (mut high, mut low, mut rounding) = (0.0, 0.0, 0.0);
+                    for (x, w) in x10.iter().zip(w10) {
+                        let (v, r) = node(*x);
+                        high += w * v;
+                        rounding += w * r;
+                    }
+                    for (x, w) in x5.iter().zip(w5) {
+                        low += w * node(*x).0;
+                    }
+                    value += half * high;
+                    error += half * ((high - low).abs() + rounding + 16.0 * f64::EPSILON * high);
+                }
+            }
+            (value, error)
+        })
+        .collect();
+    let (mut value, mut error) = (
+        crate::quadrature::CompensatedSum::default(),
+        crate::quadrature::CompensatedSum::default(),
+    );
+    for (v, e) in cells {
+        value.add(v);
+        error.add(e);
+    }
+    let value = value.value();
+    (value, error.value() + 4.0 * f64::EPSILON * value)
+}
+
 /// The torus autocorrelation of the truncated 1D Gaussian `g(x) = exp(-(x - m)²/(2s²))` on
 /// `[0, 1)`: `∫_0^1 g(x) g((x + r) mod 1) dx`, for `r` in `[0, 1)`. The product of two
 /// Gaussians is a Gaussian, so each of the two pieces (before and after the wrap) is an `erf`
@@ -274,6 +373,32 @@ impl Integrand for Gaussian {
             mean_square: h2 * squares,
             within: (h2 * (seconds - squares)).max(0.0),
             visited: grid.iter().sum::<usize>() as u64,
+        })
+    }
+    fn separable_details(&self, grid: &[usize], t: &[f64]) -> Option<super::SeparableDetails> {
+        if grid.len() != self.centre.len() || t.len() != grid.len() || grid.contains(&0) {
+            return None;
+        }
+        let rows = self.shifted_rows(grid, t, self.sigma);
+        let axes = rows
+            .into_iter()
+            .zip(grid.iter().zip(t).zip(&self.centre))
+            .map(|(mass, ((&m, &shift), &c))| {
+                let width = self.sigma * SQRT_2;
+                let mass_rounding = segment_rounding(c, width, 1.0 / m as f64);
+                let (within, within_error) =
+                    variance_within_cells(&mass, shift, c, width, mass_rounding);
+                super::AxisDetails {
+                    mass,
+                    mass_rounding,
+                    within,
+                    within_error,
+                }
+            })
+            .collect();
+        Some(super::SeparableDetails {
+            height: self.height,
+            axes,
         })
     }
     fn shifted_separable_cells(&self, grid: &[usize], t: &[f64]) -> Option<super::SeparableCells> {

@@ -23,13 +23,15 @@
 //!
 //! `N Var μ = (∫f² − I²) + Σ_{k ∈ K} (Γ_k − 1) σ²_k`, `K = {a + 1_u : C(a) > N, supp a ⊆ u}`,
 //!
-//! exact, nothing truncated. For a `(0, m, 2)`-net with `N = 2^m`, `Γ_k` is 0 for `k_1 + k_2 ≤ m`,
+//! exact, nothing truncated. A separable integrand is summed without that formula's
+//! cancellation, level by level and beyond ([`super::dyadic_levels`]). For a `(0, m, 2)`-net with `N = 2^m`, `Γ_k` is 0 for `k_1 + k_2 ≤ m`,
 //! 2 for `k_1 + k_2 = m + 1` (both axes refined) and 1 beyond (`docs/theory.md`, "Scrambled
 //! nets by levels").
 
 use super::cell_moments::{
     cell_masses, chunked_sum, seconds_per_grid_cell, CellSum, CELL_ROUNDING,
 };
+use super::dyadic_levels::{closed_downwards, Levels, SeparableLevels, MAX_AXES};
 use super::term_mean::{mean_of_exact_terms, OccupancyEstimate};
 use crate::budget::{Budget, Needs};
 use crate::error::{Error, Result};
@@ -40,13 +42,8 @@ use crate::quadrature::CompensatedSum;
 use rayon::prelude::*;
 use std::collections::HashMap;
 
-/// The most axes a grid of box moments has.
-const MAX_AXES: usize = 3;
 /// Binary digits of a pattern's coordinates (doubles in `[0, 1)` with 53-bit fractions).
 const DIGITS: u8 = 53;
-
-/// The levels of a dyadic grid: `2^{a_l}` cells on axis `l`.
-type Levels = [u8; MAX_AXES];
 
 /// The pair counts `C(a)` of one scrambled pattern, and the grids where two points share a
 /// cell.
@@ -299,9 +296,6 @@ fn squared_means(
     d: usize,
     t: &[f64],
 ) -> HashMap<Levels, (f64, f64)> {
-    if let Some(s) = separable_squared_means(f, tops, d, t) {
-        return s;
-    }
     let mut s = HashMap::new();
     for top in tops {
         let sizes: Vec<usize> = (0..d).map(|l| 1usize << top[l]).collect();
@@ -327,58 +321,6 @@ fn squared_means(
         }
     }
     s
-}
-
-/// [`squared_means`] of a separable integrand, from its rows of axis masses `r_l` on each
-/// axis' finest level: a cell's mass is `h Π_l r_l(i_l)`, so `S(a) = h² Π_l Q_l(a_l) · Π_l 2^{a_l}`
-/// with `Q_l(a) = Σ_i r_l(i)²` on level `a`, whose row is the finer one's summed in pairs (a
-/// shifted cell is its two shifted halves). `Σ_l 2^{a_l}` masses where the cells are
-/// `Π_l 2^{a_l}`. `None` where the integrand is not separable.
-fn separable_squared_means(
-    f: &dyn Integrand,
-    tops: &[Levels],
-    d: usize,
-    t: &[f64],
-) -> Option<HashMap<Levels, (f64, f64)>> {
-    let finest: Vec<usize> = (0..d)
-        .map(|l| 1usize << tops.iter().map(|g| g[l]).max().unwrap_or(0))
-        .collect();
-    let rows = f.shifted_separable_cells(&finest, t)?;
-    // `by_level[l][a]`: Q_l(a).
-    let by_level: Vec<Vec<f64>> = rows
-        .mass
-        .iter()
-        .map(|row| {
-            let mut row = row.clone();
-            let mut q = Vec::new();
-            loop {
-                let mut sum = CompensatedSum::default();
-                row.iter().for_each(|&r| sum.add(r * r));
-                q.push(sum.value());
-                if row.len() < 2 {
-                    break;
-                }
-                row = row.chunks_exact(2).map(|p| p[0] + p[1]).collect();
-            }
-            q.reverse();
-            q
-        })
-        .collect();
-    let mut s = HashMap::new();
-    for top in tops {
-        let mut g = *top;
-        loop {
-            let value = (0..d).fold(rows.height * rows.height, |p, l| {
-                p * by_level[l][g[l] as usize]
-            }) * cells_of(&g, d) as f64;
-            s.insert(g, (value, CELL_ROUNDING * value));
-            if g[d - 1] == 0 {
-                break;
-            }
-            g[d - 1] -= 1;
-        }
-    }
-    Some(s)
 }
 
 /// A base-2 net under nested uniform scrambling, read once from one scrambled pattern: the
@@ -468,8 +410,60 @@ impl ScrambledNet {
                 f.dimension()
             )));
         }
-        SquaredMeans::new(f, &self.tops, t)?.variance(self)
+        LevelVariances::new(f, &self.tops, t)?.variance(self)
     }
+}
+
+/// What a net's variance reads of an integrand: the variance at each level directly where
+/// the integrand is separable ([`SeparableLevels`]), `S` on the grids otherwise.
+enum LevelVariances {
+    Separable(SeparableLevels),
+    Squares(SquaredMeans),
+}
+
+impl LevelVariances {
+    /// On the grids of the columns `tops` for `f` shifted by `t`.
+    fn new(f: &dyn Integrand, tops: &[Levels], t: &[f64]) -> Result<Self> {
+        let finest: Vec<u8> = (0..f.dimension())
+            .map(|l| tops.iter().map(|g| g[l]).max().unwrap_or(0))
+            .collect();
+        Ok(match SeparableLevels::new(f, &finest, t) {
+            Some(levels) => Self::Separable(levels),
+            None => Self::Squares(SquaredMeans::new(f, tops, t)?),
+        })
+    }
+
+    /// `(1/N) Σ_{k ≠ 0} Γ_k σ²_k` for `net`'s gains, and its rounding bound.
+    ///
+    /// # Errors
+    /// A level of `net` that reads a grid or a level these variances lack.
+    fn variance(&self, net: &ScrambledNet) -> Result<CellSum> {
+        match self {
+            Self::Squares(means) => means.variance(net),
+            Self::Separable(levels) => separable_variance(levels, net),
+        }
+    }
+}
+
+/// `(1/N) [Σ_{k ∈ D, k ≠ 0} Γ_k σ²_k + Σ_{k ∉ D} σ²_k]` with `D` the levels at or below those
+/// whose gain differs from 1 (the finest levels read are theirs): every term positive, so that the variance of a net far finer
+/// than the integrand's features keeps its digits (through `∫f² − I²` less the levels of gain
+/// 0, it would be the small difference of two large sums).
+fn separable_variance(levels: &SeparableLevels, net: &ScrambledNet) -> Result<CellSum> {
+    let missing = || Error::Mismatch("a net's levels beyond its integrand's finest cells".into());
+    let kept: Vec<Levels> = net.excess.iter().map(|&(k, _)| k).collect();
+    let downset = closed_downwards(&kept, net.d);
+    let gains: HashMap<Levels, f64> = net.excess.iter().map(|&(k, e)| (k, 1.0 + e)).collect();
+    let mut total = levels.beyond(&downset).ok_or_else(missing)?;
+    for k in downset.iter().filter(|k| k.iter().any(|&l| l > 0)) {
+        let gain = gains.get(k).copied().unwrap_or(1.0);
+        total = total.plus(levels.level(k).ok_or_else(missing)?.scaled(gain));
+    }
+    let nf = net.n as f64;
+    Ok(CellSum {
+        variance: total.value.max(0.0) / nf,
+        rounding: total.error / nf,
+    })
 }
 
 /// An integrand's `S(a) = ‖P_a f‖²` on the grids a net's levels read, with `∫f²`: what the
@@ -586,7 +580,7 @@ pub(crate) fn scrambled_law_variance(
     let cell_seconds = seconds_per_grid_cell(f);
     let first = ScrambledNet::new(&pattern(0)?, d, cell_seconds, budget)?;
     let tops = columns(&grids_read(&first.levels, d), d);
-    let means = SquaredMeans::new(f, &tops, &vec![0.0; d])?;
+    let means = LevelVariances::new(f, &tops, &vec![0.0; d])?;
     let (estimate, rounding) = mean_of_exact_terms(
         "scrambled variances of patterns",
         counts,
