@@ -680,6 +680,7 @@ impl Integrand for Polygon {
             .get_or_init(|| super::polygon_overlap::triangulate(&self.vertices))
             .as_ref()?;
         let s = [r[0] - r[0].floor(), r[1] - r[1].floor()];
+        let mut scratch = super::polygon_overlap::ClipScratch::default();
         let area: f64 = [[0.0, 0.0], [-1.0, 0.0], [0.0, -1.0], [-1.0, -1.0]]
             .iter()
             .map(|m| {
@@ -687,6 +688,7 @@ impl Integrand for Polygon {
                     &self.vertices,
                     triangles,
                     [s[0] + m[0], s[1] + m[1]],
+                    &mut scratch,
                 )
             })
             .sum();

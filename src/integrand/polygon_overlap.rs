@@ -122,8 +122,17 @@ pub(super) fn bounds(vertices: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
         })
 }
 
+/// Two buffers for [`shared_area`]'s clipped parts, which a caller reuses from call to call:
+/// the autocorrelation's quadratures take millions of overlaps.
+pub(super) type ClipScratch = (Vec<[f64; 2]>, Vec<[f64; 2]>);
+
 /// The area `polygon` (counter-clockwise) shares with the triangles moved by `shift`.
-pub(super) fn shared_area(polygon: &[[f64; 2]], triangles: &[Triangle], shift: [f64; 2]) -> f64 {
+pub(super) fn shared_area(
+    polygon: &[[f64; 2]],
+    triangles: &[Triangle],
+    shift: [f64; 2],
+    (part, clipped): &mut ClipScratch,
+) -> f64 {
     let (lo, hi) = bounds(polygon);
     let mut area = 0.0;
     for t in triangles {
@@ -133,7 +142,8 @@ pub(super) fn shared_area(polygon: &[[f64; 2]], triangles: &[Triangle], shift: [
         if outside {
             continue;
         }
-        let mut part = polygon.to_vec();
+        part.clear();
+        part.extend_from_slice(polygon);
         for i in 0..3 {
             if part.len() < 3 {
                 break;
@@ -141,10 +151,11 @@ pub(super) fn shared_area(polygon: &[[f64; 2]], triangles: &[Triangle], shift: [
             let (a, b) = (moved[i], moved[(i + 1) % 3]);
             // Left of a → b: (b_y − a_y) x − (b_x − a_x) y ≤ the same at a.
             let n = [b[1] - a[1], a[0] - b[0]];
-            part = clip(&part, n, n[0] * a[0] + n[1] * a[1]);
+            clip_into(part, n, n[0] * a[0] + n[1] * a[1], clipped);
+            std::mem::swap(part, clipped);
         }
         if part.len() >= 3 {
-            area += signed_area(&part).max(0.0);
+            area += signed_area(part).max(0.0);
         }
     }
     area
@@ -169,13 +180,17 @@ mod tests {
         let triangles = triangulate(&l).unwrap();
         let covered: f64 = triangles.iter().map(|t| signed_area(t)).sum();
         assert!((covered - signed_area(&l)).abs() < 1e-15);
-        assert!((shared_area(&l, &triangles, [0.0, 0.0]) - signed_area(&l)).abs() < 1e-15);
+        assert!(
+            (shared_area(&l, &triangles, [0.0, 0.0], &mut Default::default()) - signed_area(&l))
+                .abs()
+                < 1e-15
+        );
         // Moved right by 0.1: the foot (0.6 × 0.2) keeps 0.5 × 0.2, the leg (0.2 × 0.6 above
         // the foot) keeps 0.1 × 0.6.
-        let moved = shared_area(&l, &triangles, [0.1, 0.0]);
+        let moved = shared_area(&l, &triangles, [0.1, 0.0], &mut Default::default());
         assert!((moved - (0.1 + 0.06)).abs() < 1e-15, "{moved}");
         // Moved up by 0.3: the leg keeps 0.2 × 0.5 of its 0.8; the foot meets only the leg.
-        let up = shared_area(&l, &triangles, [0.0, 0.3]);
+        let up = shared_area(&l, &triangles, [0.0, 0.3], &mut Default::default());
         assert!((up - 0.2 * 0.5).abs() < 1e-15, "{up}");
     }
 }
