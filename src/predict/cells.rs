@@ -572,8 +572,10 @@ pub(crate) fn predict_cells(
         };
         let why = format!(
             "{whose}: Owen's gains (read from the net's pair counts on dyadic grids) times the \
-             integrand's variance at each dyadic level (from its cells' integrals), exact: \
-             nothing is truncated, every level left out has gain 1"
+             integrand's variance at each dyadic level (from its cells' integrals; for a \
+             product of axis factors, from each factor's masses level by level and its \
+             variance within the finest cells), exact: nothing is truncated, every level left \
+             out has gain 1"
         );
         (
             s.variance,

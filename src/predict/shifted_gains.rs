@@ -76,7 +76,8 @@ pub(crate) fn predict_shifted_net(
     let reason = format!(
         "{}, randomly shifted{whose}: each shift of the integrand has its exact variance under \
          nested uniform scrambling by Owen's gains (the net's pair counts on dyadic grids times the \
-         shifted integrand's variance at each dyadic level, from its cells' integrals), and the \
+         shifted integrand's variance at each dyadic level, from its cells' integrals or, for a \
+         product of axis factors, level by level from each factor's masses), and the \
          variance is their mean over {} independent uniform shifts (unbiased; the noise is its \
          standard error; nothing is truncated, so jumps at the faces cost nothing extra)",
         sampler.name(),
