@@ -428,45 +428,15 @@ pub(crate) fn predict_routed(
         (SpectrumChoice::Estimated, _) | (_, Patterns::PointSets(_)) => None,
         (_, Patterns::Sampler(s)) => s.closed_form(n),
     };
-    // Gaussian jitter's closed form summed exactly (by Parseval) rather than on a lattice,
-    // unless a form or an extent is asked for.
+    // Gaussian jitter's closed form summed exactly (in frequency or in space) rather than on a
+    // lattice, unless a form or an extent is asked for.
     if let Some(form @ ClosedForm::GaussianJitter { .. }) = closed
         && problem.randomization == Randomization::Shift
         && params.form == FormChoice::Auto
         && params.kmax.is_none()
         && let Some(strata) = crate::sampler::strata(n, problem.integrand.dimension())
     {
-        let f = problem.integrand;
-        let parseval = || {
-            super::gaussian_jitter::predict_gaussian_jitter_shifted(
-                f,
-                form,
-                &strata,
-                &params.budget,
-            )
-        };
-        // Its frequencies grow like N, while the same spectrum in space costs the same at any
-        // N: space first where it is the cheaper, and where the frequencies exceed the budget.
-        let in_space = || {
-            super::jitter_tent::predict_gaussian_jitter_in_space(f, form, &strata, &params.budget)
-        };
-        let d = strata.len();
-        if d > 2 || f.autocorrelation(&vec![0.0; d]).is_none() {
-            return parseval();
-        }
-        if super::gaussian_jitter::shifted_frequency_seconds(f, form, &strata)
-            > super::jitter_tent::typical_weight_seconds(f)
-        {
-            let space = match in_space() {
-                Err(Error::TooLarge { .. }) => None,
-                other => Some(other?),
-            };
-            return tighter_in_space(space, parseval);
-        }
-        return match parseval() {
-            Err(Error::TooLarge { .. }) => in_space(),
-            other => other,
-        };
+        return gaussian_jitter_shifted(problem.integrand, form, &strata, params);
     }
     let pairs_route = params.spectrum == SpectrumChoice::Auto
         && params.form != FormChoice::Polar
@@ -552,6 +522,39 @@ fn shifted_strata_measured(
 fn with_reason(mut p: Prediction, reason: String) -> Prediction {
     p.reason = reason;
     p
+}
+
+/// Gaussian jitter under a shift, its closed form summed exactly: by Parseval in frequency,
+/// whose frequencies grow like N, or in space over the offsets' difference, at the same cost at
+/// any N (1D and 2D, a closed-form autocorrelation): space first where it is the cheaper, and
+/// where the frequencies exceed the budget.
+fn gaussian_jitter_shifted(
+    f: &dyn Integrand,
+    form: ClosedForm,
+    strata: &[usize],
+    params: &PredictParams,
+) -> Result<Prediction> {
+    let parseval =
+        || super::gaussian_jitter::predict_gaussian_jitter_shifted(f, form, strata, &params.budget);
+    let in_space =
+        || super::jitter_tent::predict_gaussian_jitter_in_space(f, form, strata, &params.budget);
+    let d = strata.len();
+    if d > 2 || f.autocorrelation(&vec![0.0; d]).is_none() {
+        return parseval();
+    }
+    if super::gaussian_jitter::shifted_frequency_seconds(f, form, strata)
+        > super::jitter_tent::typical_weight_seconds(f)
+    {
+        let space = match in_space() {
+            Err(Error::TooLarge { .. }) => None,
+            other => Some(other?),
+        };
+        return tighter_in_space(space, parseval);
+    }
+    match parseval() {
+        Err(Error::TooLarge { .. }) => in_space(),
+        other => other,
+    }
 }
 
 /// The lattice form with a closed form: exact, with an exact tail bound.
