@@ -199,7 +199,8 @@ fn segment_rounding(c: f64, s: f64, h: f64) -> f64 {
 /// `shift` on the torus) are `mass`, `ḡ_c = mass_c / |c|`, and a bound on its error: each
 /// piece of a cell split into segments shorter than [`SHORT_SEGMENT`] widths, on which
 /// 10-point Gauss–Legendre is exact to rounding (the 5-point rule's difference from it is
-/// counted as its error, a wide margin), and each node's `(g − ḡ)²` within
+/// counted as its error, a wide margin: [`crate::quadrature::EmbeddedRules`]), and each node's
+/// `(g − ḡ)²` within
 /// `2|g − ḡ| e + e²`, `e` the rounding of `g` ([`exp_rounding`]) and of `ḡ` (`mass_rounding`).
 fn variance_within_cells(
     mass: &[f64],
@@ -208,13 +209,9 @@ fn variance_within_cells(
     s: f64,
     mass_rounding: f64,
 ) -> (f64, f64) {
-    static RULES: std::sync::OnceLock<[(Vec<f64>, Vec<f64>); 2]> = std::sync::OnceLock::new();
-    let [(x10, w10), (x5, w5)] = RULES.get_or_init(|| {
-        [
-            crate::quadrature::gauss_legendre(10),
-            crate::quadrature::gauss_legendre(5),
-        ]
-    });
+    static RULES: std::sync::OnceLock<crate::quadrature::EmbeddedRules> =
+        std::sync::OnceLock::new();
+    let rules = RULES.get_or_init(Default::default);
     let m = mass.len();
     let cells: Vec<(f64, f64)> = (0..m)
         .into_par_iter()
@@ -231,24 +228,14 @@ fn variance_within_cells(
                 let step = (b - a) / pieces;
                 for j in 0..pieces as usize {
                     let lo = a + j as f64 * step;
-                    let (mid, half) = (lo + step / 2.0, step / 2.0);
-                    let node = |x: f64| {
-                        let t = (mid + half * x - c) / s;
+                    let p = rules.integrate(lo, lo + step, |x| {
+                        let t = (x - c) / s;
                         let g = (-t * t).exp();
                         let e = exp_rounding(t, s) * g + mean_error;
                         ((g - mean).powi(2), 2.0 * (g - mean).abs() * e + e * e)
-                    };
-                    let (mut high, mut low, mut rounding) = (0.0, 0.0, 0.0);
-                    for (x, w) in x10.iter().zip(w10) {
-                        let (v, r) = node(*x);
-                        high += w * v;
-                        rounding += w * r;
-                    }
-                    for (x, w) in x5.iter().zip(w5) {
-                        low += w * node(*x).0;
-                    }
-                    value += half * high;
-                    error += half * ((high - low).abs() + rounding + 16.0 * f64::EPSILON * high);
+                    });
+                    value += p.value;
+                    error += p.error + 16.0 * f64::EPSILON * p.value;
                 }
             }
             (value, error)

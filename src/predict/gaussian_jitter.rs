@@ -33,7 +33,7 @@ use crate::randomization::Randomization;
 use crate::sampler::ClosedForm;
 use crate::spectrum::Lattice;
 use num_complex::Complex64;
-use std::f64::consts::PI;
+use std::f64::consts::{PI, SQRT_2};
 
 /// The relative weight `φ` below which frequencies are left out (their part is bounded).
 const TRUNCATION: f64 = 1e-20;
@@ -68,14 +68,23 @@ struct Axis {
 
 impl Axis {
     /// `c` of `φ(k) = exp(−c k²)`, `c = 2π² (w/m)²`, and the frequency where `φ` falls below
-    /// [`TRUNCATION`].
-    fn decay_and_reach(strata: usize, width: f64) -> (f64, i64) {
+    /// `floor`.
+    fn decay_and_reach(strata: usize, width: f64, floor: f64) -> (f64, i64) {
         let c = 2.0 * PI * PI * (width / strata as f64).powi(2);
-        (c, (-TRUNCATION.ln() / c).sqrt().ceil() as i64)
+        (c, (-floor.ln() / c).sqrt().ceil() as i64)
+    }
+
+    /// What a sum over the grid's replicas reads of the axis.
+    fn replicas(&self) -> ReplicaAxis {
+        ReplicaAxis {
+            strata: self.strata,
+            decay: self.decay,
+            kmax: self.kmax,
+        }
     }
 
     fn new(strata: usize, width: f64) -> Self {
-        let (c, kmax) = Self::decay_and_reach(strata, width);
+        let (c, kmax) = Self::decay_and_reach(strata, width, TRUNCATION);
         let weight: Vec<f64> = (-kmax..=kmax)
             .map(|k| (-c * (k * k) as f64).exp())
             .collect();
@@ -170,8 +179,18 @@ fn moments(f: &dyn Integrand, strata: &[usize], width: f64, budget: &Budget) -> 
     })
 }
 
+/// The frequencies of [`predict_gaussian_jitter_shifted`]'s smoothed sum on `strata` with
+/// offsets of `width` strata: those where `φ²` (the characteristic function of offsets √2 times
+/// wider) is above [`TRUNCATION`].
+fn shifted_frequencies(strata: &[usize], width: f64) -> f64 {
+    strata
+        .iter()
+        .map(|&m| (2 * Axis::decay_and_reach(m, width * SQRT_2, TRUNCATION).1 + 1) as f64)
+        .product()
+}
+
 /// The work of [`predict_gaussian_jitter_shifted`] on `strata` with `form`'s offsets: one
-/// coefficient per frequency where `φ²` is above [`TRUNCATION`], or next to none for a separable
+/// coefficient per frequency ([`shifted_frequencies`]), or next to none for a separable
 /// integrand, whose sum factors by axis. Zero for a form other than Gaussian jitter's.
 pub(crate) fn shifted_frequency_seconds(
     f: &dyn Integrand,
@@ -184,11 +203,7 @@ pub(crate) fn shifted_frequency_seconds(
     if f.separable_coefficients(&vec![0; strata.len()]).is_some() {
         return 0.0;
     }
-    strata
-        .iter()
-        .map(|&m| (2 * Axis::decay_and_reach(m, width * std::f64::consts::SQRT_2).1 + 1) as f64)
-        .product::<f64>()
-        * COEFFICIENT_SECONDS
+    shifted_frequencies(strata, width) * COEFFICIENT_SECONDS
 }
 
 /// The variance of Gaussian jitter of width `width` (in strata) on the grid `strata` under a
@@ -205,10 +220,10 @@ fn shifted_moments(
     // φ² is the characteristic function of offsets √2 times wider.
     let axes: Vec<Axis> = strata
         .iter()
-        .map(|&m| Axis::new(m, width * std::f64::consts::SQRT_2))
+        .map(|&m| Axis::new(m, width * SQRT_2))
         .collect();
     let sides: Vec<usize> = axes.iter().map(|a| (2 * a.kmax + 1) as usize).collect();
-    let frequencies: f64 = sides.iter().map(|&s| s as f64).product();
+    let frequencies = shifted_frequencies(strata, width);
     budget.check(
         "Gaussian jitter's smoothed energy",
         Needs {
@@ -260,13 +275,7 @@ fn shifted_moments(
             super::cell_moments::chunked_sum(count, term).0
         }
     };
-    let replicas = replica_sum(&axes, |k, l| {
-        Ok(if l.iter().all(|&x| x == 0) {
-            0.0
-        } else {
-            f.coefficient(k).norm_sqr()
-        })
-    })?;
+    let replicas = replica_energy(f, &axes.iter().map(Axis::replicas).collect::<Vec<_>>())?;
     let n: f64 = strata.iter().map(|&m| m as f64).product();
     let energy = f.integral_of_square();
     let total: f64 = axes.iter().map(|a| a.inside + a.beyond).product();
@@ -440,17 +449,44 @@ fn fold_class(
 
 /// A sum over the replicas `k = mℓ` with `|k_a| ≤ kmax_a`, with a bound on the rest relative
 /// to the largest term's size.
-struct ReplicaSum {
-    value: f64,
-    beyond: f64,
-    terms: u64,
+pub(crate) struct ReplicaSum {
+    pub(crate) value: f64,
+    pub(crate) beyond: f64,
+    pub(crate) terms: u64,
+}
+
+/// What a sum over the grid's replicas reads of an axis: its strata `m`, the decay `c` of
+/// `φ(k) = exp(−c k²)`, and the extent `|k| ≤ kmax` of the sum.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct ReplicaAxis {
+    strata: usize,
+    decay: f64,
+    kmax: i64,
+}
+
+impl ReplicaAxis {
+    /// The axis of `strata` strata whose `φ` is that of offsets of `width` strata, summed while
+    /// `φ` is at least `floor`.
+    pub(crate) fn new(strata: usize, width: f64, floor: f64) -> Self {
+        let (decay, kmax) = Axis::decay_and_reach(strata, width, floor);
+        Self {
+            strata,
+            decay,
+            kmax,
+        }
+    }
+
+    /// `φ(k)`, the same operations as [`Axis`]' table.
+    fn weight(&self, k: i64) -> f64 {
+        (-self.decay * (k * k) as f64).exp()
+    }
 }
 
 /// `Σ_ℓ term(mℓ, ℓ) φ(mℓ)` over the replicas inside the axes' extents, in order, and
 /// `Σ φ(mℓ)` over those outside, bounded: per axis `φ_a(m ℓ) = exp(−c m² ℓ²)`, whose tail past
 /// the extent is bounded like the full lattice's.
 fn replica_sum(
-    axes: &[Axis],
+    axes: &[ReplicaAxis],
     mut term: impl FnMut(&[i64], &[i64]) -> Result<f64>,
 ) -> Result<ReplicaSum> {
     let d = axes.len();
@@ -466,31 +502,47 @@ fn replica_sum(
             l[a] = (rest % side) as i64 - extents[a];
             rest /= side;
             k[a] = l[a] * axis.strata as i64;
-            weight *= axis.weight[axis.index(k[a])];
+            weight *= axis.weight(k[a]);
         }
         sum.add(term(&k[..d], &l[..d])? * weight);
     }
-    let (total, inside) = axes
+    // `Π (inside_a + tail_a) − Π inside_a`, axis by axis in positive terms: the tails are far
+    // below the rounding of the products, whose difference would be 0.
+    let (beyond, _) = axes
         .iter()
         .zip(&extents)
         .map(|(axis, &l)| {
             let c = axis.decay * (axis.strata * axis.strata) as f64;
-            let inside: f64 = (-l..=l)
-                .map(|j| axis.weight[axis.index(j * axis.strata as i64)])
-                .sum();
-            (inside + gaussian_tail(c, l), inside)
+            let inside: f64 = (-l..=l).map(|j| axis.weight(j * axis.strata as i64)).sum();
+            (inside, gaussian_tail(c, l))
         })
-        .fold((1.0, 1.0), |(t, i), (ta, ia)| (t * ta, i * ia));
+        .fold((0.0, 1.0), |(beyond, inside), (ia, ta)| {
+            (beyond * (ia + ta) + inside * ta, inside * ia)
+        });
     Ok(ReplicaSum {
         value: sum.value(),
-        beyond: total - inside,
+        beyond,
         terms: count as u64,
+    })
+}
+
+/// `Σ_{ℓ≠0} |f̂(mℓ)|² φ(mℓ)` over the replicas inside the axes' extents (`φ` the damping of
+/// the grid's replicas in the spectrum under a shift, `φ²` of the offsets), with the bound of
+/// [`replica_sum`] on the rest.
+pub(crate) fn replica_energy(f: &dyn Integrand, axes: &[ReplicaAxis]) -> Result<ReplicaSum> {
+    replica_sum(axes, |k, l| {
+        Ok(if l.iter().all(|&x| x == 0) {
+            0.0
+        } else {
+            f.coefficient(k).norm_sqr()
+        })
     })
 }
 
 /// `Σ_ℓ \hat{f²}(mℓ) φ(mℓ) (−1)^{Σ ℓ_a}`: the points' mean second moment.
 fn square_sum(f: &dyn Integrand, axes: &[Axis]) -> Result<ReplicaSum> {
-    replica_sum(axes, |k, l| {
+    let axes: Vec<ReplicaAxis> = axes.iter().map(Axis::replicas).collect();
+    replica_sum(&axes, |k, l| {
         let c = f
             .square_coefficient(k)
             .ok_or_else(|| Error::OutsideValidity {

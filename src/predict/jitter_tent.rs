@@ -17,13 +17,12 @@
 //! origin (it grows like `|r|`) and kinks along lines through it (a polygon's edge
 //! directions), which are smooth along every ray and bisected across them.
 
+use super::gaussian_jitter::{replica_energy, ReplicaAxis};
 use super::{ErrorBudget, Form, Prediction, Route, SpectrumOrigin};
 use crate::budget::{Budget, Needs};
 use crate::error::{invalid, Error, Result};
 use crate::integrand::Integrand;
-use crate::quadrature::{
-    adaptive, adaptive_from_two_starts, EmbeddedRules, PanelEstimate, PanelResult,
-};
+use crate::quadrature::{adaptive, adaptive_from_two_starts, EmbeddedRules, PanelResult};
 use crate::randomization::Randomization;
 use crate::sampler::ClosedForm;
 use rayon::prelude::*;
@@ -165,7 +164,7 @@ fn weighted_drop(
             (0.0, weight.reach()),
             (RELATIVE_TARGET, floor),
             MAX_OUTER_PANELS,
-            |lo, hi| panel(&rules, lo, hi, |u| (line(u), 0.0)),
+            |lo, hi| rules.integrate(lo, hi, |u| (line(u), 0.0)),
         )
     } else {
         plane(&rules, &drop, weight, floor)
@@ -239,7 +238,7 @@ fn ray(
         (0.0, 1.0),
         (INNER_RELATIVE_TARGET, floor / 10.0),
         MAX_INNER_PANELS,
-        |lo, hi| panel(rules, lo, hi, |t| (radial(t), 0.0)),
+        |lo, hi| rules.integrate(lo, hi, |t| (radial(t), 0.0)),
     );
     let jacobian = reach * reach;
     PanelResult {
@@ -276,12 +275,6 @@ fn most_evaluations(rules: &EmbeddedRules, d: usize) -> f64 {
     } else {
         4.0 * outer * inner
     }
-}
-
-/// One panel of a 1D integrand that returns its value and that value's error.
-fn panel(rules: &EmbeddedRules, lo: f64, hi: f64, f: impl Fn(f64) -> (f64, f64)) -> PanelEstimate {
-    let values: Vec<(f64, f64)> = rules.nodes(lo, hi).iter().map(|&(x, _)| f(x)).collect();
-    rules.estimate(lo, hi, &values, values.len() as u64)
 }
 
 /// Jitter on `strata` under a random shift, by the strata's tent in space.
@@ -326,16 +319,17 @@ pub(crate) fn predict_jitter_tent(
     })
 }
 
-/// The replicas `ℓ` whose damping `e^{−4π²w²|ℓ|²}` is summed, by its exponent: those beyond
-/// 140 are bounded, not summed (each below `e^{−140}` of `∫f²`; all of them together below
-/// `e^{−70}` of it times a factor of order 1, see [`replica_sum`]).
+/// The replicas `ℓ` whose damping `e^{−4π²w²ℓ_a²}` on an axis is above `e^{−140}` are summed;
+/// the rest are bounded with `|f̂|² ≤ ∫f²` by the damping's tail past them. The frequency
+/// route's floor, `1e-20`, would leave a bound of `1e-20 ∫f²`, most of the variance at
+/// N = 10^12.
 const REPLICA_EXPONENT: f64 = 140.0;
 
 /// Gaussian jitter of `width` strata (`form`) on `strata` under a random shift, in space: its
 /// spectrum `1 − φ² + N φ² [k ∈ m Z^d]` is, apart from the grid's replicas, the white part
 /// `(1/N) ∫ (a_f(0) − a_f(r)) G(r) dr` with `G` the density of two offsets' difference (a
-/// Gaussian of `√2 w` strata a side), and the replicas `Σ_{ℓ≠0} |f̂(m ℓ)|² e^{−4π²w²|ℓ|²}`,
-/// summed while the damping is above `e^{−140}` and bounded beyond by `|f̂|² ≤ ∫f²`. At any N:
+/// Gaussian of `√2 w` strata a side), and the replicas `Σ_{ℓ≠0} |f̂(m ℓ)|² e^{−4π²w²|ℓ|²}`
+/// ([`replica_energy`], to [`REPLICA_EXPONENT`]). At any N:
 /// the Parseval route's frequencies grow like N.
 ///
 /// # Errors
@@ -358,18 +352,24 @@ pub(crate) fn predict_gaussian_jitter_in_space(
                 reason: format!("{} has no closed-form autocorrelation", f.label()),
             }
         })?;
-    let (replicas, replica_bound, count) = replica_sum(f, strata, width);
+    // The replicas' damping e^{−4π²w²|ℓ|²} is φ² of the offsets: φ of offsets √2 times wider.
+    let axes: Vec<ReplicaAxis> = strata
+        .iter()
+        .map(|&m| ReplicaAxis::new(m, deviation, (-REPLICA_EXPONENT).exp()))
+        .collect();
+    let replicas = replica_energy(f, &axes)?;
+    let count = replicas.terms - 1;
     let grid = super::grid_label(strata);
     let reason = format!(
         "gjitter under a random shift ({grid} strata, offsets of {width} strata): its \
          closed-form spectrum 1 − φ² + N φ² [k ∈ m Z^d] summed exactly in space, the white part \
          (1/N) ∫ (a_f(0) − a_f(r)) G(r) dr over the offsets' difference G by adaptive \
          Gauss–Legendre quadrature with the integrand's closed-form autocorrelation, and the \
-         grid's {count} replicas damped above e^-140 one by one, the rest bounded"
+         grid's {count} replicas damped above e^-140 on each axis one by one, the rest bounded"
     );
     Ok(Prediction {
         randomization: Randomization::Shift,
-        variance: white.value + replicas,
+        variance: white.value + replicas.value,
         route: Route {
             form: Form::Lattice,
             spectrum: SpectrumOrigin::Closed(form),
@@ -377,45 +377,15 @@ pub(crate) fn predict_gaussian_jitter_in_space(
         reason,
         budget: ErrorBudget {
             quadrature: white.error,
-            truncation: replica_bound,
+            truncation: f.integral_of_square() * replicas.beyond,
             ..Default::default()
         },
         n: strata.iter().product(),
         dimension: f.dimension(),
         dc_term: 0.0,
-        evaluations: white.evaluations + count as u64,
+        evaluations: white.evaluations + count,
         alternatives: Vec::new(),
     })
-}
-
-/// `Σ_{ℓ≠0} |f̂(m ℓ)|² e^{−c|ℓ|²}`, `c = 4π²w²`, over the replicas with `c|ℓ|² ≤ 140`; a bound
-/// on the rest; and the replicas summed. Beyond, `e^{−c|ℓ|²} < e^{−70} e^{−c|ℓ|²/2}`, and
-/// `Σ_ℓ e^{−c|ℓ|²/2} ≤ (1 + 2/(1 − e^{−c/2}))^d`; each `|f̂|² ≤ (∫|f|)² ≤ ∫f²`.
-fn replica_sum(f: &dyn Integrand, strata: &[usize], width: f64) -> (f64, f64, usize) {
-    let d = strata.len();
-    let c = 4.0 * std::f64::consts::PI.powi(2) * width * width;
-    let reach = (REPLICA_EXPONENT / c).sqrt().floor() as i64;
-    let side = 2 * reach + 1;
-    let mut total = crate::quadrature::CompensatedSum::default();
-    let mut count = 0;
-    for flat in 0..side.pow(d as u32) {
-        let (mut k, mut rest, mut norm) = ([0i64; 2], flat, 0i64);
-        for (a, &m) in strata.iter().enumerate() {
-            let l = rest % side - reach;
-            rest /= side;
-            k[a] = l * m as i64;
-            norm += l * l;
-        }
-        if norm == 0 || c * norm as f64 > REPLICA_EXPONENT {
-            continue;
-        }
-        total.add(f.coefficient(&k[..d]).norm_sqr() * (-c * norm as f64).exp());
-        count += 1;
-    }
-    let per_axis = 1.0 + 2.0 / (1.0 - (-c / 2.0).exp());
-    let energy = f.autocorrelation(&vec![0.0; d]).unwrap_or(0.0);
-    let bound = energy * (-REPLICA_EXPONENT / 2.0).exp() * per_axis.powi(d as i32);
-    (total.value(), bound, count)
 }
 
 #[cfg(test)]

@@ -524,6 +524,13 @@ fn with_reason(mut p: Prediction, reason: String) -> Prediction {
     p
 }
 
+/// Whether a stratified sampler's shifted spectrum may be summed in space over its offsets'
+/// difference (the strata's tent, or Gaussian jitter's weight): in 1D or 2D, for an integrand
+/// with a closed-form autocorrelation.
+fn weighs_in_space(f: &dyn Integrand, d: usize) -> bool {
+    d <= 2 && f.autocorrelation(&vec![0.0; d]).is_some()
+}
+
 /// Gaussian jitter under a shift, its closed form summed exactly: by Parseval in frequency,
 /// whose frequencies grow like N, or in space over the offsets' difference, at the same cost at
 /// any N (1D and 2D, a closed-form autocorrelation): space first where it is the cheaper, and
@@ -539,7 +546,7 @@ fn gaussian_jitter_shifted(
     let in_space =
         || super::jitter_tent::predict_gaussian_jitter_in_space(f, form, strata, &params.budget);
     let d = strata.len();
-    if d > 2 || f.autocorrelation(&vec![0.0; d]).is_none() {
+    if !weighs_in_space(f, d) {
         return parseval();
     }
     if super::gaussian_jitter::shifted_frequency_seconds(f, form, strata)
@@ -664,7 +671,7 @@ fn jitter_tent(problem: &Problem<'_>, params: &PredictParams) -> Result<Option<P
     let Some(strata) = crate::sampler::strata(n, d) else {
         return Ok(None);
     };
-    if d > 2 || f.autocorrelation(&vec![0.0; d]).is_none() {
+    if !weighs_in_space(f, d) {
         return Ok(None);
     }
     // The tent's work is bounded for the coarsest strata; a budget below that bound leaves
