@@ -17,6 +17,7 @@ mod ball_in_box;
 mod gaussian;
 mod grid;
 mod grid_io;
+mod interval_cells;
 mod polygon;
 mod polygon_lattice;
 mod polygon_overlap;

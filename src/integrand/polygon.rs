@@ -1,6 +1,7 @@
 //! Polygons in the unit square: indicators with exact Fourier transforms, and the edge (a
 //! half-plane clipped to the square) at any angle.
 
+use super::interval_cells;
 use super::polygon_overlap::{bounds, clip, clip_into, cross, signed_area};
 use super::{Integrand, IntegrandKind, MAX_HEIGHT};
 use crate::error::{invalid, Result};
@@ -53,6 +54,8 @@ pub struct Polygon {
     triangles: std::sync::OnceLock<Option<Vec<[[f64; 2]; 3]>>>,
     /// Its edges that are not horizontal, as [`eval`](Integrand::eval) reads them.
     spans: Vec<Span>,
+    /// Whether it is its bounding box: then a product of one interval per axis.
+    is_box: bool,
 }
 
 /// An edge `a → b` that is not horizontal, for the even–odd rule: it spans the heights
@@ -146,12 +149,38 @@ impl Polygon {
             label,
             triangles: std::sync::OnceLock::new(),
             spans: Vec::new(),
+            is_box: false,
         };
         polygon.spans = polygon
             .edges()
             .filter_map(|(a, b)| Span::of(a, b))
             .collect();
+        polygon.is_box = polygon.fills_its_box();
         Ok(polygon)
+    }
+
+    /// Whether every vertex is a corner of the bounding box and the area is the box's: the
+    /// polygon is then that box, the product of one interval per axis.
+    fn fills_its_box(&self) -> bool {
+        let (lo, hi) = self.bounds;
+        let at_corner = |v: &[f64; 2]| (0..2).all(|a| v[a] == lo[a] || v[a] == hi[a]);
+        let box_area = (hi[0] - lo[0]) * (hi[1] - lo[1]);
+        self.vertices.iter().all(at_corner)
+            && (self.area - box_area).abs() <= 4.0 * f64::EPSILON * box_area
+    }
+
+    /// A box's interval masses on each axis of `grid`, shifted by `t` on the torus; `None` for
+    /// a polygon that is not its box, or a grid or shift not in 2D.
+    fn interval_rows(&self, grid: &[usize], t: &[f64]) -> Option<Vec<Vec<f64>>> {
+        if !(self.is_box && grid.len() == 2 && t.len() == 2) {
+            return None;
+        }
+        let (min, max) = self.bounds;
+        Some(
+            (0..2)
+                .map(|a| interval_cells::masses(min[a], max[a], grid[a], t[a]))
+                .collect(),
+        )
     }
 
     /// The half-plane `{x : n·x ≤ t}` clipped to the unit square, `n = (cos θ, sin θ)` with `θ`
@@ -572,18 +601,48 @@ impl Integrand for Polygon {
             .then(|| self.polygon_grid_masses(grid))
     }
     fn box_moments(&self, lo: &[f64], hi: &[f64]) -> Option<(f64, f64)> {
+        if self.is_box {
+            // The products the rows of `separable_cells` give, in the same order, so that the
+            // two agree to the bit.
+            let (min, max) = self.bounds;
+            let (mut mass, mut square) = (self.height, self.height * self.height);
+            for a in 0..2 {
+                let length = interval_cells::overlap(lo[a], hi[a], min[a], max[a]);
+                mass *= length;
+                square *= length;
+            }
+            return Some((mass, square));
+        }
         let area = self.area_in_box(lo, hi);
         Some((self.height * area, self.height * self.height * area))
     }
+    fn separable_cells(&self, grid: &[usize]) -> Option<super::SeparableCells> {
+        self.shifted_separable_cells(grid, &[0.0, 0.0])
+    }
+    fn shifted_separable_cells(&self, grid: &[usize], t: &[f64]) -> Option<super::SeparableCells> {
+        // The indicator is its own square: one row per axis serves both moments.
+        let mass = self.interval_rows(grid, t)?;
+        Some(super::SeparableCells {
+            height: self.height,
+            square: mass.clone(),
+            mass,
+        })
+    }
+    fn separable_details(&self, grid: &[usize], t: &[f64]) -> Option<super::SeparableDetails> {
+        if !(self.is_box && grid.len() == 2 && t.len() == 2 && !grid.contains(&0)) {
+            return None;
+        }
+        let (min, max) = self.bounds;
+        Some(super::SeparableDetails {
+            height: self.height,
+            axes: (0..2)
+                .map(|a| interval_cells::details(min[a], max[a], grid[a], t[a]))
+                .collect(),
+        })
+    }
     fn product_form(&self) -> Option<super::ProductForm> {
-        // A polygon whose every vertex is a corner of its bounding box, and whose area is the
-        // box's, is that box: the product of one interval per axis.
         let (lo, hi) = self.bounds;
-        let at_corner = |v: &[f64; 2]| (0..2).all(|a| v[a] == lo[a] || v[a] == hi[a]);
-        let box_area = (hi[0] - lo[0]) * (hi[1] - lo[1]);
-        let is_box = self.vertices.iter().all(at_corner)
-            && (self.area - box_area).abs() <= 4.0 * f64::EPSILON * box_area;
-        is_box.then(|| super::ProductForm {
+        self.is_box.then(|| super::ProductForm {
             height: self.height,
             axes: (0..2)
                 .map(|a| super::AxisFactor::Interval {
@@ -722,5 +781,36 @@ impl Integrand for Polygon {
     }
     fn negligible_beyond(&self) -> f64 {
         f64::INFINITY
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A box's rows give the moments `box_moments` gives, to the bit, and both are the clipped
+    /// area of the general polygon to rounding, on cells inside, outside and across its edges.
+    #[test]
+    fn a_box_factors_by_axis() {
+        let boxed =
+            Polygon::new(vec![[0.2, 0.3], [0.7, 0.3], [0.7, 0.8], [0.2, 0.8]], 2.5).unwrap();
+        assert!(boxed.is_box);
+        let grid = [7, 12];
+        let rows = boxed.separable_cells(&grid).unwrap();
+        for index in 0..grid[0] * grid[1] {
+            let (i, j) = (index % grid[0], index / grid[0]);
+            let lo = [i as f64 / 7.0, j as f64 / 12.0];
+            let hi = [(i + 1) as f64 / 7.0, (j + 1) as f64 / 12.0];
+            let from_rows = rows.moments(index);
+            assert_eq!(Some(from_rows), boxed.box_moments(&lo, &hi), "cell {index}");
+            let clipped = boxed.area_in_box(&lo, &hi);
+            assert!((from_rows.0 - 2.5 * clipped).abs() <= 1e-15, "cell {index}");
+            assert!(
+                (from_rows.1 - 6.25 * clipped).abs() <= 1e-14,
+                "cell {index}"
+            );
+        }
+        let rotated = Polygon::new(vec![[0.5, 0.1], [0.9, 0.5], [0.5, 0.9], [0.1, 0.5]], 1.0);
+        assert!(rotated.unwrap().separable_cells(&grid).is_none());
     }
 }
