@@ -22,7 +22,7 @@ use super::cell_moments::{
     check_box_moments, check_cells, chunked_sum, seconds_per_cell, separable_row_bytes,
     CellMoments, CellSum, CellTable, CELL_ROUNDING, CELL_SECONDS, EXACT_CELL_BUDGET,
 };
-use super::term_mean::{mean_to_target_noise, terms_within_budget, OccupancyEstimate};
+use super::term_mean::{mean_of_exact_terms, terms_within_budget, OccupancyEstimate};
 use super::{ErrorBudget, Form, FormChoice, Prediction, Route, SpectrumChoice, SpectrumOrigin};
 use crate::budget::{Budget, Needs};
 use crate::error::{Error, Result};
@@ -229,26 +229,39 @@ fn pattern_term(
     pattern: &PointSet,
     grid: &[usize],
     table: Option<&CellTable>,
-) -> f64 {
+) -> CellSum {
     let n = pattern.len();
     let nf = n as f64;
+    let integral = moments.integral();
     let mut deviation = CompensatedSum::default();
     let mut within = CompensatedSum::default();
+    // Each deviation `F_c − I` is within `CELL_ROUNDING (|F_c − I| + 2|I|)` of itself.
+    let mut magnitude = CompensatedSum::default();
+    let mut add = |d: f64| {
+        deviation.add(d);
+        magnitude.add(d.abs());
+    };
     match table {
         Some(t) => pattern
             .points()
-            .for_each(|x| deviation.add(t.deviation[cell_of(x, grid)])),
+            .for_each(|x| add(t.deviation[cell_of(x, grid)])),
         None => {
-            let integral = moments.integral();
             for x in pattern.points() {
                 let (m, v) = moments.mean_and_variance(cell_of(x, grid));
-                deviation.add(m - integral);
+                add(m - integral);
                 within.add(v);
             }
         }
     }
     let m = deviation.value() / nf;
-    within.value() / (nf * nf) + m * m
+    let off = CELL_ROUNDING * (magnitude.value() / nf + 2.0 * integral.abs());
+    let inner = within.value() / (nf * nf);
+    CellSum {
+        variance: inner + m * m,
+        // `m²` within `2|m| δ + δ²`: where the occupied cells' mean is I exactly, all that is
+        // left is this rounding.
+        rounding: CELL_ROUNDING * inner + 2.0 * m.abs() * off + off * off,
+    }
 }
 
 /// The unshifted variance of the estimator of `patterns`, estimated from their occupancy of
@@ -306,7 +319,7 @@ pub fn occupancy_variance(
         .filter(|&c| c <= TABLE_CELLS && c <= max_patterns.saturating_mul(n))
         .map(|_| stage(progress, "cell means", 0, || CellTable::new(&moments, n)));
     let within = table.as_ref().map_or(0.0, |t| t.within);
-    let mut estimate = mean_to_target_noise(
+    let (mut estimate, rounding) = mean_of_exact_terms(
         "occupancy of the cells",
         (initial.clamp(2, max_patterns), max_patterns),
         target_noise,
@@ -319,6 +332,7 @@ pub fn occupancy_variance(
         progress,
     )?;
     estimate.variance += within;
+    estimate.rounding = rounding + CELL_ROUNDING * within;
     Ok(estimate)
 }
 
@@ -625,6 +639,7 @@ pub(crate) fn predict_cells(
         );
         let budget = ErrorBudget {
             spectrum_noise: e.standard_error,
+            quadrature: e.rounding,
             ..Default::default()
         };
         let occupancy = Occupancy::Estimated {

@@ -585,6 +585,7 @@ pub(crate) fn scrambled_law_variance(
         "scrambled variances of patterns",
         counts,
         target_noise,
+        0.0,
         |i| match i {
             0 => means.variance(&first),
             _ => means.variance(&ScrambledNet::new(&pattern(i)?, d, cell_seconds, budget)?),

@@ -914,6 +914,7 @@ fn patterns_in_space(
         &label,
         counts,
         params.target_noise,
+        0.0,
         |i| {
             let pattern = sampler.sample(n, params.seed, i as u64)?;
             let (variance, rounding) = super::space::pattern_shift_variance(f, &pattern)?

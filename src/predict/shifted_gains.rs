@@ -119,6 +119,7 @@ pub(super) fn mean_over_shifts(
         label,
         (initial.max(2), max.max(2)),
         params.target_noise,
+        0.0,
         |i| at(&toroidal_shift(d, params.seed, i as u64)[..d]),
         progress,
     )

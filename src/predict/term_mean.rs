@@ -17,6 +17,8 @@ pub struct OccupancyEstimate {
     pub standard_error: f64,
     /// Patterns drawn.
     pub patterns: usize,
+    /// A bound on the rounding of the terms' mean (0 where the terms carry none).
+    pub rounding: f64,
 }
 
 /// The fewest terms an estimate rests on when the work budget cannot afford its usual first
@@ -90,12 +92,13 @@ fn summarize(terms: &[f64]) -> OccupancyEstimate {
         variance,
         standard_error,
         patterns: terms.len(),
+        rounding: 0.0,
     }
 }
 
-/// [`mean_to_target_noise`] of exact terms that carry their own rounding bound (a pattern's
-/// variance by Owen's gains, a shift's by a closed form): the estimate, and the largest
-/// rounding bound of a term, which bounds the mean's.
+/// [`mean_to_target_noise`] (`offset` as there) of exact terms that carry their own rounding
+/// bound (a pattern's variance by Owen's gains, a shift's by a closed form): the estimate, and
+/// the largest rounding bound of a term, which bounds the mean's.
 ///
 /// # Errors
 /// The first term's error.
@@ -103,6 +106,7 @@ pub(crate) fn mean_of_exact_terms(
     label: &str,
     counts: (usize, usize),
     target_noise: f64,
+    offset: f64,
     term: impl Fn(usize) -> Result<CellSum> + Sync,
     progress: &dyn Progress,
 ) -> Result<(OccupancyEstimate, f64)> {
@@ -111,7 +115,7 @@ pub(crate) fn mean_of_exact_terms(
         label,
         counts,
         target_noise,
-        0.0,
+        offset,
         |i| {
             let s = term(i)?;
             let mut largest = rounding.lock().unwrap_or_else(|e| e.into_inner());
