@@ -359,6 +359,7 @@ impl Integrand for Gaussian {
         Some(super::CellSums {
             mean_square: h2 * squares,
             within: (h2 * (seconds - squares)).max(0.0),
+            within_error: 0.0,
             visited: grid.iter().sum::<usize>() as u64,
         })
     }

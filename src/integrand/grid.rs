@@ -343,6 +343,7 @@ impl Integrand for GridIntegrand {
         Some(super::CellSums {
             mean_square: squares.value(),
             within: within.value(),
+            within_error: 0.0,
             visited: (rows.len() * columns.len()) as u64,
         })
     }

@@ -161,6 +161,11 @@ pub struct CellSums {
     pub mean_square: f64,
     /// `Σ_c V_c`.
     pub within: f64,
+    /// A bound on the error of `within` beyond rounding: 0 where every cell's moments were
+    /// computed or known; where they were not (a smooth integrand on cells too many to visit)
+    /// `within` is only bounded, and `mean_square`, the exact `Σ_c (F_c² + V_c)` less
+    /// `within`, carries the same error with the opposite sign.
+    pub within_error: f64,
     /// Cells whose moments were computed (the rest were known without).
     pub visited: u64,
 }
@@ -179,6 +184,7 @@ impl CellSums {
         Self {
             mean_square: squares.value(),
             within: within.value(),
+            within_error: 0.0,
             visited,
         }
     }

@@ -28,6 +28,29 @@ fn exact_cells(what: &str, n: usize, d: usize, budget: &Budget) -> Result<usize>
     Ok(cells)
 }
 
+/// The largest share of its value by which a sum from an integrand's bounded sums over grids'
+/// cells ([`crate::integrand::CellSums::within_error`]: a smooth integrand's, on cells too many
+/// to visit) may be off and still be taken where the table of cells fits and is exact.
+const BOUNDED_SHARE: f64 = 1e-6;
+
+/// Whether `f`'s sums over grids' cells bound its variance within the cells rather than
+/// compute it ([`crate::integrand::CellSums::within_error`]).
+pub(crate) fn bounded_cell_sums(f: &dyn Integrand) -> bool {
+    f.cell_sums(&vec![1; f.dimension()])
+        .is_some_and(|s| s.within_error > 0.0)
+}
+
+/// Whether `sum`, from sums over grids' cells, gives way to the table of the `n^d` cells: its
+/// integrand's sums are bounded rather than computed, its bound is above [`BOUNDED_SHARE`] of
+/// its value, and the table fits.
+fn prefers_table(f: &dyn Integrand, n: usize, d: usize, sum: &CellSum) -> bool {
+    let bounded = bounded_cell_sums(f);
+    let tabulated = n
+        .checked_pow(d as u32)
+        .is_some_and(|c| c <= EXACT_CELL_BUDGET);
+    bounded && tabulated && sum.rounding > BOUNDED_SHARE * sum.variance
+}
+
 /// The variance of the Latin hypercube estimator of `n` points in dimension `d`, unshifted,
 /// exactly: the cells are the `N^d` grid, a pair of points occupies two cells that differ on
 /// every axis with probability `N(N−1)/(N(N−1))^d` each, and the sum over such pairs is, by
@@ -71,8 +94,14 @@ pub fn latin_hypercube_variance(f: &dyn Integrand, n: usize, budget: &Budget) ->
             }
         }
         // In 2D an integrand's own sums over the cells (a disk's crossed cells, a grid's
-        // classes) replace the table of N² cells at every N.
-        LatinHypercubeSum::Crossed => return crossed_latin_hypercube(f, n, budget),
+        // classes) replace the table of N² cells at every N, unless they were bounded rather
+        // than computed and leave more than the table would.
+        LatinHypercubeSum::Crossed => {
+            let sum = crossed_latin_hypercube(f, n, budget)?;
+            if !prefers_table(f, n, d, &sum) {
+                return Ok(sum);
+            }
+        }
         LatinHypercubeSum::Table => {}
     }
     let cells = exact_cells("the Latin hypercube's pair sum", n, d, budget)?;
@@ -179,13 +208,17 @@ fn crossed_latin_hypercube(f: &dyn Integrand, n: usize, budget: &Budget) -> Resu
     };
     let squares = sums.mean_square - nf * nf * integral * integral;
     let pairs = squares - slabs(0) - slabs(1);
-    Ok(latin_hypercube_sum(
+    let mut sum = latin_hypercube_sum(
         (n, 2),
         sums.within,
         squares,
         pairs,
         sums.mean_square + sums.within,
-    ))
+    );
+    // An error `e` in `Σ V` moves `Σ F²` by `−e`: the cells' own terms keep their sum, and
+    // the pairs' moves the variance by `e / (N² · N(N − 1))`.
+    sum.rounding += sums.within_error / (nf * nf * nf * (nf - 1.0).max(1.0));
+    Ok(sum)
 }
 
 /// The Latin hypercube's variance from its three sums over the `N^d` cells: the cells' inner
@@ -341,7 +374,9 @@ pub fn multi_jitter_variance(f: &dyn Integrand, n: usize, budget: &Budget) -> Re
         return Ok(sum);
     }
     if let Some(sum) = super::shuffle_cells::multi_jitter_from_boxes(f, n, budget)? {
-        return Ok(sum);
+        if !prefers_table(f, n, 2, &sum) {
+            return Ok(sum);
+        }
     }
     exact_cells("the multi-jittered pair sum", n, 2, budget)?;
     Ok(super::shuffle_cells::multi_jitter_from_table(f, n))

@@ -202,10 +202,16 @@ pub fn fixed_strata_variance(
             },
             "lower N",
         )?;
-        if let Some(sums) = f.cell_sums(grid) {
+        // Sums whose `Σ_c V_c` is only bounded (a smooth integrand's) are no answer here, where
+        // that sum is the variance.
+        if let Some(sums) = f
+            .cell_sums(grid)
+            .filter(|s| s.within_error <= CELL_ROUNDING * s.within)
+        {
             return Ok(CellSum {
                 variance: sums.within * norm,
-                rounding: CELL_ROUNDING * (sums.within + sums.mean_square) * norm,
+                rounding: (CELL_ROUNDING * (sums.within + sums.mean_square) + sums.within_error)
+                    * norm,
             });
         }
     }
@@ -616,9 +622,19 @@ pub(crate) fn predict_cells(
             }
             _ => "",
         };
+        let bounded = if super::cell_pairs::bounded_cell_sums(f)
+            && matches!(
+                pairs,
+                Some(SamplerKind::LatinHypercube | SamplerKind::MultiJitter)
+            ) {
+            "; where the cells are not tabulated, the smooth integrand's variance within them \
+             bounded by Poincaré's inequality, its bound in the budget"
+        } else {
+            ""
+        };
         let why = format!(
             "{name}, unshifted{alias}: the cell form over the {n}^{d} cells, its pairs of \
-             occupied cells in closed form (exact)"
+             occupied cells in closed form (exact{bounded})"
         );
         (
             s.variance,

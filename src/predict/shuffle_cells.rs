@@ -118,13 +118,24 @@ pub(super) fn multi_jitter_from_boxes(
         nf * (len + 1) as f64 * sums.mean_square / pairs
     };
     let size = cells.mean_square + strip_size(r, &column_strips) + strip_size(m, &row_strips);
-    Ok(Some(multi_jitter_sum(
+    let mut sum = multi_jitter_sum(
         n,
         cells.within / (nf * nf * nf),
         (centred(&cells, n * n), size),
         &means,
         same_column + same_row,
-    )))
+    );
+    // An error `e` in a grid's `Σ V` moves its `Σ F²` by `−e`: the `N × N` cells' two terms
+    // cancel it; a strip grid's moves its line pairs by `e / (len (len − 1))`, over `N²`.
+    let strips = |len: usize, sums: &crate::integrand::CellSums| {
+        if len < 2 {
+            0.0
+        } else {
+            sums.within_error / (len * (len - 1)) as f64
+        }
+    };
+    sum.rounding += (strips(r, &column_strips) + strips(m, &row_strips)) / (nf * nf);
+    Ok(Some(sum))
 }
 
 /// [`line_pairs`] summed over every line of blocks, from sums alone: each line's blocks' sums
