@@ -373,10 +373,10 @@ pub fn multi_jitter_variance(f: &dyn Integrand, n: usize, budget: &Budget) -> Re
     if let Some(sum) = separable_shuffles(f, n, Shuffles::Independent, budget)? {
         return Ok(sum);
     }
-    if let Some(sum) = super::shuffle_cells::multi_jitter_from_boxes(f, n, budget)? {
-        if !prefers_table(f, n, 2, &sum) {
-            return Ok(sum);
-        }
+    if let Some(sum) = super::shuffle_cells::multi_jitter_from_boxes(f, n, budget)?
+        && !prefers_table(f, n, 2, &sum)
+    {
+        return Ok(sum);
     }
     exact_cells("the multi-jittered pair sum", n, 2, budget)?;
     Ok(super::shuffle_cells::multi_jitter_from_table(f, n))
