@@ -331,4 +331,17 @@ impl Integrand for AnisotropicGaussian {
     fn negligible_beyond(&self) -> f64 {
         69.1f64.sqrt() / (2.0 * PI * self.sigma[0].min(self.sigma[1]))
     }
+    fn smooth_decay(&self) -> Option<super::SmoothDecay> {
+        // |f̂|² = (a 2π √det)² e^{−4π² kᵀΣk} and kᵀΣk ≥ s_min² |k|²; the lobe is below the
+        // isotropic Gaussian of the larger width, whose images bound its own.
+        let (narrow, wide) = (
+            self.sigma[0].min(self.sigma[1]),
+            self.sigma[0].max(self.sigma[1]),
+        );
+        Some(super::SmoothDecay {
+            peak: self.spectral_integral().powi(2),
+            rate: 4.0 * PI * PI * narrow * narrow,
+            images: self.height.abs() * super::gaussian_images(&self.centre, wide),
+        })
+    }
 }

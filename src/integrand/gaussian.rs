@@ -608,6 +608,13 @@ impl Integrand for Gaussian {
         // exp(-4π²σ²ρ²) < 1e-30 once 4π²σ²ρ² > 69.1.
         69.1f64.sqrt() / (2.0 * PI * self.sigma)
     }
+    fn smooth_decay(&self) -> Option<super::SmoothDecay> {
+        Some(super::SmoothDecay {
+            peak: self.spectral_integral().powi(2),
+            rate: 4.0 * PI * PI * self.sigma * self.sigma,
+            images: self.height.abs() * super::gaussian_images(&self.centre, self.sigma),
+        })
+    }
 }
 
 #[cfg(test)]

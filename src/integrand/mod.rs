@@ -39,7 +39,7 @@ use crate::quadrature::CompensatedSum;
 use crate::spectrum::Lattice;
 use num_complex::Complex64;
 use rayon::prelude::*;
-use std::f64::consts::PI;
+use std::f64::consts::{PI, SQRT_2};
 
 /// The moments of a separable integrand over the cells of a grid, one row of factors per
 /// axis ([`Integrand::separable_cells`]).
@@ -498,6 +498,49 @@ pub trait Integrand: Send + Sync {
         let _ = rho;
         None
     }
+    /// For a smooth function (a Gaussian), the bound on its full-space power and on its images
+    /// that a sum of its power over a dual lattice needs ([`SmoothDecay`]); `None` otherwise
+    /// (the default).
+    fn smooth_decay(&self) -> Option<SmoothDecay> {
+        None
+    }
+}
+
+/// What a sum of a smooth integrand's power over a lattice of frequencies needs to be bounded
+/// ([`Integrand::smooth_decay`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SmoothDecay {
+    /// `A` in the bound `|f̂(ω)|² ≤ A e^{−c|ω|²}` on the full-space transform's power.
+    pub peak: f64,
+    /// `c` in that bound.
+    pub rate: f64,
+    /// A bound on `Σ_{n≠0} f(x + n)` over the cube (`f` taken over the whole space): the
+    /// periodized function, whose torus coefficients the full-space transform gives at integer
+    /// frequencies, differs from `f` on the cube by at most this.
+    pub images: f64,
+}
+
+/// `Σ_{n ∈ Z^d, n ≠ 0} Π_a g_a(x_a + n_a)` bounded over the cube for the Gaussian factors
+/// `g_a(t) = e^{−(t − c_a)²/(2s²)}`: on axis `a` the term `n_a = 0` is at most 1 and the others
+/// sum to at most `T_a = 2 Σ_{j≥0} e^{−(m_a + j)²/(2s²)}`, `m_a` the centre's distance to the
+/// nearer face (`x_a + n_a` lies outside `[0, 1]`), so the sum is at most `Π_a (1 + T_a) − 1`,
+/// taken as `exp(Σ_a ln(1 + T_a)) − 1` so that a tiny `T_a` is not lost against 1.
+pub(crate) fn gaussian_images(centre: &[f64], s: f64) -> f64 {
+    let logs: f64 = centre
+        .iter()
+        .map(|&c| {
+            let m = c.min(1.0 - c);
+            // The terms to 12 widths past the face, and the rest bounded by the integral of
+            // the decreasing term beyond the last: `s √(π/2) erfc((m + J)/(s√2))`.
+            let last = (12.0 * s).ceil() as usize + 1;
+            let t: f64 = (0..=last)
+                .map(|j| (-(m + j as f64).powi(2) / (2.0 * s * s)).exp())
+                .sum::<f64>()
+                + s * (PI / 2.0).sqrt() * libm::erfc((m + last as f64) / (s * SQRT_2));
+            (2.0 * t).ln_1p()
+        })
+        .sum();
+    logs.exp_m1()
 }
 
 /// The modulus–phase form of an oscillating radial power at one radius (see

@@ -1018,7 +1018,66 @@ fn summed_in_space(
             f.label()
         ),
     })?;
-    Ok(Prediction {
+    let space = in_space(f, n, closed, (value, rounding), reason);
+    // At the floor of the arithmetic the space sum says only its bound: a smooth integrand's
+    // power summed over the dual lattice, in positive terms, may say more.
+    let dual = (rounding > CLOSED_TAIL_SHARE * value)
+        .then(|| over_dual_lattice(f, n, closed, name))
+        .flatten();
+    Ok(match dual {
+        Some(mut dual) if dual.budget.half_width(0.0) < rounding => {
+            dual.alternatives.push(space.as_alternative());
+            dual
+        }
+        Some(dual) => {
+            let mut space = space;
+            space.alternatives.push(dual.as_alternative());
+            space
+        }
+        None => space,
+    })
+}
+
+/// The lattice form of a rank-1 lattice or a regular grid summed over its dual lattice, for a
+/// smooth integrand contained in the cube ([`Integrand::smooth_decay`]); `None` otherwise.
+fn over_dual_lattice(
+    f: &dyn Integrand,
+    n: usize,
+    closed: ClosedForm,
+    name: &str,
+) -> Option<Prediction> {
+    let d = f.dimension();
+    let dual = match closed {
+        ClosedForm::RegularGrid => crate::sampler::strata(n, d)
+            .and_then(|cells| super::dual_lattice::grid_dual_variance(f, &cells)),
+        ClosedForm::Rank1Lattice { generator } => {
+            super::dual_lattice::rank1_dual_variance(f, n, generator)
+        }
+        _ => None,
+    }?;
+    let reason = format!(
+        "{name} at N = {n} has power N on its dual lattice and 0 elsewhere: the lattice form \
+         summed over the dual lattice within |k_i| ≤ {}, in positive terms (the sum in space \
+         subtracts two numbers equal to within the variance), the vectors beyond bounded by \
+         the integrand's Gaussian decay, and its images across the faces as the model term",
+        dual.kmax
+    );
+    let mut p = in_space(f, n, closed, (dual.variance, dual.rounding), reason);
+    p.budget.truncation = dual.truncation;
+    p.budget.model = dual.model;
+    p.evaluations = 0;
+    Some(p)
+}
+
+/// A lattice form's prediction from its value and rounding bound.
+fn in_space(
+    f: &dyn Integrand,
+    n: usize,
+    closed: ClosedForm,
+    (value, rounding): (f64, f64),
+    reason: String,
+) -> Prediction {
+    Prediction {
         randomization: crate::randomization::Randomization::Shift,
         variance: value,
         route: Route {
@@ -1035,7 +1094,7 @@ fn summed_in_space(
         dc_term: 0.0,
         evaluations: n as u64,
         alternatives: Vec::new(),
-    })
+    }
 }
 
 /// The polar form with a closed form's radial mean.
