@@ -977,6 +977,27 @@ const CELL_FORM_GRIDS: [[usize; 2]; 7] = [
     [4096, 2],
 ];
 
+/// `(Σ_c F_c², Σ_c V_c)` over the cells of a 2D grid, each cell's moments one by one, summed
+/// with compensation (a plain sum of 10^6 terms drifts by 1e-11).
+fn cell_sums_one_by_one(f: &dyn Integrand, grid: [usize; 2]) -> (f64, f64) {
+    let cells = (grid[0] * grid[1]) as f64;
+    let (mut squares, mut within) = (CompensatedSum::default(), CompensatedSum::default());
+    for j in 0..grid[1] {
+        for i in 0..grid[0] {
+            let lo = [i as f64 / grid[0] as f64, j as f64 / grid[1] as f64];
+            let hi = [
+                (i + 1) as f64 / grid[0] as f64,
+                (j + 1) as f64 / grid[1] as f64,
+            ];
+            let (mass, square) = f.box_moments(&lo, &hi).unwrap();
+            let mean = mass * cells;
+            squares.add(mean * mean);
+            within.add((square * cells - mean * mean).max(0.0));
+        }
+    }
+    (squares.value(), within.value())
+}
+
 /// Sums over a grid's cells from the integrand's own forms (a disk visits only the cells its
 /// circle crosses, a Gaussian factors by axis) against every cell's moments one by one.
 #[test]
@@ -985,23 +1006,7 @@ fn cell_sums_are_the_cells_one_by_one() {
     cell_form_integrands().par_iter().for_each(|f| {
         for grid in CELL_FORM_GRIDS {
             let sums = f.cell_sums(&grid).unwrap();
-            let cells = (grid[0] * grid[1]) as f64;
-            // Summed with compensation: a plain sum of 10^6 terms drifts by 1e-11.
-            let (mut squares, mut within) = (CompensatedSum::default(), CompensatedSum::default());
-            for j in 0..grid[1] {
-                for i in 0..grid[0] {
-                    let lo = [i as f64 / grid[0] as f64, j as f64 / grid[1] as f64];
-                    let hi = [
-                        (i + 1) as f64 / grid[0] as f64,
-                        (j + 1) as f64 / grid[1] as f64,
-                    ];
-                    let (mass, square) = f.box_moments(&lo, &hi).unwrap();
-                    let mean = mass * cells;
-                    squares.add(mean * mean);
-                    within.add((square * cells - mean * mean).max(0.0));
-                }
-            }
-            let (squares, within) = (squares.value(), within.value());
+            let (squares, within) = cell_sums_one_by_one(f.as_ref(), grid);
             // Each cell's moments round at ROUNDING relative to the cell's second moment.
             let tolerance = ROUNDING * (squares + within);
             assert!(
@@ -1179,22 +1184,7 @@ fn bounded_cell_sums_hold_the_cells_one_by_one() {
     lobes.par_iter().for_each(|f| {
         for grid in [[12, 12], [64, 64], [300, 200], [1000, 999]] {
             let sums = f.cell_sums(&grid).unwrap();
-            let cells = (grid[0] * grid[1]) as f64;
-            let (mut squares, mut within) = (CompensatedSum::default(), CompensatedSum::default());
-            for j in 0..grid[1] {
-                for i in 0..grid[0] {
-                    let lo = [i as f64 / grid[0] as f64, j as f64 / grid[1] as f64];
-                    let hi = [
-                        (i + 1) as f64 / grid[0] as f64,
-                        (j + 1) as f64 / grid[1] as f64,
-                    ];
-                    let (mass, square) = f.box_moments(&lo, &hi).unwrap();
-                    let mean = mass * cells;
-                    squares.add(mean * mean);
-                    within.add((square * cells - mean * mean).max(0.0));
-                }
-            }
-            let (squares, within) = (squares.value(), within.value());
+            let (squares, within) = cell_sums_one_by_one(f, grid);
             let allowed = sums.within_error + ROUNDING * (squares + within);
             let label = format!("{} on {grid:?}", f.label());
             assert!((sums.within - within).abs() <= allowed, "{label}");

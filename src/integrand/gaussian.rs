@@ -284,11 +284,7 @@ impl Gaussian {
                 (0..m)
                     .into_par_iter()
                     .map(|i| {
-                        let cell = (i as f64 / m as f64, (i + 1) as f64 / m as f64);
-                        wrapped_interval(cell.0, cell.1, shift)
-                            .iter()
-                            .map(|&(a, b)| axis_mass(a, b, c, width))
-                            .fold(0.0, |sum, piece| sum + piece)
+                        super::over_wrapped_cell(i, m, shift, |a, b| axis_mass(a, b, c, width))
                     })
                     .collect()
             })

@@ -9,7 +9,7 @@
 //! them; otherwise each end is rounded once, by at most `ε` (they lie in `[0, 2)`), which moves
 //! an overlap by at most `2ε` in absolute terms.
 
-use super::{wrapped_interval, AxisDetails};
+use super::{over_wrapped_cell, AxisDetails};
 
 /// The length of `[a, b) ∩ [lo, hi)`, 0 where they do not meet.
 pub(crate) fn overlap(a: f64, b: f64, lo: f64, hi: f64) -> f64 {
@@ -22,13 +22,7 @@ pub(crate) fn overlap(a: f64, b: f64, lo: f64, hi: f64) -> f64 {
 /// cell's entry is the overlap [`overlap`] gives for its bounds.
 pub(crate) fn masses(lo: f64, hi: f64, m: usize, t: f64) -> Vec<f64> {
     (0..m)
-        .map(|i| {
-            let cell = (i as f64 / m as f64, (i + 1) as f64 / m as f64);
-            wrapped_interval(cell.0, cell.1, t)
-                .iter()
-                .map(|&(a, b)| overlap(a, b, lo, hi))
-                .fold(0.0, |sum, piece| sum + piece)
-        })
+        .map(|i| over_wrapped_cell(i, m, t, |a, b| overlap(a, b, lo, hi)))
         .collect()
 }
 

@@ -638,6 +638,21 @@ pub(crate) fn shift_phase(omega: &[f64], centre: &[f64]) -> Complex64 {
     Complex64::from_polar(1.0, -2.0 * PI * phase)
 }
 
+/// `piece(a, b)` summed over the pieces of cell `i` of `m` equal cells of one axis shifted by
+/// `t` on the torus ([`wrapped_interval`]): an empty piece adds no bit where `piece` gives 0.
+pub(crate) fn over_wrapped_cell(
+    i: usize,
+    m: usize,
+    t: f64,
+    piece: impl Fn(f64, f64) -> f64,
+) -> f64 {
+    let cell = (i as f64 / m as f64, (i + 1) as f64 / m as f64);
+    wrapped_interval(cell.0, cell.1, t)
+        .iter()
+        .map(|&(a, b)| piece(a, b))
+        .fold(0.0, |sum, p| sum + p)
+}
+
 /// The interval `[lo, hi) + t` of one axis (inside `[0, 2)` for `lo, hi, t` in `[0, 1]`) taken
 /// modulo 1: the part before the face and the part past it moved back by 1, either of them
 /// possibly empty (`a ≥ b`).
