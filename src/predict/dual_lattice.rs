@@ -73,6 +73,29 @@ fn finish(
     }
 }
 
+/// A bound on how far jitter's unshifted `‖Πf‖²` (the squared means over the strata of `grid`,
+/// `Πf` the projection on functions constant on them) is from its mean over shifts, for a
+/// smooth `f`. With `β` the strata's box filter (`|β| ≤ 1`) and `x_c` their centres,
+/// `‖Πf‖² = Σ_k Σ_ℓ f̂(k) β(k) conj(f̂(k + mℓ) β(k + mℓ)) (−1)^{Σℓ}` over the strata's
+/// replicas `mℓ`; a shift multiplies the `ℓ ≠ 0` terms by `e^{−2πi mℓ·t}`, whose mean is 0,
+/// so the difference is at most `Σ_{ℓ≠0} Σ_k |f̂(k)| |f̂(k + mℓ)|`. Under `|f̂|² ≤ A e^{−c|ω|²}`,
+/// `|f̂(k)| |f̂(k + v)| ≤ A e^{−c|v|²/4} e^{−c|k + v/2|²}`, the sum over `k` is at most
+/// `(1 + √(π/c))^d`, and over `ℓ ≠ 0` at most `Π_a S_a − 1` with
+/// `S_a = 1 + 2 e^{−q_a}/(1 − e^{−3q_a})`, `q_a = c m_a²/4`.
+pub(crate) fn strata_aliasing(decay: &SmoothDecay, grid: &[usize]) -> f64 {
+    let c = decay.rate;
+    let d = grid.len() as i32;
+    let replicas: f64 = grid
+        .iter()
+        .map(|&m| {
+            let q = c * (m as f64).powi(2) / 4.0;
+            (2.0 * (-q).exp() / (1.0 - (-3.0 * q).exp())).ln_1p()
+        })
+        .sum::<f64>()
+        .exp_m1();
+    decay.peak * (1.0 + (std::f64::consts::PI / c).sqrt()).powi(d) * replicas
+}
+
 /// `|f̂(k)|²` at an integer vector.
 fn power(f: &dyn Integrand, k: &[i64]) -> f64 {
     let omega: Vec<f64> = k.iter().map(|&v| v as f64).collect();

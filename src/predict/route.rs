@@ -351,6 +351,9 @@ pub(crate) fn predict_routed(
     let n = problem.n;
     let kind = problem.kind();
     if uses_cells(problem) {
+        if let Some(p) = jitter_by_aliasing(problem, params, progress)? {
+            return Ok(p);
+        }
         let source = match (problem.patterns, kind, problem.cells) {
             (Patterns::Sampler(sampler), Some(k), _) => CellSource::Sampler(sampler, k),
             (Patterns::PointSets(sets), _, Some(rule)) => CellSource::Sets(sets, rule),
@@ -1036,6 +1039,66 @@ fn summed_in_space(
         }
         None => space,
     })
+}
+
+/// Jitter as drawn beyond the table of its strata, on a smooth integrand without exact sums
+/// over a grid's cells of its own (an anisotropic Gaussian): the shifted estimator's variance,
+/// which its closed form gives at any N, with the distance between the two estimators bounded
+/// as the model term. That distance is `|‖Πf‖² − E_t ‖Πf_t‖²| / N` for the periodized `f_P`
+/// ([`super::dual_lattice::strata_aliasing`]), and `f` differs from `f_P` by its images `E`,
+/// which move either estimator's standard deviation by at most `E`; `None` where the bound is
+/// above [`CLOSED_TAIL_SHARE`] of the value, or for another problem.
+fn jitter_by_aliasing(
+    problem: &Problem<'_>,
+    params: &PredictParams,
+    progress: &dyn Progress,
+) -> Result<Option<Prediction>> {
+    let (f, n) = (problem.integrand, problem.n);
+    let d = f.dimension();
+    let Some(decay) = f.smooth_decay() else {
+        return Ok(None);
+    };
+    let Some(grid) = (problem.kind() == Some(SamplerKind::Jitter)
+        && problem.randomization == Randomization::None
+        && params.form == FormChoice::Auto)
+        .then(|| SamplerKind::Jitter.facts().cells.grid(n, d))
+        .flatten()
+    else {
+        return Ok(None);
+    };
+    let beyond_table = grid
+        .iter()
+        .try_fold(1usize, |a, &m| a.checked_mul(m))
+        .is_none_or(|c| c > super::cell_moments::EXACT_CELL_BUDGET);
+    let exact_sums = f.cell_sums(&grid).is_some_and(|s| s.within_error == 0.0);
+    if !beyond_table || exact_sums {
+        return Ok(None);
+    }
+    let shifted = Problem {
+        randomization: Randomization::Shift,
+        ..*problem
+    };
+    let mut p = predict_routed(&shifted, params, progress)?;
+    let images = decay.images;
+    let spread = 2.0 * p.variance.sqrt() * images + images * images;
+    let model = super::dual_lattice::strata_aliasing(&decay, &grid) / n as f64 + 2.0 * spread;
+    if model > CLOSED_TAIL_SHARE * p.variance {
+        return Ok(None);
+    }
+    p.budget.model += model;
+    p.randomization = Randomization::None;
+    p.reason = format!(
+        "jitter as drawn ({} strata) on a smooth integrand: the shifted estimator's variance, \
+         which differs from the unshifted one only through the pairs of frequencies k, k + mℓ \
+         of the strata's replicas, bounded by the integrand's Gaussian decay, and its images \
+         across the faces (the model term); the shifted one by {}",
+        grid.iter()
+            .map(|m| m.to_string())
+            .collect::<Vec<_>>()
+            .join(" × "),
+        p.reason
+    );
+    Ok(Some(p))
 }
 
 /// The lattice form of a rank-1 lattice or a regular grid summed over its dual lattice, for a
