@@ -204,14 +204,10 @@ pub fn fixed_strata_variance(
         )?;
         // Sums whose `Σ_c V_c` is only bounded (a smooth integrand's) are no answer here, where
         // that sum is the variance.
-        if let Some(sums) = f
-            .cell_sums(grid)
-            .filter(|s| s.within_error <= CELL_ROUNDING * s.within)
-        {
+        if let Some(sums) = f.cell_sums(grid).filter(|s| s.within_error == 0.0) {
             return Ok(CellSum {
                 variance: sums.within * norm,
-                rounding: (CELL_ROUNDING * (sums.within + sums.mean_square) + sums.within_error)
-                    * norm,
+                rounding: CELL_ROUNDING * (sums.within + sums.mean_square) * norm,
             });
         }
     }
@@ -325,7 +321,7 @@ pub fn occupancy_variance(
         .filter(|&c| c <= TABLE_CELLS && c <= max_patterns.saturating_mul(n))
         .map(|_| stage(progress, "cell means", 0, || CellTable::new(&moments, n)));
     let within = table.as_ref().map_or(0.0, |t| t.within);
-    let (mut estimate, rounding) = mean_of_exact_terms(
+    let mut estimate = mean_of_exact_terms(
         "occupancy of the cells",
         (initial.clamp(2, max_patterns), max_patterns),
         target_noise,
@@ -338,7 +334,7 @@ pub fn occupancy_variance(
         progress,
     )?;
     estimate.variance += within;
-    estimate.rounding = rounding + CELL_ROUNDING * within;
+    estimate.rounding += CELL_ROUNDING * within;
     Ok(estimate)
 }
 
@@ -822,7 +818,7 @@ fn gains_over_patterns(
     );
     let budget = ErrorBudget {
         spectrum_noise: e.standard_error,
-        quadrature: law.rounding,
+        quadrature: law.estimate.rounding,
         ..Default::default()
     };
     let occupancy = Occupancy::GainsOverPatterns {

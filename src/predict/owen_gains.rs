@@ -552,7 +552,6 @@ pub(crate) fn scrambled_net_variance(
 /// variance reads.
 pub(crate) struct ScrambledLawEstimate {
     pub(crate) estimate: OccupancyEstimate,
-    pub(crate) rounding: f64,
     pub(crate) cells: usize,
 }
 
@@ -581,7 +580,7 @@ pub(crate) fn scrambled_law_variance(
     let first = ScrambledNet::new(&pattern(0)?, d, cell_seconds, budget)?;
     let tops = columns(&grids_read(&first.levels, d), d);
     let means = LevelVariances::new(f, &tops, &vec![0.0; d])?;
-    let (estimate, rounding) = mean_of_exact_terms(
+    let estimate = mean_of_exact_terms(
         "scrambled variances of patterns",
         counts,
         target_noise,
@@ -594,7 +593,6 @@ pub(crate) fn scrambled_law_variance(
     )?;
     Ok(ScrambledLawEstimate {
         estimate,
-        rounding,
         cells: tops.iter().map(|g| cells_of(g, d)).sum(),
     })
 }

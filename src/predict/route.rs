@@ -913,7 +913,7 @@ fn patterns_in_space(
         "lower N",
     )?;
     let label = format!("pair sums of {} at N = {n}", sampler.name());
-    let (estimate, rounding) = super::term_mean::mean_of_exact_terms(
+    let estimate = super::term_mean::mean_of_exact_terms(
         &label,
         counts,
         params.target_noise,
@@ -949,7 +949,7 @@ fn patterns_in_space(
         ),
         budget: ErrorBudget {
             spectrum_noise: estimate.standard_error,
-            quadrature: rounding,
+            quadrature: estimate.rounding,
             ..Default::default()
         },
         n,
@@ -1070,7 +1070,9 @@ fn jitter_by_aliasing(
         .iter()
         .try_fold(1usize, |a, &m| a.checked_mul(m))
         .is_none_or(|c| c > super::cell_moments::EXACT_CELL_BUDGET);
-    let exact_sums = f.cell_sums(&grid).is_some_and(|s| s.within_error == 0.0);
+    // One cell per axis asks at no cost whether the integrand's own sums are exact (they then
+    // answer through the cell form at any N).
+    let exact_sums = f.cell_sums(&vec![1; d]).is_some() && !super::cell_pairs::bounded_cell_sums(f);
     if !beyond_table || exact_sums {
         return Ok(None);
     }

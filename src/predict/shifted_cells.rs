@@ -173,7 +173,7 @@ pub(crate) fn predict_shifted_shuffles(
         },
         "lower N",
     )?;
-    let (estimate, rounding) = mean_over_shifts(
+    let estimate = mean_over_shifts(
         "exact variances over shifts",
         (d, params),
         per_shift,
@@ -214,6 +214,6 @@ pub(crate) fn predict_shifted_shuffles(
         (n, d),
         (2 * n * estimate.patterns) as u64,
     );
-    p.budget.quadrature = rounding;
+    p.budget.quadrature = estimate.rounding;
     Ok(p)
 }

@@ -58,7 +58,7 @@ pub(crate) fn predict_shifted_net(
     let cell_seconds = seconds_per_grid_cell(f);
     let net = ScrambledNet::new(&pattern, d, cell_seconds, &params.budget)?;
     let per_shift = net.cells as f64 * cell_seconds;
-    let (estimate, rounding) = mean_over_shifts(
+    let estimate = mean_over_shifts(
         "Owen's gains over shifts",
         (d, params),
         per_shift,
@@ -95,14 +95,14 @@ pub(crate) fn predict_shifted_net(
     };
     let evaluations = (net.cells * estimate.patterns) as u64;
     let mut p = shifted_prediction(&estimate, origin, reason, (n, d), evaluations);
-    p.budget.quadrature = rounding;
+    p.budget.quadrature = estimate.rounding;
     Ok(p)
 }
 
 /// The mean over independent uniform shifts `t` of an exact conditional variance `at(t)`
 /// (with its rounding bound), shifts added from `counts.0` until the relative standard error
 /// reaches `params.target_noise` or the work budget, at `per_shift` seconds each, ends: the
-/// estimate, and the largest rounding bound of a term.
+/// estimate, its rounding the largest rounding bound of a term.
 ///
 /// # Errors
 /// The first term's error.
@@ -113,7 +113,7 @@ pub(super) fn mean_over_shifts(
     counts: (usize, usize),
     at: impl Fn(&[f64]) -> Result<CellSum> + Sync,
     progress: &dyn Progress,
-) -> Result<(OccupancyEstimate, f64)> {
+) -> Result<OccupancyEstimate> {
     let (initial, max) = terms_within_budget(params, per_shift, counts);
     mean_of_exact_terms(
         label,

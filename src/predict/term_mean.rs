@@ -97,8 +97,8 @@ fn summarize(terms: &[f64]) -> OccupancyEstimate {
 }
 
 /// [`mean_to_target_noise`] (`offset` as there) of exact terms that carry their own rounding
-/// bound (a pattern's variance by Owen's gains, a shift's by a closed form): the estimate, and
-/// the largest rounding bound of a term, which bounds the mean's.
+/// bound (a pattern's variance by Owen's gains, a shift's by a closed form): the estimate, its
+/// rounding the largest rounding bound of a term, which bounds the mean's.
 ///
 /// # Errors
 /// The first term's error.
@@ -109,9 +109,9 @@ pub(crate) fn mean_of_exact_terms(
     offset: f64,
     term: impl Fn(usize) -> Result<CellSum> + Sync,
     progress: &dyn Progress,
-) -> Result<(OccupancyEstimate, f64)> {
+) -> Result<OccupancyEstimate> {
     let rounding = Mutex::new(0.0f64);
-    let estimate = mean_to_target_noise(
+    let mut estimate = mean_to_target_noise(
         label,
         counts,
         target_noise,
@@ -124,6 +124,6 @@ pub(crate) fn mean_of_exact_terms(
         },
         progress,
     )?;
-    let rounding = rounding.into_inner().unwrap_or_else(|e| e.into_inner());
-    Ok((estimate, rounding))
+    estimate.rounding = rounding.into_inner().unwrap_or_else(|e| e.into_inner());
+    Ok(estimate)
 }
