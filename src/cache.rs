@@ -54,7 +54,7 @@ use crate::sampler::{Sampler, SamplerKind};
 
 /// The format version of cached patterns: a change of a sampler's algorithm bumps it, so that
 /// older patterns are recomputed instead of read.
-pub const PATTERN_FORMAT: u32 = 3;
+pub const PATTERN_FORMAT: u32 = 4;
 
 const MAGIC: &[u8; 4] = b"SPVP";
 

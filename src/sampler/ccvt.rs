@@ -45,7 +45,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     isotropic: true,
     symmetry: Symmetry::Cube,
     correlation_reach: 2.0,
-    cost_per_point_ns: 190_000.0,
+    cost_per_point_ns: 85_000.0,
     cost_growth: 0.0,
     cost_dimension: DimensionCost::PerDimension(4.5),
     working_bytes,
@@ -162,7 +162,7 @@ impl Ccvt {
                 break;
             }
         }
-        let capacities = state.owned.iter().map(Vec::len).collect();
+        let capacities = state.owned.iter().map(Owned::len).collect();
         let stats = CcvtStats {
             iterations,
             converged,
@@ -409,15 +409,63 @@ impl Choices<'_> {
     }
 }
 
+/// The discrete points one site owns: their indices (which order equal gains) and their
+/// coordinates beside them, in the same order, so that the pair pass reads each site's points
+/// from one contiguous block instead of gathering them from the whole density.
+struct Owned {
+    ids: Vec<u32>,
+    coords: Vec<f64>,
+}
+
+impl Owned {
+    fn with_points(d: usize, ids: Vec<u32>, points: &[f64]) -> Self {
+        let coords = ids
+            .iter()
+            .flat_map(|&x| &points[x as usize * d..(x as usize + 1) * d])
+            .copied()
+            .collect();
+        Self { ids, coords }
+    }
+
+    fn len(&self) -> usize {
+        self.ids.len()
+    }
+
+    /// Removes the points whose positions `gone` lists, keeping the others in order.
+    fn remove(&mut self, d: usize, gone: &[Gain]) {
+        let mut kept = 0;
+        for k in 0..self.ids.len() {
+            if gone.iter().all(|g| g.position as usize != k) {
+                self.ids[kept] = self.ids[k];
+                self.coords.copy_within(k * d..(k + 1) * d, kept * d);
+                kept += 1;
+            }
+        }
+        self.ids.truncate(kept);
+        self.coords.truncate(kept * d);
+    }
+}
+
+/// A point's gain from moving to the other site of a pair, with its index and its position
+/// in its site's list.
+#[derive(Clone, Copy)]
+struct Gain {
+    gain: f64,
+    id: u32,
+    position: u32,
+}
+
 struct State {
     d: usize,
     n: usize,
-    points: Vec<f64>,
+    /// The number of discrete points.
+    m: usize,
     sites: Vec<f64>,
-    owned: Vec<Vec<u32>>,
+    owned: Vec<Owned>,
     // Scratch buffers for the pair pass, reused so the inner loop does not allocate.
-    hi: Vec<(f64, u32)>,
-    hj: Vec<(f64, u32)>,
+    hi: Vec<Gain>,
+    hj: Vec<Gain>,
+    moving: Vec<f64>,
     /// Sites whose points changed during the current pass, and during the previous one.
     changed: Vec<bool>,
     previous: Vec<bool>,
@@ -432,26 +480,25 @@ impl State {
     fn new(d: usize, n: usize, capacity: usize, seed: u64, realization: u64) -> Self {
         let points = stratified_density(d, n * capacity, seed, realization);
         let sites = initial_sites(d, n, seed, realization);
-        let owned = greedy_assignment(d, n, capacity, &points, &sites);
+        let owned = greedy_assignment(d, n, capacity, &points, &sites)
+            .into_iter()
+            .map(|ids| Owned::with_points(d, ids, &points))
+            .collect();
         let mut state = Self {
             d,
             n,
-            points,
+            m: points.len() / d,
             sites,
             owned,
             hi: Vec::with_capacity(capacity),
             hj: Vec::with_capacity(capacity),
+            moving: Vec::with_capacity(capacity * d),
             changed: vec![true; n],
             previous: vec![true; n],
         };
         state.move_sites();
         state.previous = vec![true; n];
         state
-    }
-
-    fn point(&self, i: u32) -> &[f64] {
-        let i = i as usize;
-        &self.points[i * self.d..(i + 1) * self.d]
     }
 
     fn site(&self, s: usize) -> &[f64] {
@@ -511,11 +558,11 @@ impl State {
         swaps
     }
 
-    /// The gain `|x − a|² − |x − b|²` of moving each point of site `from` (at `a`) to site
+    /// The gain `|x − a|² − |x − b|²` of moving a point `x` of site `from` (at `a`) to site
     /// `to` (at `b`). With `δ = x − a` and `e = b − a` (toroidal, both short: the point is near
     /// its site and the sites are neighbours), it is `2 δ·e − |e|²`: one difference per axis.
-    fn gains(&self, from: usize, to: usize, out: &mut Vec<(f64, u32)>) -> f64 {
-        out.clear();
+    /// Returns the gain of each of `from`'s points, in order, to `visit`.
+    fn for_each_gain(&self, from: usize, to: usize, mut visit: impl FnMut(usize, f64)) {
         let d = self.d;
         let (a, b) = (self.site(from), self.site(to));
         let mut e = [0.0f64; 3];
@@ -523,49 +570,89 @@ impl State {
             e[k] = toroidal_delta(b[k], a[k]);
         }
         let ee: f64 = e[..d].iter().map(|v| v * v).sum();
-        let mut best = f64::NEG_INFINITY;
-        for &x in &self.owned[from] {
-            let p = self.point(x);
+        for (position, p) in self.owned[from].coords.chunks_exact(d).enumerate() {
             let mut dot = 0.0;
             for k in 0..d {
                 dot += near_delta(p[k], a[k]) * e[k];
             }
-            let h = 2.0 * dot - ee;
-            best = best.max(h);
-            out.push((h, x));
+            visit(position, 2.0 * dot - ee);
         }
+    }
+
+    /// The largest gain of moving a point of `from` to `to`.
+    fn best_gain(&self, from: usize, to: usize) -> f64 {
+        let mut best = f64::NEG_INFINITY;
+        self.for_each_gain(from, to, |_, gain| best = best.max(gain));
         best
     }
 
+    /// The points of `from` whose gain to `to` exceeds `floor`, in `out`.
+    fn gains_above(&self, from: usize, to: usize, floor: f64, out: &mut Vec<Gain>) {
+        out.clear();
+        let ids = &self.owned[from].ids;
+        self.for_each_gain(from, to, |position, gain| {
+            if gain > floor {
+                out.push(Gain {
+                    gain,
+                    id: ids[position],
+                    position: position as u32,
+                });
+            }
+        });
+    }
+
+    /// Swaps points between sites `i` and `j` while the sum of their gains is positive;
+    /// returns how many went each way. Most pairs swap nothing, and their best gains alone
+    /// say so: the lists are built only for the others.
     fn swap_pair(&mut self, i: usize, j: usize) -> usize {
+        let (best_i, best_j) = (self.best_gain(i, j), self.best_gain(j, i));
+        if best_i + best_j <= 0.0 {
+            return 0;
+        }
         let mut hi = std::mem::take(&mut self.hi);
         let mut hj = std::mem::take(&mut self.hj);
-        let best_i = self.gains(i, j, &mut hi);
-        let best_j = self.gains(j, i, &mut hj);
+        // Only a point whose gain beats minus the other side's best can be in a swapped pair:
+        // sort those alone (usually a handful of the capacity).
+        self.gains_above(i, j, -best_j, &mut hi);
+        self.gains_above(j, i, -best_i, &mut hj);
+        let by_gain = |a: &Gain, b: &Gain| b.gain.total_cmp(&a.gain).then(a.id.cmp(&b.id));
+        hi.sort_unstable_by(by_gain);
+        hj.sort_unstable_by(by_gain);
         let mut swaps = 0;
-        if best_i + best_j > 0.0 {
-            // Only a point whose gain beats minus the other side's best can be in a swapped
-            // pair: sort those alone (usually a handful of the capacity).
-            hi.retain(|h| h.0 > -best_j);
-            hj.retain(|h| h.0 > -best_i);
-            let by_gain = |a: &(f64, u32), b: &(f64, u32)| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1));
-            hi.sort_unstable_by(by_gain);
-            hj.sort_unstable_by(by_gain);
-            while swaps < hi.len() && swaps < hj.len() && hi[swaps].0 + hj[swaps].0 > 0.0 {
-                swaps += 1;
-            }
-            if swaps > 0 {
-                let (out_i, out_j) = (&hi[..swaps], &hj[..swaps]);
-                let leaving = |moved: &[(f64, u32)], x: u32| moved.iter().any(|m| m.1 == x);
-                self.owned[i].retain(|&x| !leaving(out_i, x));
-                self.owned[j].retain(|&x| !leaving(out_j, x));
-                self.owned[i].extend(out_j.iter().map(|m| m.1));
-                self.owned[j].extend(out_i.iter().map(|m| m.1));
-            }
+        while swaps < hi.len() && swaps < hj.len() && hi[swaps].gain + hj[swaps].gain > 0.0 {
+            swaps += 1;
+        }
+        if swaps > 0 {
+            self.exchange(i, &hi[..swaps], j, &hj[..swaps]);
         }
         self.hi = hi;
         self.hj = hj;
         swaps
+    }
+
+    /// Moves the points `out_i` of site `i` to site `j` and `out_j` of `j` to `i`: each
+    /// site keeps its other points in order and takes the newcomers at its end, in the order
+    /// given.
+    fn exchange(&mut self, i: usize, out_i: &[Gain], j: usize, out_j: &[Gain]) {
+        let d = self.d;
+        let mut moving = std::mem::take(&mut self.moving);
+        moving.clear();
+        for (site, out) in [(i, out_i), (j, out_j)] {
+            let coords = &self.owned[site].coords;
+            for g in out {
+                let at = g.position as usize * d;
+                moving.extend_from_slice(&coords[at..at + d]);
+            }
+        }
+        let (from_i, from_j) = moving.split_at(out_i.len() * d);
+        self.owned[i].remove(d, out_i);
+        self.owned[j].remove(d, out_j);
+        for (site, out, coords) in [(i, out_j, from_j), (j, out_i, from_i)] {
+            let owned = &mut self.owned[site];
+            owned.ids.extend(out.iter().map(|g| g.id));
+            owned.coords.extend_from_slice(coords);
+        }
+        self.moving = moving;
     }
 
     /// Moves every site whose points changed in this pass to the toroidal centroid of its
@@ -574,8 +661,7 @@ impl State {
         let d = self.d;
         for s in (0..self.n).filter(|&s| self.changed[s]) {
             let mut mean = [0.0f64; 3];
-            for &x in &self.owned[s] {
-                let p = self.point(x);
+            for p in self.owned[s].coords.chunks_exact(d) {
                 for a in 0..d {
                     mean[a] += toroidal_delta(p[a], self.sites[s * d + a]);
                 }
@@ -590,15 +676,17 @@ impl State {
     }
 
     fn energy(&self) -> f64 {
+        let d = self.d;
         let total: f64 = (0..self.n)
             .map(|s| {
                 self.owned[s]
-                    .iter()
-                    .map(|&x| toroidal_distance_sq(self.point(x), self.site(s)))
+                    .coords
+                    .chunks_exact(d)
+                    .map(|p| toroidal_distance_sq(p, self.site(s)))
                     .sum::<f64>()
             })
             .sum();
-        total / (self.points.len() / self.d) as f64
+        total / self.m as f64
     }
 }
 
