@@ -323,19 +323,22 @@ fn greedy_assignment(
         sites,
         grid: &grid,
     };
-    let firsts: Vec<Reverse<u128>> = (0..m)
-        .filter_map(|x| choices.next(x, None).map(Reverse))
-        .collect();
-    let mut heap = BinaryHeap::from(firsts);
+    let mut firsts: Vec<u128> = (0..m).filter_map(|x| choices.next(x, None)).collect();
+    firsts.sort_unstable();
+    let mut keys = KeysInOrder {
+        firsts: &firsts,
+        taken: 0,
+        later: BinaryHeap::new(),
+    };
     let mut owned: Vec<Vec<u32>> = vec![Vec::with_capacity(capacity); n];
     let mut assigned = vec![false; m];
-    while let Some(Reverse(key)) = heap.pop() {
+    while let Some(key) = keys.pop() {
         let (x, s) = ((key >> 32) as u32 as usize, key as u32 as usize);
         if owned[s].len() < capacity {
             assigned[x] = true;
             owned[s].push(x as u32);
         } else if let Some(next) = choices.next(x, Some(key)) {
-            heap.push(Reverse(next));
+            keys.later.push(Reverse(next));
         }
     }
     for x in (0..m).filter(|&x| !assigned[x]) {
@@ -352,6 +355,29 @@ fn greedy_assignment(
         }
     }
     owned
+}
+
+/// The keys of [`greedy_assignment`] in increasing order: every point's first key, sorted
+/// once, merged with the later keys pushed while it runs. The same order as one heap of all of
+/// them (keys are distinct), without a heap of `64 N` keys, whose every pop misses the caches.
+struct KeysInOrder<'a> {
+    firsts: &'a [u128],
+    taken: usize,
+    later: BinaryHeap<Reverse<u128>>,
+}
+
+impl KeysInOrder<'_> {
+    fn pop(&mut self) -> Option<u128> {
+        let first = self.firsts.get(self.taken).copied();
+        match (first, self.later.peek()) {
+            (Some(a), Some(&Reverse(b))) if b < a => self.later.pop().map(|r| r.0),
+            (Some(a), _) => {
+                self.taken += 1;
+                Some(a)
+            }
+            (None, _) => self.later.pop().map(|r| r.0),
+        }
+    }
 }
 
 /// The candidate pairs of each point in [`greedy_assignment`]: the sites in the 5^d grid cells
@@ -453,6 +479,68 @@ struct Gain {
     gain: f64,
     id: u32,
     position: u32,
+}
+
+/// A pair of sites seen from the first, at `a`: the step `e = b − a` to the second and its
+/// squared length, for the gains of [`State::for_each_gain`].
+struct PairFrame {
+    a: [f64; 3],
+    e: [f64; 3],
+    ee: f64,
+    d: usize,
+}
+
+impl PairFrame {
+    fn new(a: &[f64], b: &[f64]) -> Self {
+        let d = a.len();
+        let mut frame = Self {
+            a: [0.0; 3],
+            e: [0.0; 3],
+            ee: 0.0,
+            d,
+        };
+        for k in 0..d {
+            frame.a[k] = a[k];
+            frame.e[k] = toroidal_delta(b[k], a[k]);
+        }
+        frame.ee = frame.e[..d].iter().map(|v| v * v).sum();
+        frame
+    }
+
+    /// `2 δ·e − |e|²` for the point `p`.
+    #[inline(always)]
+    fn gain(&self, p: &[f64]) -> f64 {
+        let mut dot = 0.0;
+        for k in 0..self.d {
+            dot += near_delta(p[k], self.a[k]) * self.e[k];
+        }
+        2.0 * dot - self.ee
+    }
+
+    /// The largest [`gain`](Self::gain) over points of `D` coordinates: the same gains in
+    /// four independent running maxima (a maximum is exact in any order), which the compiler
+    /// can keep in one vector register instead of a chain of dependent compares.
+    fn best_gain<const D: usize>(&self, coords: &[f64]) -> f64 {
+        let gain = |p: &[f64]| {
+            let mut dot = 0.0;
+            for k in 0..D {
+                dot += near_delta(p[k], self.a[k]) * self.e[k];
+            }
+            2.0 * dot - self.ee
+        };
+        let larger = |best: f64, g: f64| if g > best { g } else { best };
+        let mut lanes = [f64::NEG_INFINITY; 4];
+        let mut blocks = coords.chunks_exact(4 * D);
+        for block in &mut blocks {
+            for (lane, p) in lanes.iter_mut().zip(block.chunks_exact(D)) {
+                *lane = larger(*lane, gain(p));
+            }
+        }
+        for p in blocks.remainder().chunks_exact(D) {
+            lanes[0] = larger(lanes[0], gain(p));
+        }
+        lanes.into_iter().fold(f64::NEG_INFINITY, larger)
+    }
 }
 
 struct State {
@@ -563,27 +651,22 @@ impl State {
     /// its site and the sites are neighbours), it is `2 δ·e − |e|²`: one difference per axis.
     /// Returns the gain of each of `from`'s points, in order, to `visit`.
     fn for_each_gain(&self, from: usize, to: usize, mut visit: impl FnMut(usize, f64)) {
-        let d = self.d;
-        let (a, b) = (self.site(from), self.site(to));
-        let mut e = [0.0f64; 3];
-        for k in 0..d {
-            e[k] = toroidal_delta(b[k], a[k]);
-        }
-        let ee: f64 = e[..d].iter().map(|v| v * v).sum();
-        for (position, p) in self.owned[from].coords.chunks_exact(d).enumerate() {
-            let mut dot = 0.0;
-            for k in 0..d {
-                dot += near_delta(p[k], a[k]) * e[k];
-            }
-            visit(position, 2.0 * dot - ee);
+        let frame = PairFrame::new(self.site(from), self.site(to));
+        for (position, p) in self.owned[from].coords.chunks_exact(self.d).enumerate() {
+            visit(position, frame.gain(p));
         }
     }
 
-    /// The largest gain of moving a point of `from` to `to`.
+    /// The largest gain of moving a point of `from` to `to`, the gains being those of
+    /// [`for_each_gain`](Self::for_each_gain).
     fn best_gain(&self, from: usize, to: usize) -> f64 {
-        let mut best = f64::NEG_INFINITY;
-        self.for_each_gain(from, to, |_, gain| best = best.max(gain));
-        best
+        let frame = PairFrame::new(self.site(from), self.site(to));
+        let coords = &self.owned[from].coords;
+        match self.d {
+            1 => frame.best_gain::<1>(coords),
+            2 => frame.best_gain::<2>(coords),
+            _ => frame.best_gain::<3>(coords),
+        }
     }
 
     /// The points of `from` whose gain to `to` exceeds `floor`, in `out`.
