@@ -12,7 +12,7 @@ use super::facts::{
 };
 use super::{check_supported, uniform, uniform_index, Sampler, SamplerKind};
 use crate::error::{invalid, Error, Result};
-use crate::pointset::{toroidal_distance_sq, wrap, PointSet};
+use crate::pointset::{toroidal_distance_sq, toroidal_square, wrap, PointSet};
 use crate::randomization::Randomization;
 use crate::rng::{realization_rng, splitmix64, Stream};
 use rand_pcg::Pcg64;
@@ -308,23 +308,40 @@ impl Grid {
         self.points.extend_from_slice(p);
     }
 
-    /// Whether one point covers the whole sub-cell `c` of side `1/(g 2^level)`: a ball is
-    /// convex, so covering the 2^d corners suffices.
-    fn covers_subcell(&self, c: &[u32; 3], level: u32) -> bool {
+    /// The coordinates of the points in the cells around base cell `c` (those that can cover a
+    /// part of it), in `out`.
+    fn points_near(&self, c: [usize; 3], out: &mut Vec<f64>) {
+        out.clear();
+        self.any_neighbour(c, |i| {
+            out.extend_from_slice(self.point(i));
+            false
+        });
+    }
+
+    /// Whether one of the points `near` (those around the sub-cell's base cell) covers the
+    /// whole sub-cell `c` of side `1/(g 2^level)`: a ball is convex, so covering the 2^d
+    /// corners suffices.
+    ///
+    /// A corner's squared distance is a sum over the axes of the squared distance to the
+    /// cell's lower or upper side on that axis; the corner taking the larger on every axis is
+    /// the farthest, and rounding, which never decreases a sum when a term grows, keeps it the
+    /// largest computed sum too. So one sum of the axes' larger terms decides for all the
+    /// corners, with the same bits as that corner's own distance.
+    fn covers_subcell(&self, near: &[f64], c: &[u32; 3], level: u32) -> bool {
+        let d = self.d;
         let side = 1.0 / (self.g as f64 * (1u64 << level) as f64);
-        let corner_count = 1usize << self.d;
-        let mut corners = [[0.0f64; 3]; 8];
-        for (bits, corner) in corners.iter_mut().enumerate().take(corner_count) {
-            for a in 0..self.d {
-                corner[a] = (c[a] as f64 + ((bits >> a) & 1) as f64) * side;
-            }
+        let mut sides = [[0.0f64; 2]; 3];
+        for a in 0..d {
+            sides[a] = [c[a] as f64 * side, (c[a] as f64 + 1.0) * side];
         }
-        let corners = &corners[..corner_count];
-        self.any_neighbour(self.base_cell(c, level), |i| {
-            let q = self.point(i);
-            corners
-                .iter()
-                .all(|corner| toroidal_distance_sq(q, &corner[..self.d]) < self.r2)
+        near.chunks_exact(d).any(|q| {
+            let farthest: f64 = (0..d)
+                .map(|a| {
+                    let [lo, hi] = sides[a];
+                    toroidal_square(q[a] - lo).max(toroidal_square(q[a] - hi))
+                })
+                .sum();
+            farthest < self.r2
         })
     }
 
@@ -401,12 +418,18 @@ fn dart_throwing(grid: &mut Grid, n: usize, rng: &mut Pcg64) -> Result<()> {
     })
 }
 
-/// Splits every active cell into its 2^d children, keeping those not provably covered.
+/// Splits every active cell into its 2^d children, keeping those not provably covered. A cell
+/// and its children share their base cell, so the points around it are gathered once for all.
 fn refine(grid: &Grid, active: &[[u32; 3]], level: u32) -> Vec<[u32; 3]> {
     let d = grid.d;
     let mut next = Vec::with_capacity(active.len() * 2);
+    let mut near = Vec::new();
     for c in active {
-        if grid.base_occupied(c, level) || grid.covers_subcell(c, level) {
+        if grid.base_occupied(c, level) {
+            continue;
+        }
+        grid.points_near(grid.base_cell(c, level), &mut near);
+        if grid.covers_subcell(&near, c, level) {
             continue;
         }
         for bits in 0..1usize << d {
@@ -414,7 +437,7 @@ fn refine(grid: &Grid, active: &[[u32; 3]], level: u32) -> Vec<[u32; 3]> {
             for a in 0..d {
                 child[a] = 2 * c[a] + ((bits >> a) & 1) as u32;
             }
-            if !grid.covers_subcell(&child, level + 1) {
+            if !grid.covers_subcell(&near, &child, level + 1) {
                 next.push(child);
             }
         }
