@@ -508,10 +508,15 @@ impl PairFrame {
     }
 
     /// `2 δ·e − |e|²` for the point `p`.
-    #[inline(always)]
     fn gain(&self, p: &[f64]) -> f64 {
+        self.gain_over(p, self.d)
+    }
+
+    /// `2 δ·e − |e|²` over the first `d` axes of `p` (inlined, so that a constant `d` unrolls).
+    #[inline(always)]
+    fn gain_over(&self, p: &[f64], d: usize) -> f64 {
         let mut dot = 0.0;
-        for k in 0..self.d {
+        for k in 0..d {
             dot += near_delta(p[k], self.a[k]) * self.e[k];
         }
         2.0 * dot - self.ee
@@ -521,13 +526,7 @@ impl PairFrame {
     /// four independent running maxima (a maximum is exact in any order), which the compiler
     /// can keep in one vector register instead of a chain of dependent compares.
     fn best_gain<const D: usize>(&self, coords: &[f64]) -> f64 {
-        let gain = |p: &[f64]| {
-            let mut dot = 0.0;
-            for k in 0..D {
-                dot += near_delta(p[k], self.a[k]) * self.e[k];
-            }
-            2.0 * dot - self.ee
-        };
+        let gain = |p: &[f64]| self.gain_over(p, D);
         let larger = |best: f64, g: f64| if g > best { g } else { best };
         let mut lanes = [f64::NEG_INFINITY; 4];
         let mut blocks = coords.chunks_exact(4 * D);
