@@ -482,7 +482,9 @@ struct Gain {
 }
 
 /// A pair of sites seen from the first, at `a`: the step `e = b − a` to the second and its
-/// squared length, for the gains of [`State::for_each_gain`].
+/// squared length. The gain `|x − a|² − |x − b|²` of moving a point `x` from the first site to
+/// the second is, with `δ = x − a` (toroidal, both short: the point is near its site and the
+/// sites are neighbours), `2 δ·e − |e|²`: one difference per axis.
 struct PairFrame {
     a: [f64; 3],
     e: [f64; 3],
@@ -645,19 +647,7 @@ impl State {
         swaps
     }
 
-    /// The gain `|x − a|² − |x − b|²` of moving a point `x` of site `from` (at `a`) to site
-    /// `to` (at `b`). With `δ = x − a` and `e = b − a` (toroidal, both short: the point is near
-    /// its site and the sites are neighbours), it is `2 δ·e − |e|²`: one difference per axis.
-    /// Returns the gain of each of `from`'s points, in order, to `visit`.
-    fn for_each_gain(&self, from: usize, to: usize, mut visit: impl FnMut(usize, f64)) {
-        let frame = PairFrame::new(self.site(from), self.site(to));
-        for (position, p) in self.owned[from].coords.chunks_exact(self.d).enumerate() {
-            visit(position, frame.gain(p));
-        }
-    }
-
-    /// The largest gain of moving a point of `from` to `to`, the gains being those of
-    /// [`for_each_gain`](Self::for_each_gain).
+    /// The largest gain of moving a point of `from` to `to` ([`PairFrame`]).
     fn best_gain(&self, from: usize, to: usize) -> f64 {
         let frame = PairFrame::new(self.site(from), self.site(to));
         let coords = &self.owned[from].coords;
@@ -668,19 +658,26 @@ impl State {
         }
     }
 
-    /// The points of `from` whose gain to `to` exceeds `floor`, in `out`.
+    /// The points of `from` whose gain to `to` exceeds `floor`, in their order, in `out`.
     fn gains_above(&self, from: usize, to: usize, floor: f64, out: &mut Vec<Gain>) {
         out.clear();
-        let ids = &self.owned[from].ids;
-        self.for_each_gain(from, to, |position, gain| {
+        let frame = PairFrame::new(self.site(from), self.site(to));
+        let owned = &self.owned[from];
+        for (position, (&id, p)) in owned
+            .ids
+            .iter()
+            .zip(owned.coords.chunks_exact(self.d))
+            .enumerate()
+        {
+            let gain = frame.gain(p);
             if gain > floor {
                 out.push(Gain {
                     gain,
-                    id: ids[position],
+                    id,
                     position: position as u32,
                 });
             }
-        });
+        }
     }
 
     /// Swaps points between sites `i` and `j` while the sum of their gains is positive;
