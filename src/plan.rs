@@ -469,13 +469,13 @@ fn plan_rows(
 /// use specvar::integrand::Ball;
 /// use specvar::plan::{plan_many, PlanParams, Target};
 /// use specvar::progress::Silent;
-/// use specvar::sampler::{Halton, Jitter, Sampler};
+/// use specvar::sampler::{GaussianJitter, Jitter, Sampler};
 /// let disk = Ball::new(0.25, vec![0.5, 0.5], 1.0)?;
-/// let (halton, jitter) = (Halton::new(2)?, Jitter::new(2)?);
-/// let samplers: [&dyn Sampler; 2] = [&halton, &jitter];
+/// let (gjitter, jitter) = (GaussianJitter::new(2)?, Jitter::new(2)?);
+/// let samplers: [&dyn Sampler; 2] = [&gjitter, &jitter];
 /// let plans = plan_many(&samplers, &disk, &PlanParams::new(Target::Rmse(1e-3)), &Silent)?;
-/// // Halton used as drawn has no route: a refusal with its reason; jitter is planned.
-/// assert_eq!(plans.refused[0].sampler, "halton");
+/// // Gaussian jitter used as drawn is biased: a refusal with its reason; jitter is planned.
+/// assert_eq!(plans.refused[0].sampler, "gjitter");
 /// assert!(plans.rows[0].sampler == "jitter" && plans.rows[0].rmse <= 1e-3);
 /// # Ok::<(), specvar::Error>(())
 /// ```

@@ -218,25 +218,31 @@ fn a_biased_estimator_is_refused_with_its_reason() {
     assert!(p.rmse <= 1e-3);
 }
 
-/// Several samplers: one whose estimator has no route (Halton used as drawn) is a refusal with
+/// Several samplers: one whose estimator has no route (Gaussian jitter used as drawn, biased) is a refusal with
 /// its reason, and the others still answer; all refused is the first refusal's error.
 #[test]
 fn a_refused_sampler_is_a_refusal_beside_those_planned() {
     use specvar::plan::plan_many;
     let disk = specvar::integrand::Ball::new(0.25, vec![0.5, 0.5], 1.0).unwrap();
-    let halton = SamplerKind::Halton.build(2).unwrap();
+    let gjitter = SamplerKind::GaussianJitter.build(2).unwrap();
     let jitter = SamplerKind::Jitter.build(2).unwrap();
     let params = PlanParams::new(Target::Rmse(1e-3));
-    let plans = plan_many(&[halton.as_ref(), jitter.as_ref()], &disk, &params, &Silent).unwrap();
+    let plans = plan_many(
+        &[gjitter.as_ref(), jitter.as_ref()],
+        &disk,
+        &params,
+        &Silent,
+    )
+    .unwrap();
     assert_eq!(plans.rows.len(), 1);
     assert!(plans.rows[0].sampler == "jitter" && plans.rows[0].reached);
     assert_eq!(plans.refused.len(), 1);
-    assert_eq!(plans.refused[0].sampler, "halton");
+    assert_eq!(plans.refused[0].sampler, "gjitter");
     assert!(
         plans.refused[0].reason.contains("--randomization shift"),
         "{:?}",
         plans.refused
     );
-    let e = plan_many(&[halton.as_ref()], &disk, &params, &Silent).unwrap_err();
+    let e = plan_many(&[gjitter.as_ref()], &disk, &params, &Silent).unwrap_err();
     assert!(matches!(e, Error::OutsideValidity { .. }), "{e}");
 }

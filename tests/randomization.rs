@@ -72,18 +72,20 @@ fn independent_points_under_a_digital_shift_are_white_noise() {
 
 #[test]
 fn an_estimator_the_routes_do_not_predict_is_refused_and_measured() {
-    let f = Ball::new(0.25, vec![0.5, 0.5], 1.0).unwrap();
-    // Halton's digit permutations as drawn on a disk (not a product of one factor per axis)
-    // and Gaussian jitter under a digital shift: neither a cell form (their points are not
-    // uniform in cells) nor a spectral route.
-    let halton = specvar::sampler::Halton::new(2).unwrap();
+    let disk = Ball::new(0.25, vec![0.5, 0.5], 1.0).unwrap();
+    let ball = Ball::new(0.25, vec![0.5, 0.5, 0.5], 1.0).unwrap();
+    // Halton's digit permutations as drawn in 3D on a ball (not a product of one factor per
+    // axis, and beyond the level of digit cells, which reads 1D and 2D) and Gaussian jitter
+    // under a digital shift: neither a cell form (their points are not uniform in cells) nor a
+    // spectral route.
+    let halton = specvar::sampler::Halton::new(3).unwrap();
     let jitter = specvar::sampler::GaussianJitter::new(2).unwrap();
-    let cases: [(&dyn Sampler, Randomization); 2] = [
-        (&halton, Randomization::None),
-        (&jitter, Randomization::DigitalShift),
+    let cases: [(&dyn Sampler, &Ball, Randomization); 2] = [
+        (&halton, &ball, Randomization::None),
+        (&jitter, &disk, Randomization::DigitalShift),
     ];
-    for (sampler, r) in cases {
-        let problem = Problem::new(sampler, &f, 64).unwrap().with_randomization(r);
+    for (sampler, f, r) in cases {
+        let problem = Problem::new(sampler, f, 64).unwrap().with_randomization(r);
         let e = predict(&problem, &PredictParams::default()).unwrap_err();
         assert!(
             e.to_string().contains(&format!("mc --randomization {r}")),
@@ -94,7 +96,7 @@ fn an_estimator_the_routes_do_not_predict_is_refused_and_measured() {
             randomization: r,
             ..McParams::default()
         };
-        let m = empirical_variance(sampler, &f, 64, &mc).unwrap();
+        let m = empirical_variance(sampler, f, 64, &mc).unwrap();
         assert!(m.variance > 0.0 && m.randomization == r);
     }
 }

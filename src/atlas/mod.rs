@@ -107,7 +107,8 @@ pub struct AtlasRow {
     /// The integrand.
     pub integrand: String,
     /// The default prediction, or `None` where the estimator has no route (a sampler used as
-    /// drawn whose law no route reads, such as Halton's digit permutations).
+    /// drawn whose law no route reads, such as Halton's digit permutations in 3D on an
+    /// integrand that is not a product).
     pub predicted: Option<Prediction>,
     /// Why there is no prediction.
     pub unpredicted: Option<String>,

@@ -36,6 +36,7 @@ mod measured_tail;
 mod owen_gains;
 mod pair;
 mod permuted_digits;
+mod permuted_level;
 mod polar;
 mod radial_table;
 mod route;
@@ -62,6 +63,7 @@ pub use lattice::{
 pub use low_band::{DiscFit, LowBand};
 pub use pair::{pair_correlation_variance, PcfVariance};
 pub use permuted_digits::PermutedDigitsOrigin;
+pub use permuted_level::PermutedLevelOrigin;
 pub use polar::{predict_polar, PolarParams};
 pub use route::{default_kmax, default_reference_n, polar_validity};
 pub use space::{
@@ -122,6 +124,9 @@ pub enum SpectrumOrigin {
     /// Each axis's factor by its energy on every support of digits, summed over the pairs of
     /// Halton's points drawn with permuted digits: exact to quadrature.
     PermutedDigits(PermutedDigitsOrigin),
+    /// The integrand's and the points' energies on every support of digits through a level
+    /// of cells, exact, the finer digits measured on Halton's realizations as drawn.
+    PermutedLevel(PermutedLevelOrigin),
     /// Each given set's own periodogram, summed in space over its pairs of points through the
     /// integrand's autocorrelation: exact.
     Pairs {
@@ -171,6 +176,7 @@ impl fmt::Display for SpectrumOrigin {
             SpectrumOrigin::Walsh(w) => w.fmt(f),
             SpectrumOrigin::WalshNet(w) => w.fmt(f),
             SpectrumOrigin::PermutedDigits(h) => h.fmt(f),
+            SpectrumOrigin::PermutedLevel(h) => h.fmt(f),
             SpectrumOrigin::Pairs { sets } => write!(
                 f,
                 "each set's own periodogram, summed in space over its pairs ({sets} sets)"
@@ -255,6 +261,7 @@ impl fmt::Display for Route {
             SpectrumOrigin::Walsh(walsh) => write!(f, "{}, {walsh}", self.form),
             SpectrumOrigin::WalshNet(net) => write!(f, "{}, {net}", self.form),
             SpectrumOrigin::PermutedDigits(h) => write!(f, "{}, {h}", self.form),
+            SpectrumOrigin::PermutedLevel(h) => write!(f, "{}, {h}", self.form),
             _ => write!(f, "{}, spectrum {}", self.form, self.spectrum),
         }
     }

@@ -117,7 +117,7 @@ fn support_energies(g: &AxisFactor, p: usize, m: u32, panels: usize) -> (Vec<f64
 
 /// The positions (bit `ℓ − 1` for position `ℓ`, the most significant digit of `c` being
 /// position 1) where the index `c` of a coefficient has a non-zero digit.
-fn support_of(mut c: usize, p: usize, m: u32) -> usize {
+pub(super) fn support_of(mut c: usize, p: usize, m: u32) -> usize {
     let mut mask = 0;
     for k in 0..m {
         if !c.is_multiple_of(p) {
@@ -130,7 +130,7 @@ fn support_of(mut c: usize, p: usize, m: u32) -> usize {
 
 /// The orthonormal transform of `values` (length `p^m`) in Helmert's basis along every digit:
 /// `e_0 = 1/√p`, `e_k(a) = (1 for a < k, −k for a = k, 0 beyond)/√(k(k+1))`.
-fn helmert_transform(values: &mut [f64], p: usize, m: u32) {
+pub(super) fn helmert_transform(values: &mut [f64], p: usize, m: u32) {
     let mut block = vec![0.0; p];
     let mut stride = 1;
     for _ in 0..m {

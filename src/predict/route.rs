@@ -151,6 +151,7 @@ pub(crate) fn check_estimator(problem: &Problem<'_>) -> Result<()> {
         || uses_walsh(problem)
         || gaussian_jitter_as_drawn(problem).is_some()
         || halton_as_drawn(problem).is_some()
+        || halton_through_level(problem)
     {
         return Ok(());
     }
@@ -168,10 +169,11 @@ pub(crate) fn check_estimator(problem: &Problem<'_>) -> Result<()> {
         Some(SamplerKind::Halton) if r == Randomization::None => Err(Error::OutsideValidity {
             route: "a spectral route".into(),
             reason: format!(
-                "halton used as drawn is predicted exactly only on integrands that are a product \
-                 of one factor per axis (Gaussians, axis-aligned rectangles), and {} is not; \
-                 measure it with `specvar mc --randomization none`, or predict with \
-                 --randomization shift",
+                "halton used as drawn is predicted in 1D or 2D, and in {} axes only on \
+                 integrands that are a product of one factor per axis (Gaussians, axis-aligned \
+                 boxes), which {} is not; measure it with `specvar mc --randomization none`, or \
+                 predict with --randomization shift",
+                problem.integrand.dimension(),
                 problem.integrand.label()
             ),
         }),
@@ -243,10 +245,72 @@ fn gaussian_jitter_as_drawn(
 /// Halton used as drawn on a product integrand, whose variance the pairs of its points' digit
 /// agreements give exactly.
 fn halton_as_drawn(problem: &Problem<'_>) -> Option<crate::integrand::ProductForm> {
-    let as_drawn = problem.randomization == Randomization::None
+    halton_drawn(problem)
+        .then(|| problem.integrand.product_form())
+        .flatten()
+}
+
+/// Halton's sampler used as drawn.
+fn halton_drawn(problem: &Problem<'_>) -> bool {
+    problem.randomization == Randomization::None
         && matches!(problem.patterns, Patterns::Sampler(_))
-        && problem.kind() == Some(SamplerKind::Halton);
-    as_drawn.then(|| problem.integrand.product_form()).flatten()
+        && problem.kind() == Some(SamplerKind::Halton)
+}
+
+/// Halton used as drawn in 1D or 2D, on any integrand: through a level of digit cells, the
+/// finer digits measured ([`super::permuted_level`]).
+fn halton_through_level(problem: &Problem<'_>) -> bool {
+    halton_drawn(problem) && problem.integrand.dimension() <= super::permuted_level::MAX_LEVEL_AXES
+}
+
+/// Halton as drawn: on a product integrand its pairs of points exactly while they fit the work
+/// budget, else (and on any other integrand in 1D or 2D) through a level of digit cells with
+/// the finer digits measured; `None` for another problem.
+fn predict_halton(
+    problem: &Problem<'_>,
+    params: &PredictParams,
+    progress: &dyn Progress,
+) -> Result<Option<Prediction>> {
+    if !halton_drawn(problem) {
+        return Ok(None);
+    }
+    if params.kmax.is_some()
+        || params.form != FormChoice::Auto
+        || params.spectrum == SpectrumChoice::Closed
+    {
+        return Err(Error::OutsideValidity {
+            route: "the lattice, polar or cell form, a closed spectrum or a lattice extent".into(),
+            reason: "halton used as drawn is predicted by the Walsh form over its digit supports; \
+                     the lattice and polar forms, the closed spectra and the lattice extent are \
+                     for the toroidal shift (--randomization shift)"
+                .into(),
+        });
+    }
+    let n = problem.n;
+    let d = problem.integrand.dimension();
+    let pairs_fit = super::permuted_digits::pair_work_seconds(n, d) <= params.work_budget_seconds;
+    match (halton_as_drawn(problem), problem.patterns) {
+        (Some(form), _) if pairs_fit || !halton_through_level(problem) => {
+            super::permuted_digits::predict_halton_as_drawn(
+                &form,
+                n,
+                params.work_budget_seconds,
+                &params.budget,
+            )
+            .map(Some)
+        }
+        (_, Patterns::Sampler(sampler)) if halton_through_level(problem) => {
+            super::permuted_level::predict_halton_level(
+                problem.integrand,
+                sampler,
+                n,
+                params,
+                progress,
+            )
+            .map(Some)
+        }
+        _ => Ok(None),
+    }
 }
 
 /// Whether `problem` is Owen-scrambled Sobol' under a digital shift, whose law is Owen's
@@ -364,13 +428,8 @@ pub(crate) fn predict_routed(
     if uses_walsh(problem) {
         return super::walsh::predict_walsh(problem, params, progress);
     }
-    if let Some(form) = halton_as_drawn(problem) {
-        return super::permuted_digits::predict_halton_as_drawn(
-            &form,
-            n,
-            params.work_budget_seconds,
-            &params.budget,
-        );
+    if let Some(p) = predict_halton(problem, params, progress)? {
+        return Ok(p);
     }
     if let Some((form, strata)) = gaussian_jitter_as_drawn(problem) {
         return super::gaussian_jitter::predict_gaussian_jitter_as_drawn(
@@ -1543,6 +1602,7 @@ fn estimated_reason(
         | SpectrumOrigin::Walsh(_)
         | SpectrumOrigin::WalshNet(_)
         | SpectrumOrigin::PermutedDigits(_)
+        | SpectrumOrigin::PermutedLevel(_)
         | SpectrumOrigin::Pairs { .. }
         | SpectrumOrigin::PatternPairs { .. } => 0,
     };
@@ -1604,7 +1664,7 @@ pub(crate) fn predict_routed_many(
     if closed
         || uses_cells(first)
         || uses_walsh(first)
-        || halton_as_drawn(first).is_some()
+        || halton_drawn(first)
         || kind.is_some_and(|k| k.is_deterministic())
         || problems.iter().any(|p| {
             shifted_scrambled_net(p, params).is_some() || shifted_strata(p, params).is_some()

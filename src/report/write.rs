@@ -44,6 +44,7 @@ fn route_short(p: &Prediction) -> String {
         SpectrumOrigin::Walsh(w) => format!("{}, {w}", p.route.form),
         SpectrumOrigin::WalshNet(w) => format!("{}, {w}", p.route.form),
         SpectrumOrigin::PermutedDigits(h) => format!("{}, {h}", p.route.form),
+        SpectrumOrigin::PermutedLevel(h) => format!("{}, {h}", p.route.form),
         SpectrumOrigin::Pairs { sets } => {
             format!("{}, summed in space over pairs ({sets} sets)", p.route.form)
         }

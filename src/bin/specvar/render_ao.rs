@@ -127,8 +127,8 @@ struct Row {
 pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
     let mut config = args.config(ctx);
     specvar::output::check_output_dir(&args.out)?;
-    // Every sampler whose estimator has a route and an MSE equal to its variance (Halton as
-    // drawn has no route, Gaussian jitter as drawn a bias).
+    // Every sampler whose estimator has a route and an MSE equal to its variance (Gaussian
+    // jitter as drawn has a bias).
     let mut unrouted = Vec::new();
     if let Samplers::All = args.sampler {
         let disk = specvar::integrand::Ball::new(0.25, vec![0.5, 0.5], 1.0)?;
