@@ -14,23 +14,22 @@ use specvar::progress::Silent;
 use specvar::randomization::Randomization;
 use specvar::sampler::SamplerKind;
 
-/// Every default prediction is the exact route and meets Monte Carlo of 20000 patterns as
-/// drawn: the two 99% intervals overlap (the prediction's widened to `Z_STRICT`). N = 100 is
-/// no power of either base.
-#[test]
-fn halton_as_drawn_meets_monte_carlo_on_products() {
+/// Every default prediction of `texts` at each of `ns` is the route `routed` names and meets
+/// Monte Carlo of 20000 patterns as drawn (all integrands on the same patterns, keyed by
+/// `seed`): the two 99% intervals overlap (the prediction's widened to `Z_STRICT`).
+fn assert_defaults_meet_monte_carlo(
+    texts: &[&str],
+    ns: &[usize],
+    seed: u64,
+    routed: fn(&SpectrumOrigin) -> bool,
+) {
     let halton = SamplerKind::Halton.build(2).unwrap();
-    let texts = [
-        "gaussian:sigma=0.2,c=0.2;0.7",
-        "polygon:0.2,0.3;0.7,0.3;0.7,0.8;0.2,0.8",
-    ];
     let fs: Vec<_> = texts
         .iter()
         .map(|t| parse_integrand(t).unwrap().build(2).unwrap())
         .collect();
     let refs: Vec<&dyn Integrand> = fs.iter().map(|f| f.as_ref()).collect();
-    for n in [16, 100, 512] {
-        // Both integrands on the same patterns.
+    for &n in ns {
         let runs = empirical_variances(
             halton.as_ref(),
             &refs,
@@ -38,7 +37,7 @@ fn halton_as_drawn_meets_monte_carlo_on_products() {
             &McParams {
                 patterns: 20_000,
                 shifts: 1,
-                seed: 29,
+                seed,
                 randomization: Randomization::None,
                 ..Default::default()
             },
@@ -51,63 +50,42 @@ fn halton_as_drawn_meets_monte_carlo_on_products() {
                 &PredictParams::default(),
             )
             .unwrap();
-            assert!(
-                matches!(p.route.spectrum, SpectrumOrigin::PermutedDigits(_)),
-                "{text}, N = {n}: {}",
-                p.route
-            );
+            assert!(routed(&p.route.spectrum), "{text}, N = {n}: {}", p.route);
             assert_eq!(p.randomization, Randomization::None);
             common::assert_intervals_meet(&p, &m, Z_STRICT, &format!("{text}, N = {n}"));
         }
     }
 }
 
-/// Beyond products (a disk, an edge, a triangle), the default prediction is the level's route
-/// and meets Monte Carlo of 20000 patterns as drawn: the two 99% intervals overlap (the
-/// prediction's widened to `Z_STRICT`).
+/// On products the default is the exact sum over the points' pairs. N = 100 is no power of
+/// either base.
+#[test]
+fn halton_as_drawn_meets_monte_carlo_on_products() {
+    assert_defaults_meet_monte_carlo(
+        &[
+            "gaussian:sigma=0.2,c=0.2;0.7",
+            "polygon:0.2,0.3;0.7,0.3;0.7,0.8;0.2,0.8",
+        ],
+        &[16, 100, 512],
+        29,
+        |o| matches!(o, SpectrumOrigin::PermutedDigits(_)),
+    );
+}
+
+/// Beyond products (a disk, an edge, a triangle) the default is the level of digit cells with
+/// the finer digits measured.
 #[test]
 fn halton_as_drawn_meets_monte_carlo_beyond_products() {
-    let halton = SamplerKind::Halton.build(2).unwrap();
-    let texts = [
-        "disk:r=0.3,c=0.45;0.55",
-        "edge:theta=30,offset=0.4",
-        "polygon:0.2,0.2;0.8,0.3;0.4,0.9",
-    ];
-    let fs: Vec<_> = texts
-        .iter()
-        .map(|t| parse_integrand(t).unwrap().build(2).unwrap())
-        .collect();
-    let refs: Vec<&dyn Integrand> = fs.iter().map(|f| f.as_ref()).collect();
-    for n in [16, 100, 300] {
-        let runs = empirical_variances(
-            halton.as_ref(),
-            &refs,
-            n,
-            &McParams {
-                patterns: 20_000,
-                shifts: 1,
-                seed: 31,
-                randomization: Randomization::None,
-                ..Default::default()
-            },
-            &Silent,
-        )
-        .unwrap();
-        for ((text, f), m) in texts.iter().zip(&refs).zip(runs) {
-            let p = predict(
-                &Problem::new(halton.as_ref(), *f, n).unwrap(),
-                &PredictParams::default(),
-            )
-            .unwrap();
-            assert!(
-                matches!(p.route.spectrum, SpectrumOrigin::PermutedLevel(_)),
-                "{text}, N = {n}: {}",
-                p.route
-            );
-            assert_eq!(p.randomization, Randomization::None);
-            common::assert_intervals_meet(&p, &m, Z_STRICT, &format!("{text}, N = {n}"));
-        }
-    }
+    assert_defaults_meet_monte_carlo(
+        &[
+            "disk:r=0.3,c=0.45;0.55",
+            "edge:theta=30,offset=0.4",
+            "polygon:0.2,0.2;0.8,0.3;0.4,0.9",
+        ],
+        &[16, 100, 300],
+        31,
+        |o| matches!(o, SpectrumOrigin::PermutedLevel(_)),
+    );
 }
 
 /// In 1D at N = 2^m, the first N indices hold every m-digit string once: the permutations only
