@@ -59,24 +59,62 @@ fn digit_count(b: u64) -> usize {
     (53.0 / (b as f64).log2()).ceil() as usize
 }
 
-/// The scrambled radical inverse of `index` in base `b`, one permutation per digit position.
-/// The scrambled radical inverse of `index` in base `b`: digit `j` (least significant first)
-/// mapped through `perms[j]` and weighted by `b^-(j+1)`. Once the index's digits run out,
-/// every further digit is 0, whose scrambled contribution is the precomputed `tails[j]`
+/// One axis's permuted digits as the values they add: `values[j b + a]` is digit `a` at
+/// position `j` (least significant first) mapped through its permutation and weighted by
+/// `b^-(j+1)`, the weight formed by repeated multiplication as a digit-by-digit sum forms it,
+/// so that summing the values gives the same bits. Once the index's digits run out, every
+/// further digit is 0, whose scrambled contribution is `tails[j]`
 /// (`Σ_{m ≥ j} perms[m][0] b^-(m+1)`), so only `log_b(index)` digits are visited.
-fn scrambled_radical_inverse(mut index: u64, b: u64, perms: &[Vec<usize>], tails: &[f64]) -> f64 {
-    let inv = 1.0 / b as f64;
-    let mut scale = inv;
-    let mut value = 0.0;
-    let mut j = 0;
-    while index != 0 && j < perms.len() {
-        let digit = (index % b) as usize;
-        index /= b;
-        value += perms[j][digit] as f64 * scale;
-        scale *= inv;
-        j += 1;
+struct ScrambledAxis {
+    base: u64,
+    values: Vec<f64>,
+    tails: Vec<f64>,
+}
+
+impl ScrambledAxis {
+    fn new(b: u64, perms: &[Vec<usize>]) -> Self {
+        let inv = 1.0 / b as f64;
+        let mut scale = inv;
+        let mut values = Vec::with_capacity(perms.len() * b as usize);
+        for perm in perms {
+            values.extend(perm.iter().map(|&d| d as f64 * scale));
+            scale *= inv;
+        }
+        Self {
+            base: b,
+            values,
+            tails: zero_digit_tails(b, perms),
+        }
     }
-    (value + tails[j]).min(ONE_MINUS_EPS)
+
+    /// The scrambled radical inverse of `index`, the base a constant for the common bases
+    /// (their divisions by a constant are multiplications).
+    fn radical_inverse(&self, index: u64) -> f64 {
+        match self.base {
+            2 => self.digits_of::<2>(index),
+            3 => self.digits_of::<3>(index),
+            5 => self.digits_of::<5>(index),
+            _ => self.digits_in(index, self.base),
+        }
+    }
+
+    fn digits_of<const B: u64>(&self, index: u64) -> f64 {
+        self.digits_in(index, B)
+    }
+
+    #[inline(always)]
+    fn digits_in(&self, mut index: u64, b: u64) -> f64 {
+        let positions = self.tails.len() - 1;
+        let mut value = 0.0;
+        let mut j = 0;
+        while index != 0 && j < positions {
+            let digit = (index % b) as usize;
+            index /= b;
+            value += self.values[j * b as usize + digit];
+            j += 1;
+        }
+        (value + self.tails[j]).min(ONE_MINUS_EPS)
+    }
 }
 
 /// `tails[j] = Σ_{m ≥ j} perms[m][0] b^-(m+1)`, with `tails[len] = 0`.
@@ -111,16 +149,14 @@ impl Sampler for Halton {
                     .collect()
             })
             .collect();
-        let tails: Vec<Vec<f64>> = PRIMES[..d]
+        let axes: Vec<ScrambledAxis> = PRIMES[..d]
             .iter()
             .zip(&perms)
-            .map(|(&b, p)| zero_digit_tails(b, p))
+            .map(|(&b, p)| ScrambledAxis::new(b, p))
             .collect();
         let mut coords = Vec::with_capacity(n * d);
         for i in 0..n as u64 {
-            for (axis, &b) in PRIMES[..d].iter().enumerate() {
-                coords.push(scrambled_radical_inverse(i, b, &perms[axis], &tails[axis]));
-            }
+            coords.extend(axes.iter().map(|axis| axis.radical_inverse(i)));
         }
         Ok(PointSet::from_trusted(d, coords))
     }
