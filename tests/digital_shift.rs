@@ -1,7 +1,8 @@
 //! Fixed patterns under a random digital shift (the Walsh form), each check against an
 //! independent route: the enumeration of every shift where the integrand is constant on dyadic
 //! cells, and Monte Carlo of the same estimator otherwise; and Owen's scrambling, which a
-//! digital shift leaves unchanged.
+//! digital shift leaves unchanged; and random samplers drawn anew under a digital shift, by the
+//! mean over patterns of each one's Walsh sum.
 
 mod common;
 
@@ -257,4 +258,51 @@ fn routes_of_the_toroidal_shift_are_refused_under_a_digital_shift() {
     )
     .unwrap();
     assert_ne!(shifted.route.form, Form::Walsh);
+}
+
+/// Random samplers drawn anew under a digital shift (strata, N-rooks, Halton's permuted digits,
+/// dart throwing): the mean over patterns of each one's Walsh sum meets Monte Carlo of 20000
+/// patterns, each under its own shift, on a disk and a Gaussian cut by the faces (both on the
+/// same patterns; the prediction's interval widened to `Z_STRICT`).
+#[test]
+fn drawn_patterns_under_a_digital_shift_meet_monte_carlo() {
+    use specvar::montecarlo::empirical_variances;
+    use specvar::progress::Silent;
+    let disk = Ball::new(0.25, vec![0.5, 0.5], 1.0).unwrap();
+    let bump = Gaussian::new(0.2, vec![0.2, 0.7], 1.0).unwrap();
+    let fs: [&dyn Integrand; 2] = [&disk, &bump];
+    let params = PredictParams {
+        target_noise: 0.05,
+        ..Default::default()
+    };
+    for kind in [
+        SamplerKind::Jitter,
+        SamplerKind::Cmj,
+        SamplerKind::Halton,
+        SamplerKind::PoissonDisk,
+    ] {
+        let sampler = kind.build(2).unwrap();
+        let mc = McParams {
+            patterns: 20_000,
+            shifts: 1,
+            seed: 17,
+            randomization: Randomization::DigitalShift,
+            ..Default::default()
+        };
+        let runs = empirical_variances(sampler.as_ref(), &fs, 64, &mc, &Silent).unwrap();
+        for (f, m) in fs.iter().zip(runs) {
+            let problem = Problem::new(sampler.as_ref(), *f, 64)
+                .unwrap()
+                .with_randomization(Randomization::DigitalShift);
+            let p = predict(&problem, &params).unwrap();
+            let what = format!("{kind} on {}", f.label());
+            assert!(
+                matches!(p.route.spectrum, SpectrumOrigin::Walsh(_)),
+                "{what}: {}",
+                p.route
+            );
+            assert_eq!(p.randomization, Randomization::DigitalShift);
+            common::assert_intervals_meet(&p, &m, Z_STRICT, &what);
+        }
+    }
 }

@@ -152,6 +152,7 @@ pub(crate) fn check_estimator(problem: &Problem<'_>) -> Result<()> {
         || gaussian_jitter_as_drawn(problem).is_some()
         || halton_as_drawn(problem).is_some()
         || halton_through_level(problem)
+        || drawn_under_digital_shift(problem)
     {
         return Ok(());
     }
@@ -399,6 +400,19 @@ fn shifted_strata<'a>(
 
 /// Whether `problem` is fixed patterns under a digital shift (a deterministic sampler's, or
 /// given sets): the Walsh form predicts it.
+/// A random sampler (its patterns drawn anew) under a digital shift whose law the shift
+/// changes: not white noise (whose law it keeps) and not an Owen-scrambled net (which absorbs
+/// it); the mean over patterns of each one's Walsh sum predicts it.
+fn drawn_under_digital_shift(problem: &Problem<'_>) -> bool {
+    let r = problem.randomization;
+    r == Randomization::DigitalShift
+        && matches!(problem.patterns, Patterns::Sampler(_))
+        && problem
+            .kind()
+            .is_some_and(|k| !k.is_deterministic() && !k.facts().randomness.has_shifted_variance(r))
+        && !scrambling_absorbs_shift(problem)
+}
+
 fn uses_walsh(problem: &Problem<'_>) -> bool {
     problem.randomization == Randomization::DigitalShift
         && match problem.patterns {
@@ -427,6 +441,11 @@ pub(crate) fn predict_routed(
     }
     if uses_walsh(problem) {
         return super::walsh::predict_walsh(problem, params, progress);
+    }
+    if let (true, Patterns::Sampler(sampler)) =
+        (drawn_under_digital_shift(problem), problem.patterns)
+    {
+        return super::walsh::predict_walsh_drawn(problem, sampler, params, progress);
     }
     if let Some(p) = predict_halton(problem, params, progress)? {
         return Ok(p);
@@ -1665,6 +1684,7 @@ pub(crate) fn predict_routed_many(
         || uses_cells(first)
         || uses_walsh(first)
         || halton_drawn(first)
+        || drawn_under_digital_shift(first)
         || kind.is_some_and(|k| k.is_deterministic())
         || problems.iter().any(|p| {
             shifted_scrambled_net(p, params).is_some() || shifted_strata(p, params).is_some()

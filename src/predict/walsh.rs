@@ -40,6 +40,7 @@ use crate::pointset::PointSet;
 use crate::progress::{stage, Progress};
 use crate::quadrature::CompensatedSum;
 use crate::randomization::{digital_shift, xor_digits, Randomization};
+use crate::sampler::Sampler;
 use serde::Serialize;
 use std::fmt;
 
@@ -107,6 +108,51 @@ fn weighted_energy(a: &[f64], b: &[f64], n: f64) -> (f64, f64) {
         let s = (b[k] / n) * (b[k] / n);
         (a[k] * a[k] * s, a[k].abs() * s)
     })
+}
+
+/// The integrand on the cells of the tabulated level: their means, their Walsh coefficients
+/// (the fast transform of their integrals) and the cells it is constant on.
+struct LevelTable {
+    means: Vec<f64>,
+    coefficients: Vec<f64>,
+    constant: Option<Vec<u64>>,
+}
+
+impl LevelTable {
+    fn new(f: &dyn Integrand, grid: &[usize]) -> Self {
+        let cells: usize = grid.iter().product();
+        let (mut masses, constant) = masses_and_constant_cells(f, grid);
+        let means: Vec<f64> = masses.iter().map(|m| m * cells as f64).collect();
+        walsh_hadamard(&mut masses);
+        Self {
+            means,
+            coefficients: masses,
+            constant,
+        }
+    }
+
+    fn remainder<'a>(&'a self, f: &'a dyn Integrand, grid: &'a [usize]) -> Remainder<'a> {
+        Remainder {
+            f,
+            means: &self.means,
+            grid,
+            constant: self.constant.as_deref(),
+        }
+    }
+
+    /// The share of the cells where the integrand varies (1 without a set of constant cells).
+    fn varying(&self) -> f64 {
+        self.constant.as_deref().map_or(1.0, |bits| {
+            1.0 - bits.iter().map(|w| w.count_ones() as f64).sum::<f64>() / self.means.len() as f64
+        })
+    }
+}
+
+/// The most a Walsh coefficient of the level is off: its cells' rounding plus one unit per
+/// butterfly, of the total mass `Σ|Φ_c|`.
+fn coefficient_error(means: &[f64], level: u32, d: usize) -> f64 {
+    let mass: f64 = means.iter().map(|m| m.abs()).sum::<f64>() / means.len() as f64;
+    (CELL_ROUNDING + f64::EPSILON * (level as usize * d) as f64) * mass
 }
 
 /// The finer digits' part of the integrand, `g = f − (its mean on the tabulated level's
@@ -188,13 +234,14 @@ pub(crate) fn digital_shift_variance(
         "lower N",
     )?;
     let grid = vec![side; d];
-    let (means, coefficients) = stage(progress, "Walsh coefficients", 0, || {
-        let (mut masses, constant) = masses_and_constant_cells(f, &grid);
-        let means: Vec<f64> = masses.iter().map(|m| m * cells as f64).collect();
-        walsh_hadamard(&mut masses);
-        (means, (masses, constant))
+    let table = stage(progress, "Walsh coefficients", 0, || {
+        LevelTable::new(f, &grid)
     });
-    let (coefficients, constant) = coefficients;
+    let LevelTable {
+        means,
+        coefficients,
+        constant,
+    } = table;
     let nf = n as f64;
     let (mut exact, mut magnitude) = (CompensatedSum::default(), CompensatedSum::default());
     let mut counts = vec![0.0; cells];
@@ -210,22 +257,16 @@ pub(crate) fn digital_shift_variance(
     }
     let sets = patterns.len() as f64;
     let exact = exact.value() / sets;
-    // Each coefficient is off by at most its cells' rounding plus one unit per butterfly, of
-    // the total mass Σ|Φ_c|.
-    let mass: f64 = means.iter().map(|m| m.abs()).sum::<f64>() / cells as f64;
-    let coefficient_error = (CELL_ROUNDING + f64::EPSILON * (level as usize * d) as f64) * mass;
-    let rounding = 2.0 * coefficient_error * magnitude.value() / sets;
-    let remainder_of = Remainder {
-        f,
-        means: &means,
-        grid: &grid,
-        constant: constant.as_deref(),
+    let rounding = 2.0 * coefficient_error(&means, level, d) * magnitude.value() / sets;
+    let table = LevelTable {
+        means,
+        coefficients,
+        constant,
     };
+    let remainder_of = table.remainder(f, &grid);
     // Only the points in cells where the integrand varies are evaluated (a disk's or an edge's
     // boundary cells, a small share at fine levels).
-    let varying = constant.as_deref().map_or(1.0, |bits| {
-        1.0 - bits.iter().map(|w| w.count_ones() as f64).sum::<f64>() / cells as f64
-    });
+    let varying = table.varying();
     let per_shift = nf * (SKIP_SECONDS + varying * EVALUATION_SECONDS);
     let max_shifts = ((work_seconds / per_shift) as usize).clamp(INITIAL_SHIFTS, MAX_SHIFTS);
     // The remainder below the level, measured by shifts until its standard error is
@@ -249,6 +290,155 @@ pub(crate) fn digital_shift_variance(
         remainder: remainder.variance,
         cells_per_axis: side,
         shifts: remainder.patterns,
+    })
+}
+
+/// Patterns of a random sampler that the level is sized for ([`walsh_level`]): each pattern's
+/// counts are transformed once.
+const DRAWN_PATTERNS: usize = 256;
+/// Patterns of a random sampler under digital shifts drawn at first.
+const INITIAL_DRAWN: usize = 32;
+/// Patterns of a random sampler never exceeded.
+const MAX_DRAWN: usize = 1 << 12;
+/// The work of one cell of the level per binary digit of its transform.
+const BUTTERFLY_SECONDS: f64 = 1e-9;
+
+/// The variance of a random sampler's estimator (`n` points, its patterns drawn anew) under a
+/// uniform random digital shift: each pattern's estimator is unbiased under the shift, so the
+/// variance is the mean over patterns of each one's variance under shifts. Pattern `u`
+/// (realization `u` of `params.seed`) gives that variance's exact part through the level and
+/// the finer digits' square at digital shift `u`, whose sum is unbiased for it; their mean over
+/// as many patterns as the relative standard error `params.target_noise` needs (their spread
+/// is the noise) is the prediction.
+///
+/// # Errors
+/// An integrand of more than 3 axes or without box moments, a sampler of another dimension, a
+/// sampler error, or work beyond the budget.
+pub(crate) fn drawn_digital_shift_variance(
+    f: &dyn Integrand,
+    sampler: &dyn Sampler,
+    n: usize,
+    params: &PredictParams,
+    progress: &dyn Progress,
+) -> Result<WalshEstimate> {
+    let d = f.dimension();
+    check_box_moments(f)?;
+    if d > MAX_AXES || sampler.dimension() != d || n == 0 {
+        return Err(Error::Mismatch(format!(
+            "the Walsh form needs a sampler in the integrand's dimension {d} (at most \
+             {MAX_AXES}) and N > 0"
+        )));
+    }
+    let level = f
+        .dyadic_level()
+        .map_or(walsh_level(n, d, DRAWN_PATTERNS), |a| {
+            walsh_level(n, d, DRAWN_PATTERNS).min(a.max(1))
+        });
+    let side = 1usize << level;
+    let cells = 1usize << (level as usize * d);
+    let nf = n as f64;
+    let transform = cells as f64 * BUTTERFLY_SECONDS * (level as usize * d) as f64;
+    let draw = crate::sampler::pattern_needs(sampler, n).work_seconds;
+    let per_pattern = transform + draw + nf * (SKIP_SECONDS + EVALUATION_SECONDS);
+    params.budget.check(
+        "the Walsh form over drawn patterns",
+        Needs {
+            memory_bytes: 16.0 * cells as f64 * (1 + rayon::current_num_threads()) as f64,
+            work_seconds: cells as f64 * CELL_SECONDS
+                + transform
+                + INITIAL_DRAWN as f64 * per_pattern,
+        },
+        "lower N",
+    )?;
+    let grid = vec![side; d];
+    let table = stage(progress, "Walsh coefficients", 0, || {
+        LevelTable::new(f, &grid)
+    });
+    let remainder_of = table.remainder(f, &grid);
+    let varying = table.varying();
+    let each = transform + draw + nf * (SKIP_SECONDS + varying * EVALUATION_SECONDS);
+    let max = ((params.work_budget_seconds / each) as usize).clamp(INITIAL_DRAWN, MAX_DRAWN);
+    // The largest of the patterns' `Σ|a| (b/N)²`, for the rounding bound (a maximum, so that
+    // it does not depend on the order the patterns finish in).
+    let largest_magnitude = std::sync::Mutex::new(0.0f64);
+    let estimate = mean_to_target_noise(
+        "patterns under digital shifts",
+        (INITIAL_DRAWN, max),
+        params.target_noise,
+        0.0,
+        |unit| {
+            let pattern = sampler.sample(n, params.seed, unit as u64)?;
+            let mut counts = vec![0.0; cells];
+            pattern
+                .points()
+                .for_each(|x| counts[cell_of(x, &grid)] += 1.0);
+            walsh_hadamard(&mut counts);
+            let (exact, magnitude) = weighted_energy(&table.coefficients, &counts, nf);
+            if let Ok(mut largest) = largest_magnitude.lock() {
+                *largest = largest.max(magnitude);
+            }
+            let mask = digital_shift(d, params.seed, unit as u64);
+            Ok(exact + remainder_of.term(&pattern, &mask[..d]))
+        },
+        progress,
+    )?;
+    let magnitude = largest_magnitude.into_inner().unwrap_or(f64::INFINITY);
+    Ok(WalshEstimate {
+        variance: estimate.variance,
+        rounding: 2.0 * coefficient_error(&table.means, level, d) * magnitude,
+        noise: estimate.standard_error,
+        remainder: 0.0,
+        cells_per_axis: side,
+        shifts: estimate.patterns,
+    })
+}
+
+/// The prediction for a random sampler's patterns under a digital shift
+/// ([`drawn_digital_shift_variance`]).
+///
+/// # Errors
+/// As [`drawn_digital_shift_variance`], or choices of the shifted estimator's routes.
+pub(crate) fn predict_walsh_drawn(
+    problem: &Problem<'_>,
+    sampler: &dyn Sampler,
+    params: &PredictParams,
+    progress: &dyn Progress,
+) -> Result<Prediction> {
+    check_choices(params)?;
+    let f = problem.integrand;
+    let e = drawn_digital_shift_variance(f, sampler, problem.n, params, progress)?;
+    let reason = format!(
+        "{} patterns drawn anew under a random digital shift: each pattern's estimator is \
+         unbiased under the shift, so the variance is the mean over patterns of each one's Walsh \
+         sum (the integrand's coefficients times the pattern's, exact through {} cells per \
+         axis, the finer digits at one shift of each), over {} patterns",
+        problem
+            .kind()
+            .map_or("the sampler's".to_string(), |k| k.to_string()),
+        e.cells_per_axis,
+        e.shifts
+    );
+    Ok(Prediction {
+        variance: e.variance,
+        randomization: Randomization::DigitalShift,
+        route: Route {
+            form: Form::Walsh,
+            spectrum: SpectrumOrigin::Walsh(WalshOrigin {
+                cells_per_axis: e.cells_per_axis,
+                shifts: e.shifts,
+            }),
+        },
+        reason,
+        budget: ErrorBudget {
+            spectrum_noise: e.noise,
+            quadrature: e.rounding,
+            ..Default::default()
+        },
+        n: problem.n,
+        dimension: f.dimension(),
+        dc_term: 0.0,
+        evaluations: (e.shifts * problem.n) as u64,
+        alternatives: Vec::new(),
     })
 }
 
