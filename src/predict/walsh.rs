@@ -418,7 +418,12 @@ pub(crate) fn predict_walsh_drawn(
         e.cells_per_axis,
         e.shifts
     );
-    Ok(Prediction {
+    Ok(walsh_prediction(problem, &e, reason))
+}
+
+/// The prediction of a Walsh-form estimate: its noise and rounding as the budget.
+fn walsh_prediction(problem: &Problem<'_>, e: &WalshEstimate, reason: String) -> Prediction {
+    Prediction {
         variance: e.variance,
         randomization: Randomization::DigitalShift,
         route: Route {
@@ -435,11 +440,11 @@ pub(crate) fn predict_walsh_drawn(
             ..Default::default()
         },
         n: problem.n,
-        dimension: f.dimension(),
+        dimension: problem.integrand.dimension(),
         dc_term: 0.0,
         evaluations: (e.shifts * problem.n) as u64,
         alternatives: Vec::new(),
-    })
+    }
 }
 
 /// Where a Walsh-form prediction's coefficients come from.
@@ -508,28 +513,7 @@ pub(crate) fn predict_walsh(
         100.0 * e.remainder / e.variance.max(f64::MIN_POSITIVE),
         e.shifts
     );
-    Ok(Prediction {
-        variance: e.variance,
-        randomization: Randomization::DigitalShift,
-        route: Route {
-            form: Form::Walsh,
-            spectrum: SpectrumOrigin::Walsh(WalshOrigin {
-                cells_per_axis: e.cells_per_axis,
-                shifts: e.shifts,
-            }),
-        },
-        reason,
-        budget: ErrorBudget {
-            spectrum_noise: e.noise,
-            quadrature: e.rounding,
-            ..Default::default()
-        },
-        n: problem.n,
-        dimension: f.dimension(),
-        dc_term: 0.0,
-        evaluations: (e.shifts * problem.n) as u64,
-        alternatives: Vec::new(),
-    })
+    Ok(walsh_prediction(problem, &e, reason))
 }
 
 /// Where an exact prediction of a linear net under a digital shift comes from
