@@ -552,12 +552,12 @@ mod tests {
     #[test]
     fn the_level_meets_the_pairs_on_products() {
         use crate::integrand::parse_integrand;
-        let halton = crate::sampler::SamplerKind::Halton.build(2).unwrap();
-        for text in [
-            "gaussian:sigma=0.1,c=0.3;0.6",
-            "polygon:0.2,0.3;0.7,0.3;0.7,0.8;0.2,0.8",
+        for (text, d) in [
+            ("gaussian:sigma=0.1,c=0.3;0.6", 2),
+            ("polygon:0.2,0.3;0.7,0.3;0.7,0.8;0.2,0.8", 2),
         ] {
-            let f = parse_integrand(text).unwrap().build(2).unwrap();
+            let halton = crate::sampler::SamplerKind::Halton.build(d).unwrap();
+            let f = parse_integrand(text).unwrap().build(d).unwrap();
             let form = f.product_form().unwrap();
             for n in [16, 100, 300] {
                 let pairs = super::super::permuted_digits::halton_as_drawn_variance(&form, n);
