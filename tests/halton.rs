@@ -123,3 +123,32 @@ fn a_full_period_in_one_dimension_is_the_shifted_grid() {
         }
     }
 }
+
+/// In 3D (bases 2, 3 and 5) on a ball, the default is the level of digit cells and meets
+/// Monte Carlo of 20000 patterns as drawn (the prediction's interval widened to `Z_STRICT`).
+#[test]
+fn halton_as_drawn_meets_monte_carlo_on_a_ball() {
+    let halton = SamplerKind::Halton.build(3).unwrap();
+    let ball = parse_integrand("ball").unwrap().build(3).unwrap();
+    for n in [64, 512] {
+        let mc = McParams {
+            patterns: 20_000,
+            shifts: 1,
+            seed: 37,
+            randomization: Randomization::None,
+            ..Default::default()
+        };
+        let m = empirical_variances(halton.as_ref(), &[ball.as_ref()], n, &mc, &Silent).unwrap();
+        let p = predict(
+            &Problem::new(halton.as_ref(), ball.as_ref(), n).unwrap(),
+            &PredictParams::default(),
+        )
+        .unwrap();
+        assert!(
+            matches!(p.route.spectrum, SpectrumOrigin::PermutedLevel(_)),
+            "{}",
+            p.route
+        );
+        common::assert_intervals_meet(&p, &m[0], Z_STRICT, &format!("ball, N = {n}"));
+    }
+}

@@ -72,27 +72,28 @@ fn independent_points_under_a_digital_shift_are_white_noise() {
 
 #[test]
 fn an_estimator_the_routes_do_not_predict_is_refused_and_measured() {
-    let ball = Ball::new(0.25, vec![0.5, 0.5, 0.5], 1.0).unwrap();
-    // Halton's digit permutations as drawn in 3D on a ball: not a product of one factor per
-    // axis, and beyond the level of digit cells, which reads 1D and 2D; neither a cell form
-    // (its points are not uniform in cells) nor a spectral route.
-    let halton = specvar::sampler::Halton::new(3).unwrap();
-    let cases: [(&dyn Sampler, &Ball, Randomization); 1] = [(&halton, &ball, Randomization::None)];
-    for (sampler, f, r) in cases {
-        let problem = Problem::new(sampler, f, 64).unwrap().with_randomization(r);
-        let e = predict(&problem, &PredictParams::default()).unwrap_err();
-        assert!(
-            e.to_string().contains(&format!("mc --randomization {r}")),
-            "{e}"
-        );
-        let mc = McParams {
-            patterns: 2000,
-            randomization: r,
-            ..McParams::default()
-        };
-        let m = empirical_variance(sampler, f, 64, &mc).unwrap();
-        assert!(m.variance > 0.0 && m.randomization == r);
-    }
+    use specvar::montecarlo::empirical_variances_of_sets;
+    let disk = Ball::new(0.25, vec![0.5, 0.5], 1.0).unwrap();
+    // Given point sets of unknown law used as given: neither a cell form (nothing says in which
+    // cells their points are uniform) nor a spectral route (those predict the shifted
+    // estimator); Monte Carlo measures them.
+    let sampler = specvar::sampler::Halton::new(2).unwrap();
+    let sets: Vec<_> = (0..200)
+        .map(|r| sampler.sample(64, 3, r).unwrap())
+        .collect();
+    let problem = Problem::from_point_sets(&sets, &disk)
+        .unwrap()
+        .with_randomization(Randomization::None);
+    let e = predict(&problem, &PredictParams::default()).unwrap_err();
+    assert!(e.to_string().contains("specvar mc --input"), "{e}");
+    let mc = McParams {
+        patterns: sets.len(),
+        randomization: Randomization::None,
+        ..McParams::default()
+    };
+    let f: [&dyn Integrand; 1] = [&disk];
+    let m = empirical_variances_of_sets(&sets, &f, &mc, &specvar::progress::Silent).unwrap();
+    assert!(m[0].variance > 0.0 && m[0].randomization == Randomization::None);
 }
 
 #[test]

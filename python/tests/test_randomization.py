@@ -39,14 +39,12 @@ def test_predictions_are_for_the_estimator_asked_or_refused():
     assert (p.randomization, p.route.form) == ("none", "aliased_pairs")
     m = specvar.monte_carlo("disk", sampler="gjitter", n=64, trials=8000, seed=4)
     assert m.ci_low <= p.variance <= m.ci_high, (p, m)
-    # Halton's digit permutations as drawn: exact on a product of one factor per axis, through
-    # a level of digit cells on a disk, and refused on a 3D ball, naming the Monte Carlo.
+    # Halton's digit permutations as drawn: exact on a product of one factor per axis, and
+    # through a level of digit cells on a disk.
     for integrand in ["gaussian:sigma=0.2,c=0.2;0.7", "disk"]:
         p = specvar.predict(integrand, sampler="halton", n=100, randomization="none")
         m = specvar.monte_carlo(integrand, sampler="halton", n=100, trials=20000, seed=4)
         assert m.ci_low <= p.variance <= m.ci_high, (p, m)
-    with pytest.raises(ValueError, match="mc --randomization none"):
-        specvar.predict("ball", sampler="halton", n=64, dimension=3, randomization="none")
     # A fixed rule used as drawn has a bias, not a variance.
     with pytest.raises(ValueError, match="bias"):
         specvar.predict("disk", sampler="korobov", n=89, randomization="none")

@@ -106,9 +106,7 @@ pub const ALPHA_BAND: f64 = 0.3;
 pub struct AtlasRow {
     /// The integrand.
     pub integrand: String,
-    /// The default prediction, or `None` where the estimator has no route (a sampler used as
-    /// drawn whose law no route reads, such as Halton's digit permutations in 3D on an
-    /// integrand that is not a product).
+    /// The default prediction, or `None` where the estimator has no route.
     pub predicted: Option<Prediction>,
     /// Why there is no prediction.
     pub unpredicted: Option<String>,

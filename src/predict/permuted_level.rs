@@ -44,7 +44,7 @@ use serde::Serialize;
 use std::fmt;
 
 /// The most axes: the level's table is `Π p_l^{m_l}` cells, and its supports `2^{Σ m_l}`.
-pub(crate) const MAX_LEVEL_AXES: usize = 2;
+pub(crate) const MAX_LEVEL_AXES: usize = 3;
 /// The most cells of the tabulated level, `2^24`: five arrays of at most 128 MiB (the cells' means,
 /// their transform, the points' counts, a transpose's scratch and the cells' supports).
 const MAX_LEVEL_CELLS: usize = 1 << 24;
@@ -284,7 +284,7 @@ fn work(f: &dyn Integrand, level: &Level, n: usize) -> (f64, f64) {
     (table + counts, n as f64 * POINT_SECONDS)
 }
 
-/// The variance of `sampler`'s Halton points as drawn (`n` of them) on `f`, in 1D or 2D.
+/// The variance of `sampler`'s Halton points as drawn (`n` of them) on `f`, in 1 to 3 axes.
 ///
 /// # Errors
 /// More than [`MAX_LEVEL_AXES`] axes, an integrand without box moments, or work or memory
@@ -300,7 +300,7 @@ pub(crate) fn halton_level_variance(
     check_box_moments(f)?;
     if d > MAX_LEVEL_AXES || n == 0 {
         return Err(Error::Mismatch(format!(
-            "Halton as drawn beyond a product integrand is predicted in 1 or {MAX_LEVEL_AXES} \
+            "Halton as drawn beyond a product integrand is predicted in 1 to {MAX_LEVEL_AXES} \
              axes with N ≥ 1"
         )));
     }
@@ -555,6 +555,7 @@ mod tests {
         for (text, d) in [
             ("gaussian:sigma=0.1,c=0.3;0.6", 2),
             ("polygon:0.2,0.3;0.7,0.3;0.7,0.8;0.2,0.8", 2),
+            ("gaussian:sigma=0.15,c=0.3;0.6;0.45", 3),
         ] {
             let halton = crate::sampler::SamplerKind::Halton.build(d).unwrap();
             let f = parse_integrand(text).unwrap().build(d).unwrap();

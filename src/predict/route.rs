@@ -170,7 +170,7 @@ pub(crate) fn check_estimator(problem: &Problem<'_>) -> Result<()> {
         Some(SamplerKind::Halton) if r == Randomization::None => Err(Error::OutsideValidity {
             route: "a spectral route".into(),
             reason: format!(
-                "halton used as drawn is predicted in 1D or 2D, and in {} axes only on \
+                "halton used as drawn is predicted in 1 to 3 axes, and in {} axes only on \
                  integrands that are a product of one factor per axis (Gaussians, axis-aligned \
                  boxes), which {} is not; measure it with `specvar mc --randomization none`, or \
                  predict with --randomization shift",
@@ -258,7 +258,7 @@ fn halton_drawn(problem: &Problem<'_>) -> bool {
         && problem.kind() == Some(SamplerKind::Halton)
 }
 
-/// Halton used as drawn in 1D or 2D, on any integrand: through a level of digit cells, the
+/// Halton used as drawn in 1 to 3 axes, on any integrand: through a level of digit cells, the
 /// finer digits measured ([`super::permuted_level`]).
 fn halton_through_level(problem: &Problem<'_>) -> bool {
     halton_drawn(problem) && problem.integrand.dimension() <= super::permuted_level::MAX_LEVEL_AXES
