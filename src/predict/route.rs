@@ -265,7 +265,7 @@ fn halton_through_level(problem: &Problem<'_>) -> bool {
 }
 
 /// Halton as drawn: on a product integrand its pairs of points exactly while they fit the work
-/// budget, else (and on any other integrand in 1D or 2D) through a level of digit cells with
+/// budget, else (and on any other integrand in 1 to 3 axes) through a level of digit cells with
 /// the finer digits measured; `None` for another problem.
 fn predict_halton(
     problem: &Problem<'_>,
@@ -398,8 +398,6 @@ fn shifted_strata<'a>(
     Some((sampler, kind, grid))
 }
 
-/// Whether `problem` is fixed patterns under a digital shift (a deterministic sampler's, or
-/// given sets): the Walsh form predicts it.
 /// A random sampler (its patterns drawn anew) under a digital shift whose law the shift
 /// changes: not white noise (whose law it keeps) and not an Owen-scrambled net (which absorbs
 /// it); the mean over patterns of each one's Walsh sum predicts it.
@@ -413,6 +411,8 @@ fn drawn_under_digital_shift(problem: &Problem<'_>) -> bool {
         && !scrambling_absorbs_shift(problem)
 }
 
+/// Whether `problem` is fixed patterns under a digital shift (a deterministic sampler's, or
+/// given sets): the Walsh form predicts it.
 fn uses_walsh(problem: &Problem<'_>) -> bool {
     problem.randomization == Randomization::DigitalShift
         && match problem.patterns {
