@@ -28,9 +28,9 @@
 //! A level a few digits past the points' own leaves it a small part of the whole.
 
 use super::cell_moments::{check_box_moments, masses_and_constant_cells, CELL_ROUNDING};
-use super::cells::cell_of;
 use super::permuted_digits::{helmert_transform, positions, support_of};
 use super::term_mean::mean_to_target_noise;
+use super::walsh::Remainder;
 use super::{ErrorBudget, Form, PredictParams, Prediction, Route, SpectrumOrigin};
 use crate::budget::Needs;
 use crate::error::{Error, Result};
@@ -321,25 +321,16 @@ pub(crate) fn halton_level_variance(
     let (means, constant, exact) = stage(progress, "Halton's digit supports", 0, || {
         exact_part(f, &level, n)
     });
-    let remainder_of = |unit: usize| -> Result<f64> {
-        let pattern = sampler.sample(n, params.seed, unit as u64)?;
-        let mut sum = CompensatedSum::default();
-        for x in pattern.points() {
-            let c = cell_of(x, &level.grid);
-            if constant
-                .as_deref()
-                .is_some_and(|bits| bits[c / 64] >> (c % 64) & 1 == 1)
-            {
-                continue;
-            }
-            sum.add(f.eval(x) - means[c]);
-        }
-        let m = sum.value() / n as f64;
-        Ok(m * m)
+    let finer = Remainder {
+        f,
+        means: &means,
+        grid: &level.grid,
+        constant: constant.as_deref(),
     };
-    let varying = constant.as_deref().map_or(1.0, |bits| {
-        1.0 - bits.iter().map(|w| w.count_ones() as f64).sum::<f64>() / cells as f64
-    });
+    let remainder_of = |unit: usize| -> Result<f64> {
+        Ok(finer.as_drawn(&sampler.sample(n, params.seed, unit as u64)?))
+    };
+    let varying = finer.varying();
     let each = per_realization + varying * n as f64 * EVALUATION_SECONDS;
     let spare = (params.work_budget_seconds - table_work).max(0.0);
     let max = ((spare / each) as usize).clamp(INITIAL_REALIZATIONS, MAX_REALIZATIONS);

@@ -139,13 +139,6 @@ impl LevelTable {
             constant: self.constant.as_deref(),
         }
     }
-
-    /// The share of the cells where the integrand varies (1 without a set of constant cells).
-    fn varying(&self) -> f64 {
-        self.constant.as_deref().map_or(1.0, |bits| {
-            1.0 - bits.iter().map(|w| w.count_ones() as f64).sum::<f64>() / self.means.len() as f64
-        })
-    }
 }
 
 /// The most a Walsh coefficient of the level is off: its cells' rounding plus one unit per
@@ -159,11 +152,11 @@ fn coefficient_error(means: &[f64], level: u32, d: usize) -> f64 {
 /// cell)`, which is zero on the cells where `f` is constant (`constant`, a bit per cell: a
 /// shape's cells wholly inside or outside it, most of a fine grid's, read without `f` or the
 /// means, whose table is beyond the caches).
-struct Remainder<'a> {
-    f: &'a dyn Integrand,
-    means: &'a [f64],
-    grid: &'a [usize],
-    constant: Option<&'a [u64]>,
+pub(super) struct Remainder<'a> {
+    pub(super) f: &'a dyn Integrand,
+    pub(super) means: &'a [f64],
+    pub(super) grid: &'a [usize],
+    pub(super) constant: Option<&'a [u64]>,
 }
 
 impl Remainder<'_> {
@@ -171,11 +164,37 @@ impl Remainder<'_> {
     fn term(&self, pattern: &PointSet, mask: &[u64]) -> f64 {
         let d = pattern.dimension();
         let mut y = [0.0; MAX_AXES];
+        self.squared_mean(
+            pattern.len(),
+            pattern.points().map(|x| {
+                for l in 0..d {
+                    y[l] = xor_digits(x[l], mask[l]);
+                }
+                y
+            }),
+            d,
+        )
+    }
+
+    /// `((1/N) Σ_j g(x_j))²` for the pattern as it is.
+    pub(super) fn as_drawn(&self, pattern: &PointSet) -> f64 {
+        let d = pattern.dimension();
+        let mut y = [0.0; MAX_AXES];
+        self.squared_mean(
+            pattern.len(),
+            pattern.points().map(|x| {
+                y[..d].copy_from_slice(x);
+                y
+            }),
+            d,
+        )
+    }
+
+    /// `((1/N) Σ g(y))²` over the `n` points `ys` (their first `d` coordinates), skipping
+    /// those in constant cells.
+    fn squared_mean(&self, n: usize, ys: impl Iterator<Item = [f64; MAX_AXES]>, d: usize) -> f64 {
         let mut sum = CompensatedSum::default();
-        for x in pattern.points() {
-            for l in 0..d {
-                y[l] = xor_digits(x[l], mask[l]);
-            }
+        for y in ys {
             let c = cell_of(&y[..d], self.grid);
             if self
                 .constant
@@ -185,8 +204,16 @@ impl Remainder<'_> {
             }
             sum.add(self.f.eval(&y[..d]) - self.means[c]);
         }
-        let m = sum.value() / pattern.len() as f64;
+        let m = sum.value() / n as f64;
         m * m
+    }
+
+    /// The share of the cells where the integrand varies (1 without a set of constant cells):
+    /// only points there are evaluated.
+    pub(super) fn varying(&self) -> f64 {
+        self.constant.map_or(1.0, |bits| {
+            1.0 - bits.iter().map(|w| w.count_ones() as f64).sum::<f64>() / self.means.len() as f64
+        })
     }
 }
 
@@ -266,7 +293,7 @@ pub(crate) fn digital_shift_variance(
     let remainder_of = table.remainder(f, &grid);
     // Only the points in cells where the integrand varies are evaluated (a disk's or an edge's
     // boundary cells, a small share at fine levels).
-    let varying = table.varying();
+    let varying = remainder_of.varying();
     let per_shift = nf * (SKIP_SECONDS + varying * EVALUATION_SECONDS);
     let max_shifts = ((work_seconds / per_shift) as usize).clamp(INITIAL_SHIFTS, MAX_SHIFTS);
     // The remainder below the level, measured by shifts until its standard error is
@@ -355,7 +382,7 @@ pub(crate) fn drawn_digital_shift_variance(
         LevelTable::new(f, &grid)
     });
     let remainder_of = table.remainder(f, &grid);
-    let varying = table.varying();
+    let varying = remainder_of.varying();
     let each = transform + draw + nf * (SKIP_SECONDS + varying * EVALUATION_SECONDS);
     let max = ((params.work_budget_seconds / each) as usize).clamp(INITIAL_DRAWN, MAX_DRAWN);
     // The largest of the patterns' `Σ|a| (b/N)²`, for the rounding bound (a maximum, so that
