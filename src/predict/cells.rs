@@ -226,7 +226,7 @@ pub fn fixed_strata_variance(
 /// What one pattern contributes, whose mean over patterns is the unshifted variance: with a
 /// table, `(M − I)²` (the within-cell term is added once, exactly); without, also the pattern's
 /// own within-cell term `(1/N²) Σ_j V_{c_j}`.
-fn pattern_term(
+pub(super) fn pattern_term(
     moments: &CellMoments,
     pattern: &PointSet,
     grid: &[usize],
@@ -640,13 +640,13 @@ pub(crate) fn predict_cells(
             why,
         )
     } else {
-        let e = estimate_occupancy(f, source, &grid, n, params, progress)?;
+        let (e, note) = estimate_occupancy(f, source, &grid, n, params, progress)?;
         let why = format!(
             "{name}, unshifted: the points are independent and uniform in the cells of the \
              {strata} grid once their cells are known, so the variance is the cells' inner \
              variance plus the variance of the occupied cells' mean, estimated from {} patterns \
-             with each pattern's terms exact (no Fourier series: jumps at the faces cost nothing \
-             extra)",
+             with each pattern's terms exact{note} (no Fourier series: jumps at the faces cost \
+             nothing extra)",
             e.patterns
         );
         let budget = ErrorBudget {
@@ -723,7 +723,8 @@ fn check_choices(params: &super::PredictParams, name: &str, exact: bool) -> Resu
     Ok(())
 }
 
-/// The occupancy estimate of `source` within the work budget.
+/// The occupancy estimate of `source` within the work budget, and what the reason adds about
+/// its method.
 fn estimate_occupancy(
     f: &dyn Integrand,
     source: CellSource<'_>,
@@ -731,8 +732,13 @@ fn estimate_occupancy(
     n: usize,
     params: &super::PredictParams,
     progress: &dyn Progress,
-) -> Result<OccupancyEstimate> {
+) -> Result<(OccupancyEstimate, &'static str)> {
     let cells: usize = grid.iter().product();
+    // CMJ beyond its table: its permutations alone, with a control variate.
+    if let (CellSource::Sampler(_, SamplerKind::Cmj), true) = (source, cells > TABLE_CELLS) {
+        let e = super::cmj_control::controlled_cmj_variance(f, n, params, progress)?;
+        return Ok((e, CONTROLLED_NOTE));
+    }
     let (patterns, cost_ns) = match source {
         CellSource::Sampler(sampler, kind) => (
             PatternSource::Sampler {
@@ -768,15 +774,22 @@ fn estimate_occupancy(
         },
         "lower N or the realizations",
     )?;
-    occupancy_variance(
+    let e = occupancy_variance(
         f,
         patterns,
         grid,
         (initial, max),
         params.target_noise,
         progress,
-    )
+    )?;
+    Ok((e, ""))
 }
+
+/// How a controlled occupancy estimate says so in its reason.
+const CONTROLLED_NOTE: &str = " (read from each pattern's two permutations at the blocks where \
+    the integrand varies), less a bilinear surrogate of each block's cell means whose variance \
+    is exact (a control variate: the same mean, a smaller spread where the integrand is smooth \
+    on the blocks' scale)";
 
 /// PMJ02 as drawn between two powers of two: the mean over patterns of each one's scrambled
 /// variance by Owen's gains ([`super::owen_gains::scrambled_law_variance`]), each pattern drawn

@@ -25,6 +25,7 @@ mod bias;
 mod cell_moments;
 mod cell_pairs;
 mod cells;
+mod cmj_control;
 mod dual_lattice;
 mod dyadic_levels;
 mod gaussian_jitter;

@@ -61,6 +61,31 @@ pub(crate) fn near_square_factors(n: usize) -> (usize, usize) {
     (m, n / m)
 }
 
+/// The two permutations of a CMJ pattern: the point of row `j` and column `i` lies in
+/// sub-column `sub_x[j]` of its column and sub-row `sub_y[i]` of its row.
+pub(crate) struct Shuffles {
+    /// The sub-column of each of the `r` rows.
+    pub(crate) sub_x: Vec<usize>,
+    /// The sub-row of each of the `m` columns.
+    pub(crate) sub_y: Vec<usize>,
+}
+
+impl Shuffles {
+    /// The permutations of `n` points, the first draws of `rng`.
+    fn draw(rng: &mut impl rand::Rng, n: usize) -> Self {
+        let (m, r) = near_square_factors(n);
+        let sub_x = random_permutation(rng, r);
+        let sub_y = random_permutation(rng, m);
+        Self { sub_x, sub_y }
+    }
+
+    /// The permutations of realization `realization` of `seed` at `n` points: those its
+    /// pattern is drawn with, without its points.
+    pub(crate) fn of_realization(n: usize, seed: u64, realization: u64) -> Self {
+        Self::draw(&mut realization_rng(seed, realization, Stream::Points), n)
+    }
+}
+
 impl Sampler for CorrelatedMultiJitter {
     fn name(&self) -> &'static str {
         FACTS.name
@@ -76,8 +101,7 @@ impl Sampler for CorrelatedMultiJitter {
         // m columns (x cells), r rows (y cells).
         let (m, r) = near_square_factors(n);
         let mut rng = realization_rng(seed, realization, Stream::Points);
-        let sub_x = random_permutation(&mut rng, r); // x sub-stratum for row j
-        let sub_y = random_permutation(&mut rng, m); // y sub-stratum for column i
+        let Shuffles { sub_x, sub_y } = Shuffles::draw(&mut rng, n);
         let mut coords = Vec::with_capacity(2 * n);
         for j in 0..r {
             for i in 0..m {

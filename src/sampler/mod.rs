@@ -213,7 +213,7 @@ pub fn perfect_root(n: usize, d: usize) -> Option<usize> {
 }
 
 pub(crate) use crate::rng::uniform;
-pub(crate) use cmj::near_square_factors;
+pub(crate) use cmj::{near_square_factors, Shuffles as CmjShuffles};
 
 /// A uniform index in `0..n` (Lemire's multiply-shift; bias below 2^-32 for n < 2^32).
 #[inline]
