@@ -734,14 +734,14 @@ fn estimate_occupancy(
     progress: &dyn Progress,
 ) -> Result<(OccupancyEstimate, &'static str)> {
     let cells: usize = grid.iter().product();
-    // CMJ beyond its table: its permutations alone, with a control variate. In 2D an
-    // orthogonal array with its offsets has CMJ's law on its p × p cells.
+    // CMJ (beyond its table, or estimated on request): its permutations alone, with a control
+    // variate. In 2D an orthogonal array with its offsets has CMJ's law on its p × p cells.
     let cmj_law = match source {
         CellSource::Sampler(_, SamplerKind::Cmj) => true,
         CellSource::Sampler(_, SamplerKind::OrthogonalArray) => grid.len() == 2,
         _ => false,
     };
-    if cmj_law && cells > TABLE_CELLS {
+    if cmj_law {
         let e = super::cmj_control::controlled_cmj_variance(f, n, params, progress)?;
         return Ok((e, CONTROLLED_NOTE));
     }

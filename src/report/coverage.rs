@@ -51,8 +51,10 @@ pub struct CoverageConfig {
 
 impl CoverageConfig {
     /// Random, jitter and Latin hypercube shifted (closed-form spectra), Latin hypercube,
-    /// multi-jitter and Owen-scrambled Sobol' as drawn (pairs in closed form, Owen's gains),
-    /// and the unscrambled Sobol' net shifted (its pair sum), each estimated from patterns; on a
+    /// multi-jitter, CMJ and Owen-scrambled Sobol' as drawn (pairs in closed form, Owen's
+    /// gains; CMJ's estimate is the one it takes beyond its table, from its permutations with
+    /// a control variate), and the unscrambled Sobol' net shifted (its pair sum), each
+    /// estimated from patterns; on a
     /// disk, a Gaussian cut by the faces, an edge at 30° and an axis-aligned square; at N = 64,
     /// 256 and 1024. Estimates aim at 2% noise.
     pub fn standard() -> Self {
@@ -67,6 +69,7 @@ impl CoverageConfig {
                 case(SamplerKind::LatinHypercube, Randomization::Shift),
                 case(SamplerKind::LatinHypercube, Randomization::None),
                 case(SamplerKind::MultiJitter, Randomization::None),
+                case(SamplerKind::Cmj, Randomization::None),
                 case(SamplerKind::Sobol, Randomization::None),
                 case(SamplerKind::SobolNet, Randomization::Shift),
             ],

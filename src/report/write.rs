@@ -316,7 +316,7 @@ fn coverage_markdown(section: &crate::report::CoverageSection) -> String {
         md,
         "\n## Coverage of the budgets\n\n\
          Each estimator below has an exact default route (a closed-form spectrum, the per-pair \
-         sums of Latin hypercube and multi-jitter, Owen's gains, a fixed net's pair sum); the \
+         sums of Latin hypercube, multi-jitter and CMJ, Owen's gains, a fixed net's pair sum); the \
          same problem predicted with `--spectrum estimated` (spectra or occupancies from \
          patterns) must hold that exact value within its 99% interval (2.576 standard errors of \
          its noise plus its bounds; each estimator and N predicts its integrands from the same \
