@@ -220,7 +220,10 @@ impl Integrand for AnisotropicGaussian {
             height: self.height,
         };
         let (lo, hi) = ([lo[0], lo[1]], [hi[0], hi[1]]);
-        Some((lobe.box_mass(lo, hi), lobe.squared().box_mass(lo, hi)))
+        Some(
+            lobe.small_box_moments(lo, hi)
+                .unwrap_or_else(|| (lobe.box_mass(lo, hi), lobe.squared().box_mass(lo, hi))),
+        )
     }
     fn eval(&self, x: &[f64]) -> f64 {
         let r = [x[0] - self.centre[0], x[1] - self.centre[1]];
