@@ -737,13 +737,15 @@ fn estimate_occupancy(
     // CMJ (beyond its table, or estimated on request): its permutations alone, with a control
     // variate. In 2D an orthogonal array with its offsets has CMJ's law on its p × p cells.
     let cmj_law = match source {
-        CellSource::Sampler(_, SamplerKind::Cmj) => true,
-        CellSource::Sampler(_, SamplerKind::OrthogonalArray) => grid.len() == 2,
-        _ => false,
+        CellSource::Sampler(_, SamplerKind::Cmj) => Some(CONTROLLED_NOTE),
+        CellSource::Sampler(_, SamplerKind::OrthogonalArray) if grid.len() == 2 => {
+            Some(ARRAY_CONTROLLED_NOTE)
+        }
+        _ => None,
     };
-    if cmj_law {
+    if let Some(note) = cmj_law {
         let e = super::cmj_control::controlled_cmj_variance(f, n, params, progress)?;
-        return Ok((e, CONTROLLED_NOTE));
+        return Ok((e, note));
     }
     let (patterns, cost_ns) = match source {
         CellSource::Sampler(sampler, kind) => (
@@ -796,6 +798,11 @@ const CONTROLLED_NOTE: &str = " (read from each pattern's two permutations at th
     the integrand varies), less a bilinear surrogate of each block's cell means whose variance \
     is exact (a control variate: the same mean, a smaller spread where the integrand is smooth \
     on the blocks' scale)";
+/// The same for a 2D orthogonal array, whose law is CMJ's on its `p × p` cells.
+const ARRAY_CONTROLLED_NOTE: &str = " (the patterns are CMJ's on the p × p cells, whose law the \
+    array with its offsets has, each read from its two permutations at the blocks where the \
+    integrand varies), less a bilinear surrogate of each block's cell means whose variance is \
+    exact (a control variate)";
 
 /// PMJ02 as drawn between two powers of two: the mean over patterns of each one's scrambled
 /// variance by Owen's gains ([`super::owen_gains::scrambled_law_variance`]), each pattern drawn
