@@ -14,19 +14,20 @@ use specvar::progress::Silent;
 use specvar::randomization::Randomization;
 use specvar::sampler::SamplerKind;
 
-/// Every default prediction of `texts` at each of `ns` is the route `routed` names and meets
+/// Every default prediction of `texts` (in `d` axes) at each of `ns` is the route `routed` names and meets
 /// Monte Carlo of 20000 patterns as drawn (all integrands on the same patterns, keyed by
 /// `seed`): the two 99% intervals overlap (the prediction's widened to `Z_STRICT`).
 fn assert_defaults_meet_monte_carlo(
+    d: usize,
     texts: &[&str],
     ns: &[usize],
     seed: u64,
     routed: fn(&SpectrumOrigin) -> bool,
 ) {
-    let halton = SamplerKind::Halton.build(2).unwrap();
+    let halton = SamplerKind::Halton.build(d).unwrap();
     let fs: Vec<_> = texts
         .iter()
-        .map(|t| parse_integrand(t).unwrap().build(2).unwrap())
+        .map(|t| parse_integrand(t).unwrap().build(d).unwrap())
         .collect();
     let refs: Vec<&dyn Integrand> = fs.iter().map(|f| f.as_ref()).collect();
     for &n in ns {
@@ -62,6 +63,7 @@ fn assert_defaults_meet_monte_carlo(
 #[test]
 fn halton_as_drawn_meets_monte_carlo_on_products() {
     assert_defaults_meet_monte_carlo(
+        2,
         &[
             "gaussian:sigma=0.2,c=0.2;0.7",
             "polygon:0.2,0.3;0.7,0.3;0.7,0.8;0.2,0.8",
@@ -77,6 +79,7 @@ fn halton_as_drawn_meets_monte_carlo_on_products() {
 #[test]
 fn halton_as_drawn_meets_monte_carlo_beyond_products() {
     assert_defaults_meet_monte_carlo(
+        2,
         &[
             "disk:r=0.3,c=0.45;0.55",
             "edge:theta=30,offset=0.4",
@@ -128,27 +131,7 @@ fn a_full_period_in_one_dimension_is_the_shifted_grid() {
 /// Monte Carlo of 20000 patterns as drawn (the prediction's interval widened to `Z_STRICT`).
 #[test]
 fn halton_as_drawn_meets_monte_carlo_on_a_ball() {
-    let halton = SamplerKind::Halton.build(3).unwrap();
-    let ball = parse_integrand("ball").unwrap().build(3).unwrap();
-    for n in [64, 512] {
-        let mc = McParams {
-            patterns: 20_000,
-            shifts: 1,
-            seed: 37,
-            randomization: Randomization::None,
-            ..Default::default()
-        };
-        let m = empirical_variances(halton.as_ref(), &[ball.as_ref()], n, &mc, &Silent).unwrap();
-        let p = predict(
-            &Problem::new(halton.as_ref(), ball.as_ref(), n).unwrap(),
-            &PredictParams::default(),
-        )
-        .unwrap();
-        assert!(
-            matches!(p.route.spectrum, SpectrumOrigin::PermutedLevel(_)),
-            "{}",
-            p.route
-        );
-        common::assert_intervals_meet(&p, &m[0], Z_STRICT, &format!("ball, N = {n}"));
-    }
+    assert_defaults_meet_monte_carlo(3, &["ball"], &[64, 512], 37, |o| {
+        matches!(o, SpectrumOrigin::PermutedLevel(_))
+    });
 }
