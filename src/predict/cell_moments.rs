@@ -130,6 +130,12 @@ pub(crate) fn masses_and_constant_cells(
     (mass, Some(words))
 }
 
+/// Whether cell `c` is marked in a bit set of constant cells
+/// ([`masses_and_constant_cells`]'s layout: bit `c % 64` of word `c / 64`).
+pub(crate) fn is_marked(bits: &[u64], c: usize) -> bool {
+    bits[c / 64] >> (c % 64) & 1 == 1
+}
+
 /// `∫ f` over the box `[lo, hi) + t` taken modulo 1.
 fn wrapped_box_mass(f: &dyn Integrand, lo: &[f64], hi: &[f64], t: &[f64]) -> f64 {
     wrapped_box_moments(f, lo, hi, t).0
@@ -382,7 +388,7 @@ mod tests {
         for c in 0..16 * 8 {
             cell_box(c, &grid, &mut lo, &mut hi);
             let crossed = (0..3).any(|e| crosses(vertices[e], vertices[(e + 1) % 3], lo, hi));
-            let marked = constant[c / 64] >> (c % 64) & 1 == 1;
+            let marked = is_marked(&constant, c);
             assert_eq!(
                 marked, !crossed,
                 "cell {c}: marked {marked}, crossed {crossed}"

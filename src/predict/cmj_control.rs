@@ -34,7 +34,7 @@
 //! doubly centred `γ`.
 
 use super::cell_moments::{
-    masses_and_constant_cells, CellMoments, CellSum, CELL_ROUNDING, CELL_SECONDS,
+    is_marked, masses_and_constant_cells, CellMoments, CellSum, CELL_ROUNDING, CELL_SECONDS,
 };
 use super::term_mean::{mean_of_exact_terms, terms_within_budget, OccupancyEstimate};
 use crate::budget::Needs;
@@ -141,10 +141,7 @@ impl BlockSurrogate {
             let q = |s: usize, t: usize| masses[quadrant(i, j, s, t)] * scale;
             let (q00, q10, q01, q11) = (q(0, 0), q(1, 0), q(0, 1), q(1, 1));
             let flat = constant.as_ref().is_some_and(|bits| {
-                let on = |s, t| {
-                    let c = quadrant(i, j, s, t);
-                    bits[c / 64] >> (c % 64) & 1 == 1
-                };
+                let on = |s, t| is_marked(bits, quadrant(i, j, s, t));
                 on(0, 0)
                     && on(1, 0)
                     && on(0, 1)

@@ -23,7 +23,8 @@
 //! axis, [`super::walsh_net`] sums every level exactly instead, and no remainder is measured.
 
 use super::cell_moments::{
-    check_box_moments, chunked_sum, masses_and_constant_cells, CELL_ROUNDING, CELL_SECONDS,
+    check_box_moments, chunked_sum, is_marked, masses_and_constant_cells, CELL_ROUNDING,
+    CELL_SECONDS,
 };
 use super::cells::cell_of;
 use super::term_mean::mean_to_target_noise;
@@ -196,10 +197,7 @@ impl Remainder<'_> {
         let mut sum = CompensatedSum::default();
         for y in ys {
             let c = cell_of(&y[..d], self.grid);
-            if self
-                .constant
-                .is_some_and(|bits| bits[c / 64] >> (c % 64) & 1 == 1)
-            {
+            if self.constant.is_some_and(|bits| is_marked(bits, c)) {
                 continue;
             }
             sum.add(self.f.eval(&y[..d]) - self.means[c]);
