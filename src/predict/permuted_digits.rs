@@ -130,31 +130,84 @@ pub(super) fn support_of(mut c: usize, p: usize, m: u32) -> usize {
 
 /// The orthonormal transform of `values` (length `p^m`) in Helmert's basis along every digit:
 /// `e_0 = 1/√p`, `e_k(a) = (1 for a < k, −k for a = k, 0 beyond)/√(k(k+1))`.
+///
+/// Each stage runs over whole rows of `stride` values at once (the `p` members of a butterfly
+/// are `stride` apart), so its loops run over contiguous lanes; every lane takes the same
+/// operations in the same order as a butterfly taken alone.
 pub(super) fn helmert_transform(values: &mut [f64], p: usize, m: u32) {
-    let mut block = vec![0.0; p];
+    let norms: Vec<f64> = (0..p)
+        .map(|k| {
+            if k == 0 {
+                (p as f64).sqrt()
+            } else {
+                let kf = k as f64;
+                (kf * (kf + 1.0)).sqrt()
+            }
+        })
+        .collect();
+    let lanes = values.len() / p;
+    let (mut total, mut prefix) = (vec![0.0; lanes], vec![0.0; lanes]);
     let mut stride = 1;
     for _ in 0..m {
         let span = stride * p;
-        for start in (0..values.len()).step_by(span) {
-            for offset in 0..stride {
-                for (a, b) in block.iter_mut().enumerate() {
-                    *b = values[start + offset + a * stride];
-                }
-                let mut prefix = 0.0;
-                for k in 0..p {
-                    let out = if k == 0 {
-                        block.iter().sum::<f64>() / (p as f64).sqrt()
-                    } else {
-                        prefix += block[k - 1];
-                        let kf = k as f64;
-                        (prefix - kf * block[k]) / (kf * (kf + 1.0)).sqrt()
-                    };
-                    values[start + offset + k * stride] = out;
-                }
+        let (total, prefix) = (&mut total[..stride], &mut prefix[..stride]);
+        if stride == 1 {
+            values
+                .chunks_exact_mut(p)
+                .for_each(|block| helmert_butterfly(block, &norms));
+        } else {
+            for block in values.chunks_exact_mut(span) {
+                helmert_stage(block, stride, &norms, total, prefix);
             }
         }
         stride = span;
     }
+}
+
+/// One butterfly over `p = norms.len()` contiguous values: [`helmert_stage`] with one lane.
+fn helmert_butterfly(block: &mut [f64], norms: &[f64]) {
+    let total: f64 = block.iter().sum();
+    let mut prefix = 0.0;
+    prefix += block[0];
+    for k in 1..block.len() {
+        let v = block[k];
+        block[k] = (prefix - k as f64 * v) / norms[k];
+        prefix += v;
+    }
+    block[0] = total / norms[0];
+}
+
+/// One butterfly stage over `block`, `p = norms.len()` rows of `stride` lanes; `total` and
+/// `prefix` are scratch of `stride` lanes. Row `k ≥ 1` becomes `(Σ_{a<k} row_a − k row_k) /
+/// √(k(k+1))`, read before it is written; row 0, the sum over rows `/√p`, is written last.
+fn helmert_stage(
+    block: &mut [f64],
+    stride: usize,
+    norms: &[f64],
+    total: &mut [f64],
+    prefix: &mut [f64],
+) {
+    total.copy_from_slice(&block[..stride]);
+    for row in block[stride..].chunks_exact(stride) {
+        total.iter_mut().zip(row).for_each(|(t, &x)| *t += x);
+    }
+    prefix.fill(0.0);
+    prefix
+        .iter_mut()
+        .zip(&block[..stride])
+        .for_each(|(s, &x)| *s += x);
+    for (k, row) in block.chunks_exact_mut(stride).enumerate().skip(1) {
+        let (kf, norm) = (k as f64, norms[k]);
+        for (x, s) in row.iter_mut().zip(prefix.iter_mut()) {
+            let v = *x;
+            *x = (*s - kf * v) / norm;
+            *s += v;
+        }
+    }
+    block[..stride]
+        .iter_mut()
+        .zip(total.iter())
+        .for_each(|(x, &t)| *x = t / norms[0]);
 }
 
 /// `K'(A) = Σ_{S≠∅} E_S Π_{ℓ∈S} ρ_ℓ(A)` for every `A`, position by position.
@@ -224,6 +277,9 @@ fn agreement(a: u64, b: u64, m: u32, bits: u32) -> usize {
     mask
 }
 
+/// Rows of the pair sums one parallel task takes.
+const PAIR_ROWS: usize = 16;
+
 /// `(1/N²) Σ_{i,j}` of the products `Π_{l∈T} K'_l` for every non-empty subset `T` of the axes
 /// (index `T` as a bit set), and the sums of their magnitudes.
 fn pair_sums(kernels: &[AxisKernel], ms: &[u32], n: usize) -> (Vec<f64>, Vec<f64>) {
@@ -235,35 +291,39 @@ fn pair_sums(kernels: &[AxisKernel], ms: &[u32], n: usize) -> (Vec<f64>, Vec<f64
         .collect();
     let bits: Vec<u32> = (0..d).map(|l| digit_bits(base(l))).collect();
     let subsets = 1usize << d;
-    let zero = || (vec![0.0; subsets], vec![0.0; subsets]);
-    let (sums, magnitudes) = (0..n)
+    // Rows in fixed chunks added in their order: the same bits on any thread count.
+    let parts: Vec<(Vec<f64>, Vec<f64>)> = (0..n.div_ceil(PAIR_ROWS))
         .into_par_iter()
-        .fold(zero, |(mut s, mut a), i| {
+        .map(|chunk| {
+            let (mut s, mut a) = (vec![0.0; subsets], vec![0.0; subsets]);
             let mut k = [0.0; MAX_DIMENSION];
-            for j in i..n {
-                // The diagonal once, the pairs i ≠ j twice.
-                let times = if j == i { 1.0 } else { 2.0 };
-                for (l, axis) in kernels.iter().enumerate() {
-                    k[l] = axis.varying[agreement(digits[l][i], digits[l][j], ms[l], bits[l])];
-                }
-                for t in 1..subsets {
-                    let mut product = times;
-                    for (l, kl) in k.iter().enumerate().take(d) {
-                        if t >> l & 1 == 1 {
-                            product *= kl;
-                        }
+            for i in chunk * PAIR_ROWS..((chunk + 1) * PAIR_ROWS).min(n) {
+                for j in i..n {
+                    // The diagonal once, the pairs i ≠ j twice.
+                    let times = if j == i { 1.0 } else { 2.0 };
+                    for (l, axis) in kernels.iter().enumerate() {
+                        k[l] = axis.varying[agreement(digits[l][i], digits[l][j], ms[l], bits[l])];
                     }
-                    s[t] += product;
-                    a[t] += product.abs();
+                    for t in 1..subsets {
+                        let mut product = times;
+                        for (l, kl) in k.iter().enumerate().take(d) {
+                            if t >> l & 1 == 1 {
+                                product *= kl;
+                            }
+                        }
+                        s[t] += product;
+                        a[t] += product.abs();
+                    }
                 }
             }
             (s, a)
         })
-        .reduce(zero, |(mut s, mut a), (t, b)| {
-            s.iter_mut().zip(&t).for_each(|(x, y)| *x += y);
-            a.iter_mut().zip(&b).for_each(|(x, y)| *x += y);
-            (s, a)
-        });
+        .collect();
+    let (mut sums, mut magnitudes) = (vec![0.0; subsets], vec![0.0; subsets]);
+    for (s, a) in parts {
+        sums.iter_mut().zip(&s).for_each(|(x, y)| *x += y);
+        magnitudes.iter_mut().zip(&a).for_each(|(x, y)| *x += y);
+    }
     let scale = 1.0 / (n as f64 * n as f64);
     (
         sums.iter().map(|s| s * scale).collect(),
