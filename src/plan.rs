@@ -890,7 +890,7 @@ mod tests {
     }
 
     /// The smallest admitted N with `c N^r ≤ target`: from the closed-form crossing, a step
-    /// back and a walk up the ladder (whose steps `tests/sampler_facts.rs` checks).
+    /// back and a walk up the ladder (whose steps `tests/suite/sampler_facts.rs` checks).
     fn walked(counts: CountRule, c: f64, r: f64, target: f64) -> usize {
         let crossing = (target / c).powf(1.0 / r) * (1.0 - 1e-9);
         let mut n = counts.below(crossing as usize, 2).unwrap_or(1);

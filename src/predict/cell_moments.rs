@@ -355,7 +355,7 @@ mod tests {
     /// The constant cells of a triangle are those its edges miss (a segment clipped to the
     /// cell, Liang–Barsky, keeps a piece of positive length), and a marked cell's mean is the
     /// value at its centre. The masses are [`cell_masses`]'s to the bit (both the polygon's own
-    /// grid masses, which `tests/unshifted.rs` checks cell by cell against its box moments); a
+    /// grid masses, which `tests/suite/unshifted.rs` checks cell by cell against its box moments); a
     /// Gaussian marks none.
     #[test]
     fn constant_cells_are_those_the_boundary_misses() {

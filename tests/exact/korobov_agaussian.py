@@ -3,7 +3,7 @@
 over the dual lattice with numpy, independently of specvar: Var = sum over k != 0 with
 k_0 + a k_1 = 0 (mod N) of |f^(k)|^2, f^(k) = 2 pi s1 s2 exp(-2 pi^2 k' S k) for the lobe of
 widths s1 (at angle theta) and s2 centred in the square (its images across the faces are below
-e^-50 of its peak). Prints the variance for the cases of tests/dual_lattice.rs.
+e^-50 of its peak). Prints the variance for the cases of tests/suite/dual_lattice.rs.
 
     python3 -m venv /tmp/v && /tmp/v/bin/pip install numpy && /tmp/v/bin/python tests/exact/korobov_agaussian.py
 """

@@ -10,7 +10,7 @@ k_1 + k_2 = m + 1 with both k_l >= 1, and 1 otherwise. The levels beyond those c
 through T(b) = sum_{a >= b} delta(a) = int g^2 - sum_{a < b} delta(a), whose subtraction
 keeps its digits at this precision.
 
-`tests/owen_gains.rs` compares `predict -s sobol|pmj02 -n 2^m -f gaussian:sigma=0.2,c=0.2;0.7`
+`tests/suite/owen_gains.rs` compares `predict -s sobol|pmj02 -n 2^m -f gaussian:sigma=0.2,c=0.2;0.7`
 with the values printed here: `python3 tests/exact/owen_gaussian.py 20` (mpmath, 2^22 error
 functions: about a minute with gmpy2) prints 6.9921935244021339169e-18.
 """

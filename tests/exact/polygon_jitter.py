@@ -4,7 +4,7 @@ Jitter with M x M strata has variance (1/N^2) sum_c V_c, N = M^2, and on an indi
 inner variance is p(1 - p) for the fraction p of it the triangle covers, 0 on the cells its
 boundary does not touch. Each touched cell is clipped by the triangle in fractions.Fraction, so
 the sum is exact for the triangle's vertices as doubles (0.1, 0.2; 0.8, 0.1; 0.4, 0.9) and the
-strata's edges i/M. `tests/unshifted.rs` compares `predict -s jitter` with the values printed
+strata's edges i/M. `tests/suite/unshifted.rs` compares `predict -s jitter` with the values printed
 here: `python3 tests/exact/polygon_jitter.py 10000` prints 3.9432749433e-13 (15 s).
 """
 import math

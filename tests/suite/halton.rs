@@ -4,7 +4,7 @@
 //! of the same estimator and, in 1D at a full period, against the closed form of a randomly
 //! shifted grid.
 
-mod common;
+use crate::common;
 
 use common::Z_STRICT;
 use specvar::integrand::{parse_integrand, Integrand};
@@ -134,4 +134,19 @@ fn halton_as_drawn_meets_monte_carlo_on_a_ball() {
     assert_defaults_meet_monte_carlo(3, &["ball"], &[64, 512], 37, |o| {
         matches!(o, SpectrumOrigin::PermutedLevel(_))
     });
+}
+
+/// Both routes give the same bits on any thread count: the pairs' sums (a product, N = 1000)
+/// and the level with its finer digits measured (a disk, N = 16).
+#[test]
+fn halton_as_drawn_is_the_same_bits_on_any_thread_count() {
+    let halton = SamplerKind::Halton.build(2).unwrap();
+    for (text, n) in [("gaussian:sigma=0.2", 1000), ("disk:r=0.3,c=0.45;0.55", 16)] {
+        let f = parse_integrand(text).unwrap().build(2).unwrap();
+        let problem = Problem::new(halton.as_ref(), f.as_ref(), n).unwrap();
+        common::assert_thread_count_invariant(|| {
+            let p = predict(&problem, &PredictParams::default()).unwrap();
+            (p.variance.to_bits(), p.budget.quadrature.to_bits())
+        });
+    }
 }

@@ -2,7 +2,7 @@
 //! shift is far below `ε I²`, where the sum in space, `(1/N) Σ_i a_f(x_i) − I²`, keeps none of
 //! its digits. Summed over the dual lattice in positive terms it does.
 
-mod common;
+use crate::common;
 
 use specvar::integrand::{AnisotropicGaussian, Integrand};
 use specvar::montecarlo::{empirical_variance, McParams};

@@ -1,7 +1,7 @@
 //! `plan`: the counts it picks, checked by Monte Carlo of the same estimator at the planned N
 //! and at the count just below it.
 
-mod common;
+use crate::common;
 
 use specvar::integrand::{Integrand, IntegrandSpec};
 use specvar::montecarlo::{empirical_variance, McParams, McResult};

@@ -8,7 +8,7 @@ use specvar::sampler::*;
 use specvar::spectrum::*;
 use specvar::{PointSet, Result};
 
-mod common;
+use crate::common;
 
 fn disk() -> Ball {
     Ball::new(0.25, vec![0.5, 0.5], 1.0).unwrap()

@@ -4,7 +4,7 @@
 //! digital shift leaves unchanged; and random samplers drawn anew under a digital shift, by the
 //! mean over patterns of each one's Walsh sum.
 
-mod common;
+use crate::common;
 
 use common::{ROUNDING, Z_STRICT};
 use specvar::integrand::{Ball, Gaussian, GridIntegrand, Integrand, Polygon};

@@ -6,7 +6,7 @@ use specvar::randomization::Randomization;
 use specvar::sampler::*;
 use specvar::spectrum::*;
 
-mod common;
+use crate::common;
 
 fn disk() -> Ball {
     Ball::new(0.25, vec![0.5, 0.5], 1.0).unwrap()

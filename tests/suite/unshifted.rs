@@ -4,7 +4,7 @@
 //! Fourier pairs; the exact forms against the estimated occupancy; every prediction against
 //! Monte Carlo of the same estimator.
 
-mod common;
+use crate::common;
 
 use common::{assert_thread_count_invariant, ROUNDING, Z_STRICT};
 use rayon::prelude::*;

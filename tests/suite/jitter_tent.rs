@@ -10,7 +10,7 @@ use specvar::randomization::Randomization;
 use specvar::sampler::*;
 use specvar::spectrum::ClosedForm;
 
-mod common;
+use crate::common;
 
 fn shifted(f: &dyn Integrand, n: usize, params: &PredictParams) -> Prediction {
     let jitter = Jitter::new(f.dimension()).unwrap();

@@ -5,7 +5,7 @@ use specvar::sampler::*;
 use specvar::spectrum::lattice::{naive_periodogram, Lattice};
 use specvar::spectrum::*;
 
-mod common;
+use crate::common;
 
 fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {
     a.iter()

@@ -8,7 +8,7 @@ use specvar::render::*;
 use specvar::sampler::*;
 use specvar::spectrum::ClosedForm;
 
-mod common;
+use crate::common;
 
 const Z_999: f64 = 3.29;
 

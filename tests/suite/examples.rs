@@ -2,8 +2,8 @@
 //! holds the files the examples name, each succeeds, or fails with exit code 2 where the docs
 //! show the error it prints, within a generous time.
 
+use crate::common;
 use std::path::Path;
-mod common;
 
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};

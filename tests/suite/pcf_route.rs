@@ -2,7 +2,7 @@
 //! correlation function and from its power spectrum are Fourier pairs, so they must agree
 //! within their noise.
 
-mod common;
+use crate::common;
 
 use rayon::prelude::*;
 use specvar::integrand::{Ball, Gaussian, Integrand};

@@ -1,7 +1,7 @@
 //! Inputs that once crashed, hung or gave wrong answers: each must now give one line on
 //! standard error and exit code 2, within a bounded time, without a panic.
 
-mod common;
+use crate::common;
 
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};

@@ -4,7 +4,7 @@ use rayon::prelude::*;
 use specvar::sampler::*;
 use specvar::{Error, PointSet};
 
-mod common;
+use crate::common;
 
 fn all_in_unit_cube(p: &PointSet) -> bool {
     p.coords().iter().all(|c| (0.0..1.0).contains(c))

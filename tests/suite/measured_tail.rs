@@ -3,7 +3,7 @@
 //! beyond the lattice is measured at shifts. Checked against Monte Carlo of the shifted
 //! estimator and against the white-tail prediction it replaces.
 
-mod common;
+use crate::common;
 
 use specvar::integrand::{Gaussian, Integrand, Polygon};
 use specvar::montecarlo::{empirical_variance, McParams};

@@ -8,7 +8,7 @@ use specvar::randomization::Randomization;
 use specvar::sampler::*;
 use specvar::spectrum::ClosedForm;
 
-mod common;
+use crate::common;
 
 fn predict_default(sampler: &dyn Sampler, f: &dyn Integrand, n: usize) -> Prediction {
     predict(

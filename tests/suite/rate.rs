@@ -7,8 +7,6 @@ use specvar::rate::*;
 use specvar::sampler::*;
 use specvar::spectrum::*;
 
-mod common;
-
 #[test]
 fn theory_reproduces_the_talks_table() {
     let disk = 3.0;

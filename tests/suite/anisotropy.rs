@@ -1,7 +1,7 @@
 //! Polygons and edges: exact transforms against independent routes, and the variance of an
 //! edge against its angle predicted within Monte Carlo's intervals.
 
-mod common;
+use crate::common;
 
 use num_complex::Complex64;
 use specvar::anisotropy::{variance_against_orientation, OrientationConfig};

@@ -12,7 +12,7 @@ use specvar::spectrum::{
 };
 use specvar::PointSet;
 
-mod common;
+use crate::common;
 
 /// The direct sums' own rounding, relative to `N`: a few ulps per term, added over the
 /// phase recurrence's length.

@@ -8,7 +8,7 @@ use specvar::sampler::Jitter;
 use specvar::spectrum::ClosedForm;
 use std::f64::consts::PI;
 
-mod common;
+use crate::common;
 
 fn integrands(d: usize) -> Vec<Box<dyn Integrand>> {
     vec![

@@ -1,7 +1,7 @@
 //! Plans from a pilot (a few renders at 16 samples per pixel), checked by Monte Carlo of the
 //! image at the planned count (for white noise, by its exact variance).
 
-mod common;
+use crate::common;
 
 use rayon::prelude::*;
 use specvar::integrand::{GridIntegrand, Integrand};
@@ -191,7 +191,7 @@ fn a_pilot_of_padded_pixels_plans_within_40_percent() {
         assert_eq!(pilot.model(), PilotModel::Padded);
         let p = plan_pilot(s, &pilot, &params, &Silent).unwrap();
         // The truth at N: the padded prediction, itself checked by Monte Carlo
-        // (tests/padded.rs), averaged over the pixels.
+        // (tests/suite/padded.rs), averaged over the pixels.
         let padded = PaddedSamplers::native(s, s).unwrap();
         let variance = image
             .iter()

@@ -4,7 +4,7 @@
 //! against Monte Carlo of the shifted estimator and against each other; CMJ on a Gaussian by
 //! its exact variance at each shift.
 
-mod common;
+use crate::common;
 
 use specvar::integrand::{Gaussian, Integrand, Polygon};
 use specvar::montecarlo::{empirical_variances, McParams};

@@ -2,7 +2,7 @@
 //! (axis mirror, transpose, isotropy, scale invariance) against its estimated spectrum, with a
 //! negative control for each check so that none of them passes whatever the spectrum.
 
-mod common;
+use crate::common;
 
 use specvar::prelude::*;
 use specvar::sampler::{CountRule, Scaling, Symmetry};

@@ -3,7 +3,7 @@
 //! noise), far less noisy than the raw per-pattern sums there, and covered by its measured
 //! model term where it is not (jitter, whose spectrum curves and is not isotropic).
 
-mod common;
+use crate::common;
 
 use common::Z_STRICT;
 use specvar::integrand::{parse_integrand, Integrand};

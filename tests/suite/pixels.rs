@@ -1,6 +1,6 @@
 //! Image-level predictions over a stack of per-pixel grids, `.npy` grids and grid scales.
 
-mod common;
+use crate::common;
 
 use specvar::integrand::{read_grid_file, read_grid_text, GridIntegrand, Integrand, IntegrandSpec};
 use specvar::montecarlo::{empirical_variance, McParams};
