@@ -1,9 +1,10 @@
 //! The volume a ball shares with an axis-aligned box, in 1 to 3 dimensions: exact in 1D and 2D
 //! (the disk's area below and left of a corner has a closed form, and a rectangle is four
-//! corners by inclusion–exclusion), and in 3D the integral over height of the 2D areas, split
-//! where a slice's radius crosses a face or an edge of the box, so that every piece is smooth
-//! inside and at most algebraically singular at its ends, where the double-exponential rule
-//! converges exponentially.
+//! corners by inclusion–exclusion), and in 3D the integral of the 2D areas across the box's
+//! shortest side, split where a slice's radius crosses a face or an edge of the box, so that
+//! every piece is smooth inside and at most algebraically singular at its ends: a short piece
+//! by a pair of Gauss–Legendre rules (after a substitution that flattens its ends where one is
+//! singular), any other by the double-exponential rule, which converges exponentially there.
 
 /// The relative accuracy asked of each 3D piece.
 const SLICE_TOLERANCE: f64 = 1e-14;
@@ -279,8 +280,10 @@ fn ball_in_cuboid(c: &[f64], r: f64, lo: &[f64], hi: &[f64]) -> f64 {
     // rectangle (and at the equator, where the radius turns).
     let (dx, dy) = ([lo[i] - c[i], hi[i] - c[i]], [lo[j] - c[j], hi[j] - c[j]]);
     let (a, b) = reach[k];
-    let mut cuts = [0.0; 3 + 2 * 8];
-    cuts[..3].copy_from_slice(&[a, b, c[k].clamp(a, b)]);
+    // Each cut with whether the slice's area is singular there (a kink), rather than
+    // analytic through it (a face of the box, a pole of the ball, the equator).
+    let mut cuts = [(0.0, false); 3 + 2 * 8];
+    cuts[..3].copy_from_slice(&[(a, false), (b, false), (c[k].clamp(a, b), false)]);
     let mut count = 3;
     let distances = dx
         .iter()
@@ -290,35 +293,84 @@ fn ball_in_cuboid(c: &[f64], r: f64, lo: &[f64], hi: &[f64]) -> f64 {
     for d in distances.filter(|&d| d < r) {
         let t = half_chord(d, r);
         for z in [c[k] - t, c[k] + t] {
-            if z > a && z < b {
-                cuts[count] = z;
+            if z >= a && z <= b {
+                cuts[count] = (z, true);
                 count += 1;
             }
         }
     }
     let cuts = &mut cuts[..count];
-    cuts.sort_by(f64::total_cmp);
+    cuts.sort_by(|p, q| p.0.total_cmp(&q.0));
     let mut total = 0.0;
-    for w in cuts.windows(2).filter(|w| w[1] > w[0]) {
-        total += piece_integral(&slice, w[0], w[1], r);
+    let mut start = cuts[0];
+    for &next in &cuts[1..] {
+        if next.0 > start.0 {
+            total += piece_integral(&slice, start, next, r);
+            start = next;
+        } else {
+            // The same place twice: a kink if either is.
+            start.1 |= next.1;
+        }
     }
     total.max(0.0)
 }
 
-/// Pieces at most this share of the radius long first try [`short_piece`].
+/// Pieces at most this share of the radius long first try Gauss–Legendre pairs.
 const SHORT_PIECE_SHARE: f64 = 0.125;
 
 /// `∫_a^b slice` to [`SLICE_TOLERANCE`] of the piece's scale (its length times the disk's
-/// area): a short piece by [`short_piece`] where its two rules agree to the tolerance, every
-/// other by the double-exponential rule.
-fn piece_integral(slice: &impl Fn(f64) -> f64, a: f64, b: f64, r: f64) -> f64 {
+/// area), each end given with whether the slice's area is singular there. A short piece
+/// whose ends are both analytic tries [`smooth_piece`], then any short piece
+/// [`short_piece`]; a pair's value is kept where its two rules agree to the tolerance, and
+/// every other piece takes the double-exponential rule.
+fn piece_integral(
+    slice: &impl Fn(f64) -> f64,
+    (a, kink_at_a): (f64, bool),
+    (b, kink_at_b): (f64, bool),
+    r: f64,
+) -> f64 {
     let tolerance = SLICE_TOLERANCE * (b - a) * std::f64::consts::PI * r * r;
-    if b - a <= SHORT_PIECE_SHARE * r
-        && let Some(value) = short_piece(slice, a, b, tolerance)
-    {
-        return value;
+    if b - a <= SHORT_PIECE_SHARE * r {
+        let smooth = !(kink_at_a || kink_at_b);
+        if let Some(value) = smooth
+            .then(|| smooth_piece(slice, a, b, tolerance))
+            .flatten()
+            .or_else(|| short_piece(slice, a, b, tolerance))
+        {
+            return value;
+        }
     }
     quadrature::double_exponential::integrate(slice, a, b, tolerance).integral
+}
+
+/// Points of the lower and higher Gauss–Legendre rules of [`smooth_piece`].
+const SMOOTH_RULES: (usize, usize) = (4, 6);
+
+/// `∫_a^b slice` by a pair of plain Gauss–Legendre rules, for a piece whose slice areas are
+/// analytic through both ends: the higher rule's value where the two agree to `tolerance`,
+/// `None` otherwise (a kink just beyond an end slows both).
+fn smooth_piece(slice: &impl Fn(f64) -> f64, a: f64, b: f64, tolerance: f64) -> Option<f64> {
+    let (low, high) = smooth_rules();
+    let coarse = low.integrate(a, b, slice);
+    let fine = high.integrate(a, b, slice);
+    ((fine - coarse).abs() <= tolerance).then_some(fine)
+}
+
+/// The rules of [`smooth_piece`], built once.
+fn smooth_rules() -> &'static (
+    crate::quadrature::GaussLegendre,
+    crate::quadrature::GaussLegendre,
+) {
+    static RULES: std::sync::OnceLock<(
+        crate::quadrature::GaussLegendre,
+        crate::quadrature::GaussLegendre,
+    )> = std::sync::OnceLock::new();
+    RULES.get_or_init(|| {
+        (
+            crate::quadrature::GaussLegendre::new(SMOOTH_RULES.0),
+            crate::quadrature::GaussLegendre::new(SMOOTH_RULES.1),
+        )
+    })
 }
 
 /// Points of the lower and higher Gauss–Legendre rules of [`short_piece`]: after its
@@ -540,8 +592,8 @@ mod tests {
 
     /// Slabs and boxes of every aspect the dyadic grids of a 3D net make (one side `2^-a`,
     /// `2^-b`, `2^-c` with `a + b + c = 12`), at every offset where the sphere crosses them:
-    /// the volume, sliced across the shortest side (short pieces by the substituted
-    /// Gauss–Legendre pair), meets the same volume sliced along the last axis by the
+    /// the volume, sliced across the shortest side (short pieces by Gauss–Legendre pairs,
+    /// plain or substituted), meets the same volume sliced along the last axis by the
     /// double-exponential rule alone, within both rules' tolerance of each piece's scale.
     #[test]
     fn slabs_sliced_across_their_thin_side_meet_slices_along_the_last_axis() {
