@@ -130,21 +130,73 @@ const SHORT_SEGMENT: f64 = 0.25;
 /// Gauss–Legendre nodes for a short segment.
 const SHORT_SEGMENT_NODES: usize = 6;
 
-/// `∫_u^v exp(-t²) dt` for `v - u <` [`SHORT_SEGMENT`], by Gauss–Legendre.
-fn short_segment(u: f64, v: f64) -> f64 {
+/// The Gauss–Legendre rule of [`short_segment`], built once.
+fn short_rule() -> &'static (Vec<f64>, Vec<f64>) {
     static RULE: std::sync::OnceLock<(Vec<f64>, Vec<f64>)> = std::sync::OnceLock::new();
-    let (nodes, weights) =
-        RULE.get_or_init(|| crate::quadrature::gauss_legendre(SHORT_SEGMENT_NODES));
+    RULE.get_or_init(|| crate::quadrature::gauss_legendre(SHORT_SEGMENT_NODES))
+}
+
+/// `∫_u^v exp(-t²) dt` for `v - u <` [`SHORT_SEGMENT`], by Gauss–Legendre, each node's
+/// exponential by [`crate::vector_exp`] (so that [`short_segments`] gives the same bits).
+fn short_segment(u: f64, v: f64) -> f64 {
+    let mut values = [0.0; SHORT_SEGMENT_NODES];
+    short_arguments(u, v, &mut values);
+    values.iter_mut().for_each(|x| *x = exp_nonpositive(*x));
+    short_sum(u, v, &values)
+}
+
+/// The exponents `−t²` at the rule's nodes on `[u, v]`.
+fn short_arguments(u: f64, v: f64, out: &mut [f64]) {
+    let (nodes, _) = short_rule();
     let (mid, half) = ((u + v) / 2.0, (v - u) / 2.0);
-    let sum: f64 = nodes
-        .iter()
-        .zip(weights)
-        .map(|(x, w)| {
-            let t = mid + half * x;
-            w * (-t * t).exp()
-        })
-        .sum();
-    half * sum
+    for (o, x) in out.iter_mut().zip(nodes) {
+        let t = mid + half * x;
+        *o = -t * t;
+    }
+}
+
+/// The rule's sum on `[u, v]` from the exponentials at its nodes, added in order.
+fn short_sum(u: f64, v: f64, values: &[f64]) -> f64 {
+    let (_, weights) = short_rule();
+    let mut sum = 0.0;
+    for (w, e) in weights.iter().zip(values) {
+        sum += w * e;
+    }
+    (v - u) / 2.0 * sum
+}
+
+/// Cells per parallel task of [`short_segments`].
+const SEGMENT_CHUNK: usize = 4096;
+
+/// `gaussian_segment(i/m, (i+1)/m, c, s)` for every `i < m`, when a cell is shorter than
+/// [`SHORT_SEGMENT`] widths: the same bits as cell by cell, with the exponentials of a chunk
+/// of cells taken at once ([`crate::vector_exp::exp_in_place`]).
+fn short_segments(m: usize, c: f64, s: f64) -> Vec<f64> {
+    let mut out = vec![0.0; m];
+    out.par_chunks_mut(SEGMENT_CHUNK)
+        .enumerate()
+        .for_each(|(chunk, cells)| {
+            let first = chunk * SEGMENT_CHUNK;
+            let bounds = |i: usize| {
+                let (a, b) = (i as f64 / m as f64, (i + 1) as f64 / m as f64);
+                ((a - c) / s, (b - c) / s)
+            };
+            let mut values = vec![0.0; cells.len() * SHORT_SEGMENT_NODES];
+            for (k, row) in values.chunks_exact_mut(SHORT_SEGMENT_NODES).enumerate() {
+                let (u, v) = bounds(first + k);
+                short_arguments(u, v, row);
+            }
+            exp_in_place(&mut values);
+            for (k, (cell, row)) in cells
+                .iter_mut()
+                .zip(values.chunks_exact(SHORT_SEGMENT_NODES))
+                .enumerate()
+            {
+                let (u, v) = bounds(first + k);
+                *cell = s * short_sum(u, v, row);
+            }
+        });
+    out
 }
 
 /// `∫_a^b exp(-(x - c)²/s²) dx`, with `erfc` on the side where `erf` would cancel, and
@@ -173,8 +225,12 @@ fn gaussian_segment(a: f64, b: f64, c: f64, s: f64) -> f64 {
 /// round by `ε t²` and `ε`.
 fn exp_rounding(t: f64, s: f64) -> f64 {
     let t = t.abs();
-    f64::EPSILON * (8.0 * t * t + 8.0 * t / s + 4.0)
+    f64::EPSILON * (8.0 * t * t + 8.0 * t / s + 4.0 + EXP_ULPS)
 }
+
+/// Units in the last place [`crate::vector_exp`]'s exponential may err by beyond the one
+/// [`exp_rounding`] counts for a library `exp`.
+const EXP_ULPS: f64 = 3.0;
 
 /// A bound on the relative rounding of [`gaussian_segment`] (of width `s`, centre `c`) over
 /// any piece of a cell of width `h` in the unit interval. A short piece is a Gauss–Legendre
@@ -314,11 +370,16 @@ impl Integrand for Gaussian {
         if grid.len() != self.centre.len() {
             return None;
         }
-        // The rows box_moments multiplies: the same bounds, widths and order.
+        // The rows box_moments multiplies: the same bounds, widths and order (short cells'
+        // exponentials taken a chunk at a time, the same bits).
         let rows = |width: f64| -> Vec<Vec<f64>> {
             grid.iter()
                 .zip(&self.centre)
                 .map(|(&m, &c)| {
+                    let s = width * SQRT_2;
+                    if m > 0 && 1.0 / (m as f64 * s) < SHORT_SEGMENT {
+                        return short_segments(m, c, s);
+                    }
                     (0..m)
                         .into_par_iter()
                         .map(|i| {
