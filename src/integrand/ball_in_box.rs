@@ -6,6 +6,8 @@
 //! by a pair of Gauss–Legendre rules (after a substitution that flattens its ends where one is
 //! singular), any other by the double-exponential rule, which converges exponentially there.
 
+use crate::quadrature::{EmbeddedRules, PanelEstimate};
+
 /// The relative accuracy asked of each 3D piece.
 const SLICE_TOLERANCE: f64 = 1e-14;
 
@@ -321,8 +323,8 @@ const SHORT_PIECE_SHARE: f64 = 0.125;
 /// `∫_a^b slice` to [`SLICE_TOLERANCE`] of the piece's scale (its length times the disk's
 /// area), each end given with whether the slice's area is singular there. A short piece
 /// whose ends are both analytic tries the plain pair of [`piece_rules`], then any short piece
-/// the flat-ended pair; a pair's value is kept where its two rules agree to the tolerance, and
-/// every other piece takes the double-exponential rule.
+/// the flat-ended pair after its substitution; a pair's value is kept where its two rules agree
+/// to the tolerance, and every other piece takes the double-exponential rule.
 fn piece_integral(
     slice: &impl Fn(f64) -> f64,
     (a, kink_at_a): (f64, bool),
@@ -332,12 +334,22 @@ fn piece_integral(
     let tolerance = SLICE_TOLERANCE * (b - a) * std::f64::consts::PI * r * r;
     if b - a <= SHORT_PIECE_SHARE * r {
         let [plain, flat_ended] = piece_rules();
+        let agreed = |p: PanelEstimate| (p.error <= tolerance).then_some(p.value);
         let smooth = !(kink_at_a || kink_at_b);
-        if let Some(value) = smooth
-            .then(|| plain.agreed(slice, a, b, tolerance))
-            .flatten()
-            .or_else(|| flat_ended.agreed(slice, a, b, tolerance))
-        {
+        let plain_value = || agreed(plain.integrate(a, b, |t| (slice(t), 0.0)));
+        // `t = a + L φ(s)`, `φ(s) = s²(3 − 2s)`: a piece's ends are where a slice's radius
+        // crosses a face line or a corner, where the area goes like a half-integer power of
+        // the distance, and `φ`'s flat ends (`φ ∝ s²` at 0, `1 − φ ∝ (1 − s)²` at 1) turn
+        // those powers into odd powers of `s` times powers of `3 − 2s` and `1 + 2s`, so the
+        // rules converge geometrically.
+        let length = b - a;
+        let flat_ended_value = || {
+            agreed(flat_ended.integrate(0.0, 1.0, |s| {
+                let place = a + length * s * s * (3.0 - 2.0 * s);
+                (slice(place) * length * 6.0 * s * (1.0 - s), 0.0)
+            }))
+        };
+        if let Some(value) = smooth.then(plain_value).flatten().or_else(flat_ended_value) {
             return value;
         }
     }
@@ -354,79 +366,13 @@ const PLAIN_RULES: (usize, usize) = (4, 6);
 /// points, `6e-19` at 16.
 const FLAT_ENDED_RULES: (usize, usize) = (12, 16);
 
-/// A Gauss–Legendre rule on `[0, 1]`, each node's place in a piece and its weight, after a
-/// substitution `t = a + (b − a) φ(s)` (weights times `φ'(s)`).
-struct PieceRule {
-    places: Vec<f64>,
-    weights: Vec<f64>,
-}
-
-impl PieceRule {
-    /// `n` points, without a substitution (`φ(s) = s`).
-    fn plain(n: usize) -> Self {
-        Self::substituted(n, |s| (s, 1.0))
-    }
-
-    /// `n` points after `φ(s) = s²(3 − 2s)`: a piece's ends are where a slice's radius crosses
-    /// a face line or a corner, where the area goes like a half-integer power of the distance,
-    /// and `φ`'s flat ends (`φ ∝ s²` at 0, `1 − φ ∝ (1 − s)²` at 1) turn those powers into odd
-    /// powers of `s` times powers of `3 − 2s` and `1 + 2s`, so the rule converges geometrically.
-    fn flat_ended(n: usize) -> Self {
-        Self::substituted(n, |s| (s * s * (3.0 - 2.0 * s), 6.0 * s * (1.0 - s)))
-    }
-
-    /// `map(s) = (φ(s), φ'(s))`.
-    fn substituted(n: usize, map: impl Fn(f64) -> (f64, f64)) -> Self {
-        let (places, weights) = crate::quadrature::GaussLegendre::new(n)
-            .on(0.0, 1.0)
-            .map(|(s, w)| {
-                let (place, slope) = map(s);
-                (place, w * slope)
-            })
-            .unzip();
-        Self { places, weights }
-    }
-
-    /// `∫_a^b f`.
-    fn integrate(&self, a: f64, b: f64, f: &impl Fn(f64) -> f64) -> f64 {
-        let length = b - a;
-        let mut sum = 0.0;
-        for (p, w) in self.places.iter().zip(&self.weights) {
-            sum += w * f(a + length * p);
-        }
-        sum * length
-    }
-}
-
-/// A lower and a higher rule.
-struct RulePair {
-    low: PieceRule,
-    high: PieceRule,
-}
-
-impl RulePair {
-    /// `∫_a^b f` by the higher rule where the two agree to `tolerance` (their difference
-    /// bounds the higher one's error for an integrand analytic on the piece), `None`
-    /// otherwise.
-    fn agreed(&self, f: &impl Fn(f64) -> f64, a: f64, b: f64, tolerance: f64) -> Option<f64> {
-        let fine = self.high.integrate(a, b, f);
-        let coarse = self.low.integrate(a, b, f);
-        ((fine - coarse).abs() <= tolerance).then_some(fine)
-    }
-}
-
-/// The plain and the flat-ended pairs, built once.
-fn piece_rules() -> &'static [RulePair; 2] {
-    static RULES: std::sync::OnceLock<[RulePair; 2]> = std::sync::OnceLock::new();
+/// The plain and the flat-ended pairs, built once; each keeps the higher rule's value where the
+/// two agree to the tolerance (their difference bounds the higher one's error for an integrand
+/// analytic on the piece).
+fn piece_rules() -> &'static [EmbeddedRules; 2] {
+    static RULES: std::sync::OnceLock<[EmbeddedRules; 2]> = std::sync::OnceLock::new();
     RULES.get_or_init(|| {
-        let pair = |(low, high): (usize, usize), rule: fn(usize) -> PieceRule| RulePair {
-            low: rule(low),
-            high: rule(high),
-        };
-        [
-            pair(PLAIN_RULES, PieceRule::plain),
-            pair(FLAT_ENDED_RULES, PieceRule::flat_ended),
-        ]
+        [PLAIN_RULES, FLAT_ENDED_RULES].map(|(low, high)| EmbeddedRules::new(low, high))
     })
 }
 
