@@ -177,8 +177,9 @@ fn short_segments(m: usize, c: f64, s: f64) -> Vec<f64> {
         .enumerate()
         .for_each(|(chunk, cells)| {
             let first = chunk * SEGMENT_CHUNK;
+            let cell_ends = |i: usize| (i as f64 / m as f64, (i + 1) as f64 / m as f64);
             let bounds = |i: usize| {
-                let (a, b) = (i as f64 / m as f64, (i + 1) as f64 / m as f64);
+                let (a, b) = cell_ends(i);
                 ((a - c) / s, (b - c) / s)
             };
             let ends: Vec<(f64, f64)> = (first..first + cells.len()).map(bounds).collect();
@@ -190,12 +191,19 @@ fn short_segments(m: usize, c: f64, s: f64) -> Vec<f64> {
                 short_arguments(u, v, row);
             }
             exp_in_place(&mut values);
-            for ((cell, &(u, v)), row) in cells
+            for (k, ((cell, &(u, v)), row)) in cells
                 .iter_mut()
                 .zip(&ends)
                 .zip(values.chunks_exact(SHORT_SEGMENT_NODES))
+                .enumerate()
             {
-                *cell = s * short_sum(u, v, row);
+                // The cell-by-cell rule's own test, should rounding put a cell at its edge.
+                *cell = if v - u < SHORT_SEGMENT {
+                    s * short_sum(u, v, row)
+                } else {
+                    let (a, b) = cell_ends(first + k);
+                    gaussian_segment(a, b, c, s)
+                };
             }
         });
     out
