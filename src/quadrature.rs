@@ -218,7 +218,17 @@ impl EmbeddedRules {
     /// The nodes of both rules on `[a, b]`, the lower rule's first: 15 abscissae and their
     /// weights.
     pub fn nodes(&self, a: f64, b: f64) -> Vec<(f64, f64)> {
-        self.low.on(a, b).chain(self.high.on(a, b)).collect()
+        self.nodes_on(a, b).collect()
+    }
+
+    /// The points of the lower rule and of the higher one.
+    pub fn point_counts(&self) -> (usize, usize) {
+        (self.low.nodes.len(), self.high.nodes.len())
+    }
+
+    /// [`EmbeddedRules::nodes`] without collecting them, for hot loops.
+    pub fn nodes_on(&self, a: f64, b: f64) -> impl Iterator<Item = (f64, f64)> + '_ {
+        self.low.on(a, b).chain(self.high.on(a, b))
     }
 
     /// The panel's estimate of `f`, whose value at each node comes with a bound on its own

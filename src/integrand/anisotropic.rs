@@ -210,6 +210,7 @@ impl Integrand for AnisotropicGaussian {
             mean_square: cells * self.integral_of_square() - bound / 2.0,
             within: bound / 2.0,
             within_error: bound / 2.0,
+            within_rounding: None,
             visited: 0,
         })
     }

@@ -245,7 +245,8 @@ const EXP_ULPS: f64 = 3.0;
 /// A bound on the relative rounding of [`gaussian_segment`] (of width `s`, centre `c`) over
 /// any piece of a cell of width `h` in the unit interval. A short piece is a Gauss–Legendre
 /// sum of positive terms, each within [`exp_rounding`] at the farthest point from `c`, twice
-/// over with the sum, its weights and the pieces' sum. Otherwise a difference of error
+/// over with the sum, its weights and the pieces' sum (the rounding of its ends, which
+/// adjacent cells share, is [`end_rounding`]'s). Otherwise a difference of error
 /// functions, each within `2ε` and moved by its argument's rounding times
 /// `|d ln erfc(u)/du| ≤ 2u + 2`; the difference is at least `1 − e^{−1/16}` of the sum of the
 /// two (for `0 ≤ u < v`, `erfc(v) ≤ erfc(u) e^{−(v² − u²)}` and `v − u ≥ 1/4`), which
@@ -261,52 +262,116 @@ fn segment_rounding(c: f64, s: f64, h: f64) -> f64 {
     short.max(33.0 * 2.0 * each + 4.0 * f64::EPSILON)
 }
 
-/// `Σ_c ∫_c (g − ḡ_c)²` over the cells whose masses of `g(x) = exp(−((x − c)/s)²)` (shifted by
-/// `shift` on the torus) are `mass`, `ḡ_c = mass_c / |c|`, and a bound on its error: each
-/// piece of a cell split into segments shorter than [`SHORT_SEGMENT`] widths, on which
+/// A bound on the error a cell end `x` adds to the masses of [`gaussian_segment`] (of width
+/// `s`, centre `c`) on either side of it. Its argument `t = (x − c)/s` is within
+/// `ε (δx/s + |t|)`: `x` itself within `δx` (none for `i/m` with `m` a power of two, `ε/2`
+/// otherwise, `ε` more once shifted), then the difference and the division each half an ulp;
+/// so it moves a mass by at most `s (…) max g`, `ε (δx + |x − c|)`. Adjacent cells compute
+/// their shared end alike, so it moves mass from one to the other: a union of adjacent cells
+/// is within the same two ends' error, where a bound relative to each mass would grow with
+/// the cells.
+fn end_rounding(c: f64, m: usize, shift: f64) -> f64 {
+    let end = if shift != 0.0 {
+        1.5
+    } else if m.is_power_of_two() {
+        0.0
+    } else {
+        0.5
+    };
+    f64::EPSILON * (end + c.max(1.0 - c))
+}
+
+/// `Σ_c ∫_c (g − ḡ_c)²` over the `m` cells of the unit interval for `g(x) = exp(−((x − c)/s)²)`
+/// shifted by `shift` on the torus, `ḡ_c` its mean on cell `c`, and a bound on its error.
+///
+/// Each piece of a cell is split into segments shorter than [`SHORT_SEGMENT`] widths, on which
 /// 10-point Gauss–Legendre is exact to rounding (the 5-point rule's difference from it is
-/// counted as its error, a wide margin: [`crate::quadrature::EmbeddedRules`]), and each node's
-/// `(g − ḡ)²` within
-/// `2|g − ḡ| e + e²`, `e` the rounding of `g` ([`exp_rounding`]) and of `ḡ` (`mass_rounding`).
-fn variance_within_cells(
-    mass: &[f64],
-    shift: f64,
-    c: f64,
-    s: f64,
-    mass_rounding: f64,
-) -> (f64, f64) {
+/// counted as its error, a wide margin: [`crate::quadrature::EmbeddedRules`]). The mean `ḡ_c` is
+/// the 10-point rule's own, from the same nodes: then `Σ w (g − ḡ)` vanishes to rounding, where
+/// a mean computed from the cell's ends apart (as its mass is) would differ from the nodes' by
+/// the ends' rounding, about `ε/h` of itself, and add its square, `ε²/h⁴` of the variance
+/// (10^-7 at `h = 10^-6.5`). Each node's `(g − ḡ)²` is within `2|g − ḡ| e + e²`, `e` the
+/// rounding of `g` ([`exp_rounding`]) and of `ḡ`; a cell's computed ends move it by at most
+/// `2ε`, and its variance, of order `h³`, by `6ε/h` of itself.
+fn variance_within_cells(m: usize, shift: f64, c: f64, s: f64) -> (f64, f64) {
     static RULES: std::sync::OnceLock<crate::quadrature::EmbeddedRules> =
         std::sync::OnceLock::new();
     let rules = RULES.get_or_init(Default::default);
-    let m = mass.len();
-    let cells: Vec<(f64, f64)> = (0..m)
-        .into_par_iter()
-        .map(|i| {
-            let mean = mass[i] * m as f64;
-            let mean_error = (mass_rounding + 2.0 * f64::EPSILON) * mean;
-            let (mut value, mut error) = (0.0, 0.0);
-            let cell = (i as f64 / m as f64, (i + 1) as f64 / m as f64);
-            for (a, b) in wrapped_interval(cell.0, cell.1, shift) {
-                if b <= a {
-                    continue;
-                }
-                let pieces = ((b - a) / (s * SHORT_SEGMENT)).ceil().max(1.0);
-                let step = (b - a) / pieces;
-                for j in 0..pieces as usize {
-                    let lo = a + j as f64 * step;
-                    let p = rules.integrate(lo, lo + step, |x| {
-                        let t = (x - c) / s;
-                        let g = (-t * t).exp();
-                        let e = exp_rounding(t, s) * g + mean_error;
-                        ((g - mean).powi(2), 2.0 * (g - mean).abs() * e + e * e)
-                    });
-                    value += p.value;
-                    error += p.error + 16.0 * f64::EPSILON * p.value;
+    let (low, high) = rules.point_counts();
+    let per_piece = low + high;
+    // The higher rule's weights on [−1, 1].
+    let weights: Vec<f64> = rules
+        .nodes_on(-1.0, 1.0)
+        .skip(low)
+        .map(|(_, w)| w)
+        .collect();
+    // The rounding of any node's value, at the farthest point of the interval from `c`.
+    let farthest = exp_rounding(c.max(1.0 - c) / s, s);
+    let mut cells = vec![(0.0, 0.0); m];
+    cells
+        .par_chunks_mut(SEGMENT_CHUNK)
+        .enumerate()
+        .for_each(|(chunk, out)| {
+            let first = chunk * SEGMENT_CHUNK;
+            // The chunk's pieces (cell, ends), then every node's exponential at once.
+            let mut pieces: Vec<(usize, f64, f64)> = Vec::with_capacity(out.len());
+            for k in 0..out.len() {
+                let i = first + k;
+                let cell = (i as f64 / m as f64, (i + 1) as f64 / m as f64);
+                for (a, b) in wrapped_interval(cell.0, cell.1, shift) {
+                    if b <= a {
+                        continue;
+                    }
+                    let count = ((b - a) / (s * SHORT_SEGMENT)).ceil().max(1.0);
+                    let step = (b - a) / count;
+                    for j in 0..count as usize {
+                        let lo = a + j as f64 * step;
+                        pieces.push((k, lo, lo + step));
+                    }
                 }
             }
-            (value, error)
-        })
-        .collect();
+            let mut scaled = Vec::with_capacity(pieces.len() * per_piece);
+            for &(_, lo, hi) in &pieces {
+                scaled.extend(rules.nodes_on(lo, hi).map(|(x, _)| (x - c) / s));
+            }
+            let mut values: Vec<f64> = scaled.iter().map(|t| -t * t).collect();
+            exp_in_place(&mut values);
+            let nodes = |p: usize| p * per_piece..(p + 1) * per_piece;
+            // Each cell's mean from the higher rule's sums over its pieces.
+            let mut means = vec![(0.0, 0.0); out.len()];
+            for (p, &(k, lo, hi)) in pieces.iter().enumerate() {
+                let half = (hi - lo) / 2.0;
+                let sum: f64 = weights
+                    .iter()
+                    .zip(&values[nodes(p)][low..])
+                    .map(|(w, g)| w * g)
+                    .sum();
+                means[k].0 += half * sum;
+                means[k].1 += hi - lo;
+            }
+            let mut terms = Vec::with_capacity(per_piece);
+            for (p, &(k, lo, hi)) in pieces.iter().enumerate() {
+                let (mass, length) = means[k];
+                let mean = mass / length;
+                let mean_error = (farthest + 8.0 * f64::EPSILON) * mean;
+                terms.clear();
+                terms.extend(
+                    scaled[nodes(p)]
+                        .iter()
+                        .zip(&values[nodes(p)])
+                        .map(|(&t, &g)| {
+                            let e = exp_rounding(t, s) * g + mean_error;
+                            ((g - mean).powi(2), 2.0 * (g - mean).abs() * e + e * e)
+                        }),
+                );
+                let piece = rules.estimate(lo, hi, &terms, per_piece as u64);
+                out[k].0 += piece.value;
+                out[k].1 += piece.error + 16.0 * f64::EPSILON * piece.value;
+            }
+            for (o, &(_, length)) in out.iter_mut().zip(&means) {
+                o.1 += 6.0 * f64::EPSILON / length * o.0;
+            }
+        });
     let (mut value, mut error) = (
         crate::quadrature::CompensatedSum::default(),
         crate::quadrature::CompensatedSum::default(),
@@ -342,6 +407,30 @@ impl Gaussian {
     /// Per axis, the integral over each cell of `grid` of the axis factor of width `width`
     /// shifted by `t` on the torus: a cell's pieces on either side of a face summed (an empty
     /// piece has no mass, so adding it changes no bit).
+    /// `∫` of the axis factor of width `width` over each cell of each axis of `grid`: the rows
+    /// [`Integrand::box_moments`] multiplies, the same bounds, widths and order (short cells'
+    /// exponentials taken a chunk at a time, the same bits).
+    fn cell_rows(&self, grid: &[usize], width: f64) -> Vec<Vec<f64>> {
+        let mut rows: Vec<Vec<f64>> = Vec::with_capacity(grid.len());
+        for (l, (&m, &c)) in grid.iter().zip(&self.centre).enumerate() {
+            // An axis with an earlier one's cells and centre has its row.
+            if let Some(same) = (0..l).find(|&e| grid[e] == m && self.centre[e] == c) {
+                rows.push(rows[same].clone());
+                continue;
+            }
+            let s = width * SQRT_2;
+            rows.push(if m > 0 && 1.0 / (m as f64 * s) < SHORT_SEGMENT {
+                short_segments(m, c, s)
+            } else {
+                (0..m)
+                    .into_par_iter()
+                    .map(|i| axis_mass(i as f64 / m as f64, (i + 1) as f64 / m as f64, c, width))
+                    .collect()
+            });
+        }
+        rows
+    }
+
     fn shifted_rows(&self, grid: &[usize], t: &[f64], width: f64) -> Vec<Vec<f64>> {
         grid.iter()
             .zip(t)
@@ -380,58 +469,62 @@ impl Integrand for Gaussian {
         if grid.len() != self.centre.len() {
             return None;
         }
-        // The rows box_moments multiplies: the same bounds, widths and order (short cells'
-        // exponentials taken a chunk at a time, the same bits).
-        let rows = |width: f64| -> Vec<Vec<f64>> {
-            let mut rows: Vec<Vec<f64>> = Vec::with_capacity(grid.len());
-            for (l, (&m, &c)) in grid.iter().zip(&self.centre).enumerate() {
-                // An axis with an earlier one's cells and centre has its row.
-                if let Some(same) = (0..l).find(|&e| grid[e] == m && self.centre[e] == c) {
-                    rows.push(rows[same].clone());
-                    continue;
-                }
-                let s = width * SQRT_2;
-                rows.push(if m > 0 && 1.0 / (m as f64 * s) < SHORT_SEGMENT {
-                    short_segments(m, c, s)
-                } else {
-                    (0..m)
-                        .into_par_iter()
-                        .map(|i| {
-                            axis_mass(i as f64 / m as f64, (i + 1) as f64 / m as f64, c, width)
-                        })
-                        .collect()
-                });
-            }
-            rows
-        };
         Some(super::SeparableCells {
             height: self.height,
-            mass: rows(self.sigma),
-            square: rows(self.sigma / SQRT_2),
+            mass: self.cell_rows(grid, self.sigma),
+            square: self.cell_rows(grid, self.sigma / SQRT_2),
         })
     }
     fn cell_sums(&self, grid: &[usize]) -> Option<super::CellSums> {
-        // F_c = a Π_l μ_l(i_l) and F_c² + V_c = a² Π_l s_l(i_l), with μ and s the rows' means
-        // of the axis factor and of its square: each sum over cells is a product of sums.
-        let rows = self.separable_cells(grid)?;
-        let (mut squares, mut seconds) = (1.0, 1.0);
-        for ((mass, square), &m) in rows.mass.iter().zip(&rows.square).zip(grid) {
-            let (mut q, mut s) = (
-                crate::quadrature::CompensatedSum::default(),
-                crate::quadrature::CompensatedSum::default(),
-            );
-            for (&a, &b) in mass.iter().zip(square) {
-                q.add((a * m as f64).powi(2));
-                s.add(b * m as f64);
+        // F_c = a Π_l μ_l(i_l) and V_c = a² (Π_l (μ_l² + w_l) − Π_l μ_l²), with μ_l and w_l
+        // the axis factor's mean and variance on each of its cells. Expanded, V_c is a sum of
+        // products of non-negative terms, one per non-empty set of axes taking w, and each sum
+        // over cells a product of per-axis sums. The difference of the two products, summed,
+        // would keep only w/μ² of its digits: none on cells of 10^-6, where w/μ² ~ 10^-12.
+        if grid.len() != self.centre.len() || grid.contains(&0) {
+            return None;
+        }
+        let width = self.sigma * SQRT_2;
+        let masses = self.cell_rows(grid, self.sigma);
+        // Per axis: Σ_i μ_i², Σ_i w_i and a bound on each one's relative error.
+        let mut axes: Vec<[f64; 4]> = Vec::with_capacity(grid.len());
+        for (l, (&m, &c)) in grid.iter().zip(&self.centre).enumerate() {
+            if let Some(same) = (0..l).find(|&e| grid[e] == m && self.centre[e] == c) {
+                axes.push(axes[same]);
+                continue;
             }
-            squares *= q.value();
-            seconds *= s.value();
+            let cells = m as f64;
+            let mass_rounding = segment_rounding(c, width, 1.0 / cells);
+            let mut squares = crate::quadrature::CompensatedSum::default();
+            for &mass in &masses[l] {
+                squares.add((mass * cells).powi(2));
+            }
+            let (within, within_error) = variance_within_cells(m, 0.0, c, width);
+            // The ends move each mean by `±m e` across them: `Σ 2μ δμ` is `2m e` times the
+            // means' total variation with the faces, at most `4 max μ ≤ 4` for one peak.
+            let ends = 8.0 * cells * end_rounding(c, m, 0.0);
+            let squares = squares.value();
+            axes.push([
+                squares,
+                2.0 * mass_rounding + 3.0 * f64::EPSILON + ends / squares,
+                within * cells,
+                within_error / within.max(f64::MIN_POSITIVE) + f64::EPSILON,
+            ]);
+        }
+        // `none`: the product of the mean squares; `some`: the sum of the products with at
+        // least one axis's variance.
+        let (mut none, mut some, mut relative) = (1.0, 0.0, 0.0);
+        for &[square, square_error, within, within_error] in &axes {
+            some = some * (square + within) + none * within;
+            none *= square;
+            relative += square_error.max(within_error) + 4.0 * f64::EPSILON;
         }
         let h2 = self.height * self.height;
         Some(super::CellSums {
-            mean_square: h2 * squares,
-            within: (h2 * (seconds - squares)).max(0.0),
+            mean_square: h2 * none,
+            within: h2 * some,
             within_error: 0.0,
+            within_rounding: Some(h2 * some * (relative + 2.0 * f64::EPSILON)),
             visited: grid.iter().sum::<usize>() as u64,
         })
     }
@@ -446,11 +539,11 @@ impl Integrand for Gaussian {
             .map(|(mass, ((&m, &shift), &c))| {
                 let width = self.sigma * SQRT_2;
                 let mass_rounding = segment_rounding(c, width, 1.0 / m as f64);
-                let (within, within_error) =
-                    variance_within_cells(&mass, shift, c, width, mass_rounding);
+                let (within, within_error) = variance_within_cells(m, shift, c, width);
                 super::AxisDetails {
                     mass,
                     mass_rounding,
+                    end_rounding: end_rounding(c, m, shift),
                     within,
                     within_error,
                 }

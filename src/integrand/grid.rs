@@ -344,6 +344,7 @@ impl Integrand for GridIntegrand {
             mean_square: squares.value(),
             within: within.value(),
             within_error: 0.0,
+            within_rounding: None,
             visited: (rows.len() * columns.len()) as u64,
         })
     }

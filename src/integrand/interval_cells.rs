@@ -63,6 +63,8 @@ pub(crate) fn details(lo: f64, hi: f64, m: usize, t: f64) -> AxisDetails {
     AxisDetails {
         mass,
         mass_rounding,
+        // Counted in `mass_rounding`, relative to the smallest mass.
+        end_rounding: 0.0,
         within,
         within_error: within_error + f64::EPSILON * within,
     }

@@ -58,8 +58,12 @@ pub struct SeparableCells {
 pub struct AxisDetails {
     /// `∫` of the axis factor `g` over each cell (shifted as asked).
     pub mass: Vec<f64>,
-    /// A bound on the relative rounding of each entry of `mass`.
+    /// A bound on the relative rounding of each entry of `mass`, beyond its ends'.
     pub mass_rounding: f64,
+    /// A bound on the error each cell end adds to the masses beside it: an entry is within
+    /// `mass_rounding · mass` and its two ends' errors, and since adjacent cells share the
+    /// end between them, so is the sum of adjacent entries.
+    pub end_rounding: f64,
     /// `Σ_c ∫_c (g − ḡ_c)²`, the factor's variance within the cells about each cell's mean
     /// `ḡ_c = mass_c / |c|`, taken directly: at fine cells it is far below `∫g²`, and the
     /// difference `∫g² − Σ_c mass_c² / |c|` would keep none of its digits.
@@ -166,6 +170,10 @@ pub struct CellSums {
     /// `within` is only bounded, and `mean_square`, the exact `Σ_c (F_c² + V_c)` less
     /// `within`, carries the same error with the opposite sign.
     pub within_error: f64,
+    /// Where `within` is summed from non-negative terms of its own, a bound on its rounding;
+    /// `None` where each cell's `V_c` is the difference of its second moment and squared
+    /// mean, whose rounding is [`CELL_ROUNDING`] of `within + mean_square`.
+    pub within_rounding: Option<f64>,
     /// Cells whose moments were computed (the rest were known without).
     pub visited: u64,
 }
@@ -185,6 +193,7 @@ impl CellSums {
             mean_square: squares.value(),
             within: within.value(),
             within_error: 0.0,
+            within_rounding: None,
             visited,
         }
     }

@@ -205,9 +205,12 @@ pub fn fixed_strata_variance(
         // Sums whose `Σ_c V_c` is only bounded (a smooth integrand's) are no answer here, where
         // that sum is the variance.
         if let Some(sums) = f.cell_sums(grid).filter(|s| s.within_error == 0.0) {
+            let rounding = sums
+                .within_rounding
+                .unwrap_or(CELL_ROUNDING * (sums.within + sums.mean_square));
             return Ok(CellSum {
                 variance: sums.within * norm,
-                rounding: CELL_ROUNDING * (sums.within + sums.mean_square) * norm,
+                rounding: rounding * norm,
             });
         }
     }

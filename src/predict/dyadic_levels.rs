@@ -78,6 +78,8 @@ impl AxisLevels {
         let mut row = axis.mass.clone();
         // A merged mass is a sum of positive finer ones: one more rounding a level.
         let mut relative = axis.mass_rounding;
+        // A merged mass keeps its outer ends' error: its inner ends cancel.
+        let ends = axis.end_rounding;
         let mut detail = Vec::new();
         while row.len() > 1 {
             let half = row.len() / 2;
@@ -88,8 +90,10 @@ impl AxisLevels {
             );
             for pair in row.chunks_exact(2) {
                 let difference = pair[0] - pair[1];
-                let e =
-                    relative * (pair[0].abs() + pair[1].abs()) + f64::EPSILON * difference.abs();
+                // Three ends, the shared one twice.
+                let e = relative * (pair[0].abs() + pair[1].abs())
+                    + f64::EPSILON * difference.abs()
+                    + 4.0 * ends;
                 value.add(difference * difference);
                 error.add(2.0 * difference.abs() * e + e * e);
             }
@@ -102,9 +106,12 @@ impl AxisLevels {
             relative += f64::EPSILON;
         }
         let whole = row.first().copied().unwrap_or(0.0);
+        let outer = 2.0 * ends;
         detail.push(Bounded {
             value: whole * whole,
-            error: (2.0 * relative + f64::EPSILON) * whole * whole,
+            error: (2.0 * relative + f64::EPSILON) * whole * whole
+                + 2.0 * whole.abs() * outer
+                + outer * outer,
         });
         detail.reverse();
         Self {
