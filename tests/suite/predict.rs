@@ -557,7 +557,7 @@ fn jitter_on_a_gaussian_at_a_trillion_strata_meets_its_expansion() {
     let axis = |c: f64| {
         let root = sigma * std::f64::consts::PI.sqrt() / 2.0;
         let square = |u: f64| root * libm::erf(u / sigma);
-        let slope = |u: f64| (root * libm::erf(u / sigma) - u * (-u * u / sigma.powi(2)).exp());
+        let slope = |u: f64| root * libm::erf(u / sigma) - u * (-u * u / sigma.powi(2)).exp();
         let (lo, hi) = (-c, 1.0 - c);
         let mean_square = m as f64 * (square(hi) - square(lo));
         let within = (slope(hi) - slope(lo)) / (2.0 * sigma * sigma) / (12.0 * m as f64);
