@@ -508,9 +508,6 @@ impl Gaussian {
         s * (PI / 2.0).sqrt() * (libm::erf((1.0 - c) / k) + libm::erf(c / k))
     }
 
-    /// Per axis, the integral over each cell of `grid` of the axis factor of width `width`
-    /// shifted by `t` on the torus: a cell's pieces on either side of a face summed (an empty
-    /// piece has no mass, so adding it changes no bit).
     /// `∫` of the axis factor of width `width` over each cell of each axis of `grid`: the rows
     /// [`Integrand::box_moments`] multiplies, the same bounds, widths and order (short cells'
     /// exponentials taken a chunk at a time, the same bits).
@@ -527,6 +524,9 @@ impl Gaussian {
         rows
     }
 
+    /// Per axis, the integral over each cell of `grid` of the axis factor of width `width`
+    /// shifted by `t` on the torus: a cell's pieces on either side of a face summed (an empty
+    /// piece has no mass, so adding it changes no bit).
     fn shifted_rows(&self, grid: &[usize], t: &[f64], width: f64) -> Vec<Vec<f64>> {
         grid.iter()
             .zip(t)
