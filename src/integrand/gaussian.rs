@@ -168,6 +168,31 @@ fn short_sum(u: f64, v: f64, values: &[f64]) -> f64 {
 /// Cells per parallel task of [`short_segments`].
 const SEGMENT_CHUNK: usize = 4096;
 
+/// The ends `((a − c)/s, (b − c)/s)` of the cells `[i/m, (i+1)/m)` for `i` in `cells`, and the
+/// exponentials at their short rule's nodes ([`short_arguments`]), all taken at once.
+fn short_cells(
+    cells: std::ops::Range<usize>,
+    m: usize,
+    c: f64,
+    s: f64,
+) -> (Vec<(f64, f64)>, Vec<f64>) {
+    let ends: Vec<(f64, f64)> = cells
+        .map(|i| {
+            let (a, b) = (i as f64 / m as f64, (i + 1) as f64 / m as f64);
+            ((a - c) / s, (b - c) / s)
+        })
+        .collect();
+    let mut values = vec![0.0; ends.len() * SHORT_SEGMENT_NODES];
+    for (&(u, v), row) in ends
+        .iter()
+        .zip(values.chunks_exact_mut(SHORT_SEGMENT_NODES))
+    {
+        short_arguments(u, v, row);
+    }
+    exp_in_place(&mut values);
+    (ends, values)
+}
+
 /// `gaussian_segment(i/m, (i+1)/m, c, s)` for every `i < m`, when a cell is shorter than
 /// [`SHORT_SEGMENT`] widths: the same bits as cell by cell, with the exponentials of a chunk
 /// of cells taken at once ([`crate::vector_exp::exp_in_place`]).
@@ -178,19 +203,7 @@ fn short_segments(m: usize, c: f64, s: f64) -> Vec<f64> {
         .for_each(|(chunk, cells)| {
             let first = chunk * SEGMENT_CHUNK;
             let cell_ends = |i: usize| (i as f64 / m as f64, (i + 1) as f64 / m as f64);
-            let bounds = |i: usize| {
-                let (a, b) = cell_ends(i);
-                ((a - c) / s, (b - c) / s)
-            };
-            let ends: Vec<(f64, f64)> = (first..first + cells.len()).map(bounds).collect();
-            let mut values = vec![0.0; cells.len() * SHORT_SEGMENT_NODES];
-            for (&(u, v), row) in ends
-                .iter()
-                .zip(values.chunks_exact_mut(SHORT_SEGMENT_NODES))
-            {
-                short_arguments(u, v, row);
-            }
-            exp_in_place(&mut values);
+            let (ends, values) = short_cells(first..first + cells.len(), m, c, s);
             for (k, ((cell, &(u, v)), row)) in cells
                 .iter_mut()
                 .zip(&ends)
@@ -420,20 +433,7 @@ fn short_variances_within_cells(m: usize, c: f64, s: f64) -> ShortCells {
         .into_par_iter()
         .map(|chunk| {
             let cells = chunk * SEGMENT_CHUNK..(m.min((chunk + 1) * SEGMENT_CHUNK));
-            let ends: Vec<(f64, f64)> = cells
-                .map(|i| {
-                    let (a, b) = (i as f64 / m as f64, (i + 1) as f64 / m as f64);
-                    ((a - c) / s, (b - c) / s)
-                })
-                .collect();
-            let mut values = vec![0.0; ends.len() * SHORT_SEGMENT_NODES];
-            for (&(u, v), row) in ends
-                .iter()
-                .zip(values.chunks_exact_mut(SHORT_SEGMENT_NODES))
-            {
-                short_arguments(u, v, row);
-            }
-            exp_in_place(&mut values);
+            let (ends, values) = short_cells(cells, m, c, s);
             let [mut value, mut error, mut squares] =
                 [crate::quadrature::CompensatedSum::default(); 3];
             for (&(u, v), row) in ends.iter().zip(values.chunks_exact(SHORT_SEGMENT_NODES)) {
