@@ -172,7 +172,7 @@ pub struct CellSums {
     pub within_error: f64,
     /// Where `within` is summed from non-negative terms of its own, a bound on its rounding;
     /// `None` where each cell's `V_c` is the difference of its second moment and squared
-    /// mean, whose rounding is [`CELL_ROUNDING`] of `within + mean_square`.
+    /// mean, whose rounding is `1e-13` (the cells' rounding bound) of `within + mean_square`.
     pub within_rounding: Option<f64>,
     /// Cells whose moments were computed (the rest were known without).
     pub visited: u64,
