@@ -304,8 +304,9 @@ fn end_rounding(c: f64, m: usize, shift: f64) -> f64 {
 /// a mean computed from the cell's ends apart (as its mass is) would differ from the nodes' by
 /// the ends' rounding, about `ε/h` of itself, and add its square, `ε²/h⁴` of the variance
 /// (10^-7 at `h = 10^-6.5`). Each node's `(g − ḡ)²` is within `2|g − ḡ| e + e²`, `e` the
-/// rounding of `g` ([`exp_rounding`]) and of `ḡ`; a cell's computed ends move it by at most
-/// `2ε`, and its variance, of order `h³`, by `6ε/h` of itself.
+/// rounding of `g` ([`exp_rounding`]) and of `ḡ`; a cell's computed ends (`i/m`, then the
+/// shift added) are each within `1.5ε`, so its length within `3ε` and its variance, of order
+/// `h³`, within `9ε/h` of itself.
 fn variance_within_cells(m: usize, shift: f64, c: f64, s: f64) -> (f64, f64) {
     if shift == 0.0 && m > 0 && 1.0 / (m as f64 * s) < SHORT_VARIANCE {
         let short = short_variances_within_cells(m, c, s);
@@ -391,7 +392,7 @@ fn embedded_variances_within_cells(m: usize, shift: f64, c: f64, s: f64) -> (f64
                 out[k].1 += piece.error + 16.0 * f64::EPSILON * piece.value;
             }
             for (o, &(_, length)) in out.iter_mut().zip(&means) {
-                o.1 += 6.0 * f64::EPSILON / length * o.0;
+                o.1 += 9.0 * f64::EPSILON / length * o.0;
             }
         });
     let (mut value, mut error) = (
