@@ -295,7 +295,18 @@ fn end_rounding(c: f64, m: usize, shift: f64) -> f64 {
 }
 
 /// `Σ_c ∫_c (g − ḡ_c)²` over the `m` cells of the unit interval for `g(x) = exp(−((x − c)/s)²)`
-/// shifted by `shift` on the torus, `ḡ_c` its mean on cell `c`, and a bound on its error.
+/// shifted by `shift` on the torus, `ḡ_c` its mean on cell `c`, and a bound on its error: from
+/// each cell's mass's own values where the cells are short and unshifted
+/// ([`short_variances_within_cells`]), by the embedded rules otherwise.
+fn variance_within_cells(m: usize, shift: f64, c: f64, s: f64) -> (f64, f64) {
+    if shift == 0.0 && m > 0 && 1.0 / (m as f64 * s) < SHORT_VARIANCE {
+        let short = short_variances_within_cells(m, c, s);
+        return (short.within, short.within_error);
+    }
+    embedded_variances_within_cells(m, shift, c, s)
+}
+
+/// [`variance_within_cells`] on any cells, shifted or not, by the embedded rules.
 ///
 /// Each piece of a cell is split into segments shorter than [`SHORT_SEGMENT`] widths, on which
 /// 10-point Gauss–Legendre is exact to rounding (the 5-point rule's difference from it is
@@ -307,15 +318,6 @@ fn end_rounding(c: f64, m: usize, shift: f64) -> f64 {
 /// rounding of `g` ([`exp_rounding`]) and of `ḡ`; a cell's computed ends (`i/m`, then the
 /// shift added) are each within `1.5ε`, so its length within `3ε` and its variance, of order
 /// `h³`, within `9ε/h` of itself.
-fn variance_within_cells(m: usize, shift: f64, c: f64, s: f64) -> (f64, f64) {
-    if shift == 0.0 && m > 0 && 1.0 / (m as f64 * s) < SHORT_VARIANCE {
-        let short = short_variances_within_cells(m, c, s);
-        return (short.within, short.within_error);
-    }
-    embedded_variances_within_cells(m, shift, c, s)
-}
-
-/// [`variance_within_cells`] on any cells, shifted or not, by the embedded rules.
 fn embedded_variances_within_cells(m: usize, shift: f64, c: f64, s: f64) -> (f64, f64) {
     static RULES: std::sync::OnceLock<crate::quadrature::EmbeddedRules> =
         std::sync::OnceLock::new();
@@ -422,14 +424,15 @@ const SHORT_VARIANCE_QUADRATURE: f64 = 1.9e-8;
 /// rule the mean `ḡ` is, so that `Σ w (g − ḡ)` vanishes to rounding), their exponentials a chunk
 /// of cells at a time. Its rule's error is [`SHORT_VARIANCE_QUADRATURE`]'s, at most `10^-18`
 /// of the cell's `∫g²` there; each node's `(g − ḡ)²` is within `2|g − ḡ| e + e²`, `e` the
-/// largest node's rounding at the cell's far end and the mean's, and the
-/// cell's ends, each within `δt` ([`exp_rounding`]), move its variance, of order `w³`, by
+/// largest node's rounding at the cell's far end and the mean's, and the cell's ends, each
+/// within `δt` in units of `s` ([`end_rounding`]), move its variance, of order `w³`, by
 /// `6 δt / w` of itself.
 fn short_variances_within_cells(m: usize, c: f64, s: f64) -> ShortCells {
     let (_, weights) = short_rule();
     let farthest = c.max(1.0 - c) / s;
     let mean_rounding = exp_rounding(farthest, s) + 8.0 * f64::EPSILON;
-    let end_rounding = f64::EPSILON * (3.0 / s + 3.0 * farthest);
+    // A cell end's argument `(x − c)/s` is within [`end_rounding`] over `s`.
+    let end_argument = end_rounding(c, m, 0.0) / s;
     let chunks: Vec<[f64; 3]> = (0..m.div_ceil(SEGMENT_CHUNK))
         .into_par_iter()
         .map(|chunk| {
@@ -440,9 +443,9 @@ fn short_variances_within_cells(m: usize, c: f64, s: f64) -> ShortCells {
             for (&(u, v), row) in ends.iter().zip(values.chunks_exact(SHORT_SEGMENT_NODES)) {
                 let (half, width) = ((v - u) / 2.0, v - u);
                 // The cell's mass as `short_segments` has it, the same bits.
-                let mass = s * short_sum(u, v, row);
-                squares.add((mass * m as f64).powi(2));
-                let mean = short_sum(u, v, row) / width;
+                let integral = short_sum(u, v, row);
+                squares.add((s * integral * m as f64).powi(2));
+                let mean = integral / width;
                 let (mut sum, mut spread, mut largest) = (0.0, 0.0, 0.0f64);
                 for (w, &g) in weights.iter().zip(row) {
                     let d = g - mean;
@@ -459,7 +462,7 @@ fn short_variances_within_cells(m: usize, c: f64, s: f64) -> ShortCells {
                 error.add(
                     s * half * bound
                         + s * SHORT_VARIANCE_QUADRATURE * width.powi(13)
-                        + (16.0 * f64::EPSILON + 6.0 * end_rounding / width) * cell,
+                        + (16.0 * f64::EPSILON + 6.0 * end_argument / width) * cell,
                 );
             }
             [value.value(), error.value(), squares.value()]
