@@ -151,7 +151,11 @@ pub(super) fn helmert_transform(values: &mut [f64], p: usize, m: u32) {
     for _ in 0..m {
         let span = stride * p;
         let (total, prefix) = (&mut total[..stride], &mut prefix[..stride]);
-        if stride == 1 {
+        if p == 2 {
+            for block in values.chunks_exact_mut(span) {
+                haar_stage(block, stride, norms[0]);
+            }
+        } else if stride == 1 {
             values
                 .chunks_exact_mut(p)
                 .for_each(|block| helmert_butterfly(block, &norms));
@@ -161,6 +165,17 @@ pub(super) fn helmert_transform(values: &mut [f64], p: usize, m: u32) {
             }
         }
         stride = span;
+    }
+}
+
+/// [`helmert_stage`] in base 2, where both norms are `√2`: row 0 becomes `(a + b)/√2` and row
+/// 1 `(a − b)/√2`, the same operations on the same values (`1 · b` is `b`), so the same bits.
+fn haar_stage(block: &mut [f64], stride: usize, norm: f64) {
+    let (first, second) = block.split_at_mut(stride);
+    for (a, b) in first.iter_mut().zip(second.iter_mut()) {
+        let (x, y) = (*a, *b);
+        *a = (x + y) / norm;
+        *b = (x - y) / norm;
     }
 }
 
@@ -240,13 +255,13 @@ fn axis_kernel(g: &AxisFactor, p: usize, m: u32, panels: usize) -> AxisKernel {
 
 /// Bits per digit of base `p` in a packed index: `⌈log2 p⌉`, so that `m` digits of an index
 /// below `2^64` fit in 64 bits.
-fn digit_bits(p: usize) -> u32 {
+pub(super) fn digit_bits(p: usize) -> u32 {
     usize::BITS - (p - 1).leading_zeros()
 }
 
 /// Every index's base-`p` digits over `m` positions, packed [`digit_bits`] bits apiece (least
 /// significant digit lowest), so that comparing two indices needs no division.
-fn packed_digits(n: usize, p: usize, m: u32) -> Vec<u64> {
+pub(super) fn packed_digits(n: usize, p: usize, m: u32) -> Vec<u64> {
     let bits = digit_bits(p);
     (0..n)
         .map(|mut i| {
@@ -262,7 +277,7 @@ fn packed_digits(n: usize, p: usize, m: u32) -> Vec<u64> {
 
 /// The agreement set of two packed indices over `m` positions of `bits` bits (bit `ℓ − 1` for
 /// the `ℓ`-th least significant digit).
-fn agreement(a: u64, b: u64, m: u32, bits: u32) -> usize {
+pub(super) fn agreement(a: u64, b: u64, m: u32, bits: u32) -> usize {
     let differ = a ^ b;
     if bits == 1 {
         return (!differ & ((1u64 << m) - 1)) as usize;

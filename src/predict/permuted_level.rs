@@ -28,7 +28,10 @@
 //! A level a few digits past the points' own leaves it a small part of the whole.
 
 use super::cell_moments::{check_box_moments, masses_and_constant_cells, CELL_ROUNDING};
-use super::permuted_digits::{helmert_transform, positions, support_of};
+use super::permuted_digits::{
+    agreement, digit_bits, helmert_transform, packed_digits, pair_work_seconds, positions,
+    support_of,
+};
 use super::term_mean::mean_to_target_noise;
 use super::walsh::Remainder;
 use super::{ErrorBudget, Form, PredictParams, Prediction, Route, SpectrumOrigin};
@@ -45,8 +48,8 @@ use std::fmt;
 
 /// The most axes: the level's table is `Π p_l^{m_l}` cells, and its supports `2^{Σ m_l}`.
 pub(crate) const MAX_LEVEL_AXES: usize = 3;
-/// The most cells of the tabulated level, `2^24`: five arrays of at most 128 MiB (the cells' means,
-/// their transform, the points' counts, a transpose's scratch and the cells' supports).
+/// The most cells of the tabulated level, `2^24`: four arrays of at most 128 MiB (the cells'
+/// means, their transform, a transpose's scratch and the points' counts).
 const MAX_LEVEL_CELLS: usize = 1 << 24;
 /// The most digit positions of the level over all axes: its supports, `2^20`, are summed in
 /// tables of 8 MiB.
@@ -133,25 +136,17 @@ impl Level {
         self.digits.iter().sum()
     }
 
-    /// Each cell's support, as a mask of `Σ m_l` bits (axis 0's first).
-    fn supports(&self) -> Vec<u32> {
-        let per_axis: Vec<Vec<u32>> = (0..self.grid.len())
+    /// Each axis's cells' supports, shifted to that axis's bits of a mask of `Σ m_l` bits
+    /// (axis 0's first): a cell's support is the union over its axes.
+    fn axis_supports(&self) -> Vec<Vec<u32>> {
+        let mut shift = 0;
+        (0..self.grid.len())
             .map(|l| {
-                (0..self.grid[l])
-                    .map(|c| support_of(c, self.bases[l], self.digits[l]) as u32)
-                    .collect()
-            })
-            .collect();
-        (0..self.cells())
-            .into_par_iter()
-            .map(|mut c| {
-                let (mut mask, mut shift) = (0, 0);
-                for (l, axis) in per_axis.iter().enumerate() {
-                    mask |= axis[c % self.grid[l]] << shift;
-                    c /= self.grid[l];
-                    shift += self.digits[l];
-                }
-                mask
+                let axis = (0..self.grid[l])
+                    .map(|c| (support_of(c, self.bases[l], self.digits[l]) as u32) << shift)
+                    .collect();
+                shift += self.digits[l];
+                axis
             })
             .collect()
     }
@@ -218,26 +213,187 @@ fn transpose(values: &[f64], rows: usize, columns: usize, out: &mut Vec<f64>) {
         });
 }
 
-/// `Σ_{c: supp c = u} v_c²` for every support `u`, in at most 16 parallel chunks (each with a
-/// table of the supports) added in a fixed order.
-fn support_energies(values: &[f64], supports: &[u32], classes: usize) -> Vec<f64> {
+/// `Σ_{c: supp c = u} v_c²` for every support `u` of `level`'s table `values`, in at most 16
+/// parallel chunks (each with a table of the supports) added in a fixed order. A cell's support
+/// is read from its axes' as the chunk runs along its rows.
+fn support_energies(values: &[f64], level: &Level) -> Vec<f64> {
+    let classes = 1usize << level.stages();
+    let axes = level.axis_supports();
+    let side = level.grid[0];
+    // The support of row `r` (the axes past the first) of the table.
+    let row_support = |mut r: usize| -> u32 {
+        let mut mask = 0;
+        for (l, axis) in axes.iter().enumerate().skip(1) {
+            mask |= axis[r % level.grid[l]];
+            r /= level.grid[l];
+        }
+        mask
+    };
     let chunk = values.len().div_ceil(16).max(1 << 16);
     let parts: Vec<Vec<f64>> = values
         .par_chunks(chunk)
-        .zip(supports.par_chunks(chunk))
-        .map(|(v, s)| {
-            let mut energy = vec![0.0; classes];
-            for (&x, &u) in v.iter().zip(s) {
-                energy[u as usize] += x * x;
+        .enumerate()
+        .map(|(k, v)| {
+            let start = k * chunk;
+            let (mut column, mut row) = (start % side, start / side);
+            let mut high = row_support(row);
+            let mut energy = zeroed(classes);
+            for &x in v {
+                energy[(axes[0][column] | high) as usize] += x * x;
+                column += 1;
+                if column == side {
+                    (column, row) = (0, row + 1);
+                    high = row_support(row);
+                }
             }
             energy
         })
         .collect();
-    let mut total = vec![0.0; classes];
+    let mut total = zeroed(classes);
     for part in parts {
         total.iter_mut().zip(part).for_each(|(t, e)| *t += e);
     }
     total
+}
+
+/// `n` zeros, written: a table read before it is written (a sum's accumulators, a transform's
+/// input) then takes each page's fault once, where the zeros of `vec![0.0; n]` are the
+/// system's shared page until each page is written, a second fault on every page.
+fn zeroed(n: usize) -> Vec<f64> {
+    let mut v = Vec::with_capacity(n);
+    v.resize(n, 0.0);
+    v
+}
+
+/// The points' counts' energy on every support of the level, `B(u) = Σ_{supp r = u} ĥ_r²`
+/// (the counts' coefficients `ĥ` in Helmert's basis), and what bounds its rounding.
+struct CountEnergies {
+    energies: Vec<f64>,
+    rounding: CountRounding,
+}
+
+/// How far [`CountEnergies`] may be from the exact energies.
+enum CountRounding {
+    /// The counts transformed as a table: its coefficients within `eta` of their 2-norm, the
+    /// counts' squares summing to `count_squares`.
+    Table { eta: f64, count_squares: f64 },
+    /// From the points' pairs: each `B(u)` within its entry.
+    Pairs(Vec<f64>),
+}
+
+/// The level's counts' energies by the cheaper of the two ways: the table of counts transformed,
+/// or the points' pairs ([`pair_count_energies`]).
+fn count_energies(level: &Level, n: usize, scratch: &mut Vec<f64>) -> CountEnergies {
+    if pair_count_seconds(level, n) < table_count_seconds(level, n) {
+        return pair_count_energies(level, n);
+    }
+    let mut counts = zeroed(level.cells());
+    for i in 0..n {
+        counts[unscrambled_cell(i, level)] += 1.0;
+    }
+    let count_squares: f64 = counts.iter().map(|c| c * c).sum();
+    level_transform(&mut counts, level, scratch);
+    CountEnergies {
+        energies: support_energies(&counts, level),
+        rounding: CountRounding::Table {
+            eta: level.transform_rounding(),
+            count_squares,
+        },
+    }
+}
+
+/// The work of the counts' energies by their table: the counts placed, transformed and summed.
+fn table_count_seconds(level: &Level, n: usize) -> f64 {
+    n as f64 * POINT_SECONDS + level.cells() as f64 * BUTTERFLY_SECONDS * level.stages() as f64
+}
+
+/// The work of the counts' energies by the points' pairs: each pair's agreements on every axis,
+/// then the transform of their counts.
+fn pair_count_seconds(level: &Level, n: usize) -> f64 {
+    let classes = (1usize << level.stages()) as f64;
+    pair_work_seconds(n, level.grid.len()) / 2.0
+        + classes * BUTTERFLY_SECONDS * level.stages() as f64
+}
+
+/// Roundings of one stage of [`pair_count_energies`]'s transform per output: a product, a
+/// difference and a quotient.
+const PAIR_STAGE_ROUNDINGS: f64 = 3.0;
+
+/// The counts' energies from the points' pairs. Per digit position `k` (base `p_k`), two
+/// points' digits agree or not, and `Σ_{r≠0} e_r(a) e_r(b) = δ_ab − 1/p`, `e_0(a) e_0(b) = 1/p`
+/// (Helmert's basis is orthonormal), so
+///
+/// `B(u) = Σ_{i,j} Π_{k∈u} (δ_k(i,j) − 1/p_k) Π_{k∉u} 1/p_k`:
+///
+/// a product over positions of a 2 × 2 map from "agree" to "in the support", applied to the
+/// number `C(g)` of ordered pairs whose agreement set is `g`. The counts are exact integers,
+/// so their sum is the same on any thread count. Each stage rounds each output at most
+/// [`PAIR_STAGE_ROUNDINGS`] times relative to the same map with the signs dropped (all its
+/// inputs non-negative), so after `S` stages each `B(u)` is within `γ_{3S}` of that map's value.
+fn pair_count_energies(level: &Level, n: usize) -> CountEnergies {
+    let d = level.grid.len();
+    let digits: Vec<Vec<u64>> = (0..d)
+        .map(|l| packed_digits(n, level.bases[l], level.digits[l]))
+        .collect();
+    let bits: Vec<u32> = level.bases.iter().map(|&p| digit_bits(p)).collect();
+    let shifts: Vec<u32> = (0..d).map(|l| level.digits[..l].iter().sum()).collect();
+    let classes = 1usize << level.stages();
+    let agreement_of = |i: usize, j: usize| -> usize {
+        (0..d)
+            .map(|l| agreement(digits[l][i], digits[l][j], level.digits[l], bits[l]) << shifts[l])
+            .fold(0, |mask, axis| mask | axis)
+    };
+    // Integer counts add exactly: any split of the rows gives the same table.
+    let rows_per_task = n.div_ceil(4 * rayon::current_num_threads()).max(1);
+    let pairs: Vec<u64> = (0..n)
+        .into_par_iter()
+        .with_min_len(rows_per_task)
+        .fold(
+            || vec![0u64; classes],
+            |mut counts, i| {
+                counts[classes - 1] += 1;
+                for j in i + 1..n {
+                    counts[agreement_of(i, j)] += 2;
+                }
+                counts
+            },
+        )
+        .reduce(
+            || vec![0u64; classes],
+            |mut a, b| {
+                a.iter_mut().zip(b).for_each(|(x, y)| *x += y);
+                a
+            },
+        );
+    let mut energies: Vec<f64> = pairs.iter().map(|&c| c as f64).collect();
+    let mut magnitudes = energies.clone();
+    let position_bases = level
+        .bases
+        .iter()
+        .zip(&level.digits)
+        .flat_map(|(&p, &m)| std::iter::repeat_n(p as f64, m as usize));
+    for (k, p) in position_bases.enumerate() {
+        let bit = 1usize << k;
+        for a in (0..classes).filter(|a| a & bit == 0) {
+            let (apart, agree) = (energies[a], energies[a | bit]);
+            energies[a] = (apart + agree) / p;
+            energies[a | bit] = ((p - 1.0) * agree - apart) / p;
+            let (apart, agree) = (magnitudes[a], magnitudes[a | bit]);
+            magnitudes[a] = (apart + agree) / p;
+            magnitudes[a | bit] = ((p - 1.0) * agree + apart) / p;
+        }
+    }
+    let roundings = PAIR_STAGE_ROUNDINGS * level.stages() as f64 * f64::EPSILON;
+    let gamma = roundings / (1.0 - roundings);
+    // The magnitudes' own rounding is as small again: `γ (1 + γ)` bounds the error.
+    let errors = magnitudes
+        .iter()
+        .map(|m| gamma * (1.0 + gamma) * m)
+        .collect();
+    CountEnergies {
+        energies,
+        rounding: CountRounding::Pairs(errors),
+    }
 }
 
 /// The cell of the unscrambled `i`-th Halton point on each axis of `level`: the first `m_l`
@@ -277,11 +433,23 @@ pub(crate) struct LevelEstimate {
 /// The work of [`halton_level_variance`] before its realizations, and of one realization.
 fn work(f: &dyn Integrand, level: &Level, n: usize) -> (f64, f64) {
     let cells = level.cells() as f64;
-    let table = cells
+    let means = cells
         * (super::cell_moments::seconds_per_grid_cell(f)
-            + 2.0 * BUTTERFLY_SECONDS * level.stages() as f64);
-    let counts = n as f64 * POINT_SECONDS;
-    (table + counts, n as f64 * POINT_SECONDS)
+            + BUTTERFLY_SECONDS * level.stages() as f64);
+    let counts = table_count_seconds(level, n).min(pair_count_seconds(level, n));
+    (means + counts, n as f64 * POINT_SECONDS)
+}
+
+/// The memory of [`halton_level_variance`]'s tables: the cells' means, their transform, a
+/// transpose's scratch and, when they are transformed as a table, the points' counts; per
+/// support, the energies' tables (16 parts and their sum) and the weights.
+fn table_bytes(level: &Level, n: usize) -> f64 {
+    let tables = if pair_count_seconds(level, n) < table_count_seconds(level, n) {
+        3.0
+    } else {
+        4.0
+    };
+    8.0 * (tables * level.cells() as f64 + 18.0 * (1usize << level.stages()) as f64)
 }
 
 /// The variance of `sampler`'s Halton points as drawn (`n` of them) on `f`, in 1 to 3 axes.
@@ -308,12 +476,11 @@ pub(crate) fn halton_level_variance(
     // The table takes at most a share of the work budget (a pixel's is a few milliseconds):
     // a coarser level leaves more to the finer digits' measure, which the rest pays for.
     while work(f, &level, n).0 > TABLE_SHARE * params.work_budget_seconds && level.coarsen() {}
-    let cells = level.cells();
     let (table_work, per_realization) = work(f, &level, n);
     params.budget.check(
         "Halton's digit supports through a level",
         Needs {
-            memory_bytes: 5.0 * 8.0 * cells as f64 + 18.0 * 8.0 * (1usize << level.stages()) as f64,
+            memory_bytes: table_bytes(&level, n),
             work_seconds: table_work + INITIAL_REALIZATIONS as f64 * per_realization,
         },
         "lower N",
@@ -364,7 +531,8 @@ struct ExactPart {
 /// plus the cells' own for the means). By Cauchy–Schwarz over the supports, with
 /// `B(u)/(w(u) N²) ≤ 1/M` (a pair's product of `ρ`s is at most 1), the means' errors move the
 /// sum by at most `2 √(V η² ‖F‖²/M) + η² ‖F‖²/M`, and the counts' by at most
-/// `2 √(V max A η² ‖H‖²/N²) + max A η² ‖H‖²/N²`.
+/// `2 √(V max A η² ‖H‖²/N²) + max A η² ‖H‖²/N²` when their table is transformed, by
+/// `Σ_u A(u) δB(u) / (w(u) N²)` when their energies come from the pairs (each within `δB(u)`).
 fn exact_part(
     f: &dyn Integrand,
     level: &Level,
@@ -376,34 +544,34 @@ fn exact_part(
     let mut scratch = Vec::with_capacity(cells);
     let mut transformed = means.clone();
     level_transform(&mut transformed, level, &mut scratch);
-    let mut counts = vec![0.0; cells];
-    for i in 0..n {
-        counts[unscrambled_cell(i, level)] += 1.0;
-    }
-    let count_squares: f64 = counts.iter().map(|c| c * c).sum();
-    level_transform(&mut counts, level, &mut scratch);
+    let a = support_energies(&transformed, level);
+    drop(transformed);
+    let b = count_energies(level, n, &mut scratch);
     drop(scratch);
-    let supports = level.supports();
-    let classes = 1usize << level.stages();
-    let a = support_energies(&transformed, &supports, classes);
-    let b = support_energies(&counts, &supports, classes);
     let inverse_w = level.inverse_weights();
     let nf = n as f64;
     let mut sum = CompensatedSum::default();
-    for u in 1..classes {
-        sum.add(a[u] * b[u] * inverse_w[u]);
+    for u in 1..a.len() {
+        sum.add(a[u] * b.energies[u] * inverse_w[u]);
     }
     let variance = (sum.value() / (nf * nf)).max(0.0);
-    let eta_counts = level.transform_rounding();
-    let eta_means = eta_counts + CELL_ROUNDING;
+    let eta_means = level.transform_rounding() + CELL_ROUNDING;
     let mean_squares: f64 = a[1..].iter().sum();
-    let max_a = a[1..].iter().copied().fold(0.0, f64::max);
     let means_term = eta_means * eta_means * mean_squares / cells as f64;
-    let counts_term = max_a * eta_counts * eta_counts * count_squares / (nf * nf);
-    let rounding = 2.0 * (variance * means_term).sqrt()
-        + means_term
-        + 2.0 * (variance * counts_term).sqrt()
-        + counts_term;
+    let counts_rounding = match b.rounding {
+        CountRounding::Table { eta, count_squares } => {
+            let max_a = a[1..].iter().copied().fold(0.0, f64::max);
+            let term = max_a * eta * eta * count_squares / (nf * nf);
+            2.0 * (variance * term).sqrt() + term
+        }
+        CountRounding::Pairs(errors) => {
+            (1..a.len())
+                .map(|u| a[u] * errors[u] * inverse_w[u])
+                .sum::<f64>()
+                / (nf * nf)
+        }
+    };
+    let rounding = 2.0 * (variance * means_term).sqrt() + means_term + counts_rounding;
     (means, constant, ExactPart { variance, rounding })
 }
 
@@ -577,6 +745,49 @@ mod tests {
                     level.variance,
                     level.noise,
                     pairs.variance
+                );
+            }
+        }
+    }
+
+    /// The counts' energies from the points' pairs are those of their table transformed,
+    /// support by support, within both ways' rounding bounds (the table's from its 2-norm:
+    /// `|δB(u)| ≤ 2 √B(u) η ‖H‖ + η² ‖H‖²`), on levels finer and coarser than the points' own
+    /// digits.
+    #[test]
+    fn pair_counts_are_the_table_transformed() {
+        for (bases, digits, n) in [
+            (vec![2usize, 3], vec![9u32, 6], 300),
+            (vec![2, 3], vec![4, 3], 300),
+            (vec![2, 3, 5], vec![5, 3, 2], 77),
+        ] {
+            let grid = bases.iter().zip(&digits).map(|(&p, &m)| p.pow(m)).collect();
+            let level = Level {
+                bases,
+                digits,
+                grid,
+            };
+            let pairs = pair_count_energies(&level, n);
+            let CountRounding::Pairs(errors) = pairs.rounding else {
+                panic!("the pairs' bound is per support")
+            };
+            let mut counts = zeroed(level.cells());
+            for i in 0..n {
+                counts[unscrambled_cell(i, &level)] += 1.0;
+            }
+            let norm = counts.iter().map(|c| c * c).sum::<f64>().sqrt();
+            level_transform(&mut counts, &level, &mut Vec::new());
+            let table = support_energies(&counts, &level);
+            let eta = level.transform_rounding();
+            // Parseval: the energies sum to the counts' squares.
+            let total: f64 = table.iter().sum();
+            assert!((total - norm * norm).abs() <= 1e-12 * total);
+            for (u, (&b, &t)) in pairs.energies.iter().zip(&table).enumerate() {
+                let allowed = errors[u] + 2.0 * t.sqrt() * eta * norm + (eta * norm).powi(2);
+                assert!(
+                    (b - t).abs() <= allowed,
+                    "{:?}, support {u}: {b} against the table's {t} (allowed {allowed:e})",
+                    level.digits
                 );
             }
         }
