@@ -358,10 +358,16 @@ fn clipped_area(
     signed_area(part).max(0.0)
 }
 
+/// How far an edge's computed height at a strip's side, and the cell it falls in, may be from
+/// the line's, in the square's units: the height `a + (x − a₀)/(b₀ − a₀) · (b − a)` (every
+/// term at most 1 in the square) rounds five times, within `7ε`, and the cell's index
+/// `⌊y m⌋` once more, within `ε` of `y`; `32ε` leaves room.
+const STRIP_ROUNDING: f64 = 32.0 * f64::EPSILON;
+
 /// Where the boundary meets the strips of a grid across one axis (strip `i`: the cells whose
 /// index on that axis is `i`; across axis 0 the strips are columns, across axis 1 rows), in
-/// flat arrays: per strip, the ranges of cells the boundary touches, with one cell of margin
-/// either side so that rounding never calls a touched cell whole, and where the boundary
+/// flat arrays: per strip, the ranges of cells the boundary touches, widened by
+/// [`STRIP_ROUNDING`] so that rounding never calls a touched cell whole, and where the boundary
 /// crosses the strip's centre line. Every cell no range holds lies wholly inside or wholly
 /// outside the polygon, as the parity of the crossings below its centre says (the polygon lies
 /// in the square, so below it is outside).
@@ -431,7 +437,7 @@ impl Strip<'_> {
 
 impl Polygon {
     /// Calls `visit(strip, lo, hi, crossing)` for each strip of `grid` across axis `across`
-    /// that each edge meets: the cells `lo..=hi` it touches (with their margin) and where it
+    /// that each edge meets: the cells `lo..=hi` it touches (widened by [`STRIP_ROUNDING`]) and where it
     /// crosses the strip's centre line, if it does.
     fn visit_strips(
         &self,
@@ -458,8 +464,8 @@ impl Polygon {
                 } else {
                     (y_at(x0.max(xmin)), y_at(x1.min(xmax)))
                 };
-                let lo = to_cell(ya.min(yb)).saturating_sub(1);
-                let hi = (to_cell(ya.max(yb)) + 1).min(grid[along] - 1);
+                let lo = to_cell(ya.min(yb) - STRIP_ROUNDING);
+                let hi = to_cell(ya.max(yb) + STRIP_ROUNDING);
                 // Half-open across the strip, so a vertex on the line counts once.
                 let centre = (i as f64 + 0.5) / fx;
                 let crossing = ((a[0] > centre) != (b[0] > centre)).then(|| y_at(centre));

@@ -989,6 +989,22 @@ fn cell_form_integrands() -> Vec<Box<dyn Integrand>> {
             )
             .unwrap(),
         ),
+        // Slivers whose long edges are steep and shallow, each edge's touched cells found
+        // with a rounding allowance of a few ε and no whole cell of margin.
+        Box::new(
+            Polygon::new(
+                vec![[0.3, 0.05], [0.3 + 1e-7, 0.05], [0.3 + 3e-7, 0.95]],
+                1.0,
+            )
+            .unwrap(),
+        ),
+        Box::new(
+            Polygon::new(
+                vec![[0.05, 0.6], [0.95, 0.6 + 2e-9], [0.05, 0.6 + 1e-8]],
+                1.0,
+            )
+            .unwrap(),
+        ),
         Box::new(
             Polygon::new(
                 (0..40)
@@ -1111,8 +1127,8 @@ fn grid_masses_are_the_cells_one_by_one() {
             });
         }
     }
-    // The four disks, the Gaussian and the six polygons, on every grid.
-    assert_eq!(checked, 11 * CELL_FORM_GRIDS.len());
+    // The four disks, the Gaussian and the eight polygons, on every grid.
+    assert_eq!(checked, 13 * CELL_FORM_GRIDS.len());
 }
 
 /// Jitter on a triangle at `10^6` and `10^8` strata (the table of cells, then the triangle's
