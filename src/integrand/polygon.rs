@@ -745,18 +745,25 @@ impl Integrand for Polygon {
             .get_or_init(|| super::polygon_overlap::triangulate(&self.vertices))
             .as_ref()?;
         let s = [r[0] - r[0].floor(), r[1] - r[1].floor()];
-        let mut scratch = super::polygon_overlap::ClipScratch::default();
-        let area: f64 = [[0.0, 0.0], [-1.0, 0.0], [0.0, -1.0], [-1.0, -1.0]]
-            .iter()
-            .map(|m| {
-                super::polygon_overlap::shared_area(
-                    &self.vertices,
-                    triangles,
-                    [s[0] + m[0], s[1] + m[1]],
-                    &mut scratch,
-                )
-            })
-            .sum();
+        // The quadratures in space take millions of values: each thread keeps its buffers.
+        thread_local! {
+            static SCRATCH: std::cell::RefCell<super::polygon_overlap::ClipScratch> =
+                Default::default();
+        }
+        let area: f64 = SCRATCH.with_borrow_mut(|scratch| {
+            [[0.0, 0.0], [-1.0, 0.0], [0.0, -1.0], [-1.0, -1.0]]
+                .iter()
+                .map(|m| {
+                    super::polygon_overlap::shared_area(
+                        &self.vertices,
+                        self.bounds,
+                        triangles,
+                        [s[0] + m[0], s[1] + m[1]],
+                        scratch,
+                    )
+                })
+                .sum()
+        });
         Some(self.height * self.height * area)
     }
     fn autocorrelation_beyond(&self, distance: f64) -> Option<f64> {

@@ -126,14 +126,16 @@ pub(super) fn bounds(vertices: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
 /// the autocorrelation's quadratures take millions of overlaps.
 pub(super) type ClipScratch = (Vec<[f64; 2]>, Vec<[f64; 2]>);
 
-/// The area `polygon` (counter-clockwise) shares with the triangles moved by `shift`.
+/// The area `polygon` (counter-clockwise, within `bounds`, its [`bounds`]) shares with the
+/// triangles moved by `shift`. Each triangle's first side clips the polygon itself, the next
+/// ones the part left: the same clips as of a copy.
 pub(super) fn shared_area(
     polygon: &[[f64; 2]],
+    (lo, hi): ([f64; 2], [f64; 2]),
     triangles: &[Triangle],
     shift: [f64; 2],
     (part, clipped): &mut ClipScratch,
 ) -> f64 {
-    let (lo, hi) = bounds(polygon);
     let mut area = 0.0;
     for t in triangles {
         let moved = t.map(|v| [v[0] + shift[0], v[1] + shift[1]]);
@@ -142,17 +144,20 @@ pub(super) fn shared_area(
         if outside {
             continue;
         }
-        part.clear();
-        part.extend_from_slice(polygon);
         for i in 0..3 {
-            if part.len() < 3 {
-                break;
-            }
             let (a, b) = (moved[i], moved[(i + 1) % 3]);
             // Left of a → b: (b_y − a_y) x − (b_x − a_x) y ≤ the same at a.
             let n = [b[1] - a[1], a[0] - b[0]];
-            clip_into(part, n, n[0] * a[0] + n[1] * a[1], clipped);
-            std::mem::swap(part, clipped);
+            let level = n[0] * a[0] + n[1] * a[1];
+            if i == 0 {
+                clip_into(polygon, n, level, part);
+            } else {
+                clip_into(part, n, level, clipped);
+                std::mem::swap(part, clipped);
+            }
+            if part.len() < 3 {
+                break;
+            }
         }
         if part.len() >= 3 {
             area += signed_area(part).max(0.0);
@@ -181,16 +186,34 @@ mod tests {
         let covered: f64 = triangles.iter().map(|t| signed_area(t)).sum();
         assert!((covered - signed_area(&l)).abs() < 1e-15);
         assert!(
-            (shared_area(&l, &triangles, [0.0, 0.0], &mut Default::default()) - signed_area(&l))
-                .abs()
+            (shared_area(
+                &l,
+                bounds(&l),
+                &triangles,
+                [0.0, 0.0],
+                &mut Default::default()
+            ) - signed_area(&l))
+            .abs()
                 < 1e-15
         );
         // Moved right by 0.1: the foot (0.6 × 0.2) keeps 0.5 × 0.2, the leg (0.2 × 0.6 above
         // the foot) keeps 0.1 × 0.6.
-        let moved = shared_area(&l, &triangles, [0.1, 0.0], &mut Default::default());
+        let moved = shared_area(
+            &l,
+            bounds(&l),
+            &triangles,
+            [0.1, 0.0],
+            &mut Default::default(),
+        );
         assert!((moved - (0.1 + 0.06)).abs() < 1e-15, "{moved}");
         // Moved up by 0.3: the leg keeps 0.2 × 0.5 of its 0.8; the foot meets only the leg.
-        let up = shared_area(&l, &triangles, [0.0, 0.3], &mut Default::default());
+        let up = shared_area(
+            &l,
+            bounds(&l),
+            &triangles,
+            [0.0, 0.3],
+            &mut Default::default(),
+        );
         assert!((up - 0.2 * 0.5).abs() < 1e-15, "{up}");
     }
 }
