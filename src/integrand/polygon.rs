@@ -437,8 +437,8 @@ impl Strip<'_> {
 
 impl Polygon {
     /// Calls `visit(strip, lo, hi, crossing)` for each strip of `grid` across axis `across`
-    /// that each edge meets: the cells `lo..=hi` it touches (widened by [`STRIP_ROUNDING`]) and where it
-    /// crosses the strip's centre line, if it does.
+    /// that each edge meets: the cells `lo..=hi` it touches (widened by [`STRIP_ROUNDING`])
+    /// and where it crosses the strip's centre line, if it does.
     fn visit_strips(
         &self,
         grid: &[usize],

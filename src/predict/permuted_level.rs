@@ -214,8 +214,8 @@ fn transpose(values: &[f64], rows: usize, columns: usize, out: &mut Vec<f64>) {
 }
 
 /// `Σ_{c: supp c = u} v_c²` for every support `u` of `level`'s table `values`, in at most 16
-/// parallel chunks (each with a table of the supports) added in a fixed order. A cell's support
-/// is read from its axes' as the chunk runs along its rows.
+/// parallel chunks (each with its own table of the supports' energies) added in a fixed order.
+/// A cell's support is read from its axes' as the chunk runs along its rows.
 fn support_energies(values: &[f64], level: &Level) -> Vec<f64> {
     let classes = 1usize << level.stages();
     let axes = level.axis_supports();
@@ -284,7 +284,7 @@ enum CountRounding {
 /// The level's counts' energies by the cheaper of the two ways: the table of counts transformed,
 /// or the points' pairs ([`pair_count_energies`]).
 fn count_energies(level: &Level, n: usize, scratch: &mut Vec<f64>) -> CountEnergies {
-    if pair_count_seconds(level, n) < table_count_seconds(level, n) {
+    if pairs_are_cheaper(level, n) {
         return pair_count_energies(level, n);
     }
     let mut counts = zeroed(level.cells());
@@ -300,6 +300,11 @@ fn count_energies(level: &Level, n: usize, scratch: &mut Vec<f64>) -> CountEnerg
             count_squares,
         },
     }
+}
+
+/// Whether the counts' energies come from the points' pairs: their work is below the table's.
+fn pairs_are_cheaper(level: &Level, n: usize) -> bool {
+    pair_count_seconds(level, n) < table_count_seconds(level, n)
 }
 
 /// The work of the counts' energies by their table: the counts placed, transformed and summed.
@@ -444,7 +449,7 @@ fn work(f: &dyn Integrand, level: &Level, n: usize) -> (f64, f64) {
 /// transpose's scratch and, when they are transformed as a table, the points' counts; per
 /// support, the energies' tables (16 parts and their sum) and the weights.
 fn table_bytes(level: &Level, n: usize) -> f64 {
-    let tables = if pair_count_seconds(level, n) < table_count_seconds(level, n) {
+    let tables = if pairs_are_cheaper(level, n) {
         3.0
     } else {
         4.0
