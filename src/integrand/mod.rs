@@ -447,6 +447,12 @@ pub trait Integrand: Send + Sync {
         let _ = grid;
         None
     }
+    /// The cells [`cell_sums`](Self::cell_sums) visits for `grid`, or their equivalent in work:
+    /// what a caller weighs against its work budget before asking. By default one row of cells
+    /// per axis (a separable integrand's rows; a boundary's crossed cells are of that order).
+    fn cell_sums_visits(&self, grid: &[usize]) -> f64 {
+        grid.iter().sum::<usize>() as f64
+    }
     /// `∫_c f` over every cell `c` of the regular grid with `grid[l]` cells on axis `l` (axis 0
     /// varying fastest), of the integrand shifted by `t` on the torus (`f(x + t mod 1)`), when
     /// it has a faster form than one [`box_moments`](Self::box_moments) per cell (a separable

@@ -198,7 +198,7 @@ pub fn fixed_strata_variance(
             "the per-stratum sum over the crossed cells",
             Needs {
                 memory_bytes: 0.0,
-                work_seconds: 8.0 * grid.iter().sum::<usize>() as f64 * CELL_SECONDS,
+                work_seconds: 8.0 * f.cell_sums_visits(grid) * CELL_SECONDS,
             },
             "lower N",
         )?;
