@@ -1009,7 +1009,13 @@ mod tests {
                     (variances - visited).abs() <= allowed,
                     "c = {c}, s = {s}, m = {m}: {variances:e} against {visited:e} (allowed {allowed:e})"
                 );
-                let allowed = square_error * squares + 1e-14 * cells.mean_square;
+                // The visited squares' bound, as `cell_sums` takes it.
+                let ends = 8.0 * m as f64 * end_rounding(c, m, 0.0);
+                let visited_error = (2.0 * segment_rounding(c, s, 1.0 / m as f64)
+                    + 3.0 * f64::EPSILON)
+                    * cells.mean_square
+                    + ends;
+                let allowed = square_error * squares + visited_error;
                 assert!(
                     (squares - cells.mean_square).abs() <= allowed,
                     "c = {c}, s = {s}, m = {m}: Σμ² {squares:e} against {:e}",
