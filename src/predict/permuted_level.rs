@@ -42,6 +42,7 @@ use crate::progress::{stage, Progress};
 use crate::quadrature::CompensatedSum;
 use crate::randomization::Randomization;
 use crate::sampler::{Sampler, HALTON_BASES};
+use crate::spectrum::written_zeros;
 use rayon::prelude::*;
 use serde::Serialize;
 use std::fmt;
@@ -237,7 +238,7 @@ fn support_energies(values: &[f64], level: &Level) -> Vec<f64> {
             let start = k * chunk;
             let (mut column, mut row) = (start % side, start / side);
             let mut high = row_support(row);
-            let mut energy = zeroed(classes);
+            let mut energy = written_zeros(classes);
             for &x in v {
                 energy[(axes[0][column] | high) as usize] += x * x;
                 column += 1;
@@ -249,20 +250,11 @@ fn support_energies(values: &[f64], level: &Level) -> Vec<f64> {
             energy
         })
         .collect();
-    let mut total = zeroed(classes);
+    let mut total = written_zeros(classes);
     for part in parts {
         total.iter_mut().zip(part).for_each(|(t, e)| *t += e);
     }
     total
-}
-
-/// `n` zeros, written: a table read before it is written (a sum's accumulators, a transform's
-/// input) then takes each page's fault once, where the zeros of `vec![0.0; n]` are the
-/// system's shared page until each page is written, a second fault on every page.
-fn zeroed(n: usize) -> Vec<f64> {
-    let mut v = Vec::with_capacity(n);
-    v.resize(n, 0.0);
-    v
 }
 
 /// The points' counts' energy on every support of the level, `B(u) = Σ_{supp r = u} ĥ_r²`
@@ -287,7 +279,7 @@ fn count_energies(level: &Level, n: usize, scratch: &mut Vec<f64>) -> CountEnerg
     if pairs_are_cheaper(level, n) {
         return pair_count_energies(level, n);
     }
-    let mut counts = zeroed(level.cells());
+    let mut counts = written_zeros(level.cells());
     for i in 0..n {
         counts[unscrambled_cell(i, level)] += 1.0;
     }
@@ -776,7 +768,7 @@ mod tests {
             let CountRounding::Pairs(errors) = pairs.rounding else {
                 panic!("the pairs' bound is per support")
             };
-            let mut counts = zeroed(level.cells());
+            let mut counts = written_zeros(level.cells());
             for i in 0..n {
                 counts[unscrambled_cell(i, &level)] += 1.0;
             }
