@@ -185,35 +185,15 @@ mod tests {
         let triangles = triangulate(&l).unwrap();
         let covered: f64 = triangles.iter().map(|t| signed_area(t)).sum();
         assert!((covered - signed_area(&l)).abs() < 1e-15);
-        assert!(
-            (shared_area(
-                &l,
-                bounds(&l),
-                &triangles,
-                [0.0, 0.0],
-                &mut Default::default()
-            ) - signed_area(&l))
-            .abs()
-                < 1e-15
-        );
+        let shared =
+            |shift| shared_area(&l, bounds(&l), &triangles, shift, &mut Default::default());
+        assert!((shared([0.0, 0.0]) - signed_area(&l)).abs() < 1e-15);
         // Moved right by 0.1: the foot (0.6 × 0.2) keeps 0.5 × 0.2, the leg (0.2 × 0.6 above
         // the foot) keeps 0.1 × 0.6.
-        let moved = shared_area(
-            &l,
-            bounds(&l),
-            &triangles,
-            [0.1, 0.0],
-            &mut Default::default(),
-        );
+        let moved = shared([0.1, 0.0]);
         assert!((moved - (0.1 + 0.06)).abs() < 1e-15, "{moved}");
         // Moved up by 0.3: the leg keeps 0.2 × 0.5 of its 0.8; the foot meets only the leg.
-        let up = shared_area(
-            &l,
-            bounds(&l),
-            &triangles,
-            [0.0, 0.3],
-            &mut Default::default(),
-        );
+        let up = shared([0.0, 0.3]);
         assert!((up - 0.2 * 0.5).abs() < 1e-15, "{up}");
     }
 }
