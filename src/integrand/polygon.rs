@@ -364,6 +364,12 @@ fn clipped_area(
 /// `⌊y m⌋` once more, within `ε` of `y`; `32ε` leaves room.
 const STRIP_ROUNDING: f64 = 32.0 * f64::EPSILON;
 
+/// Whether `x` is, to the bit, one of the lines `j / m` (`j = 0..=m`) that bound `m` cells.
+fn on_grid_line(x: f64, m: f64) -> bool {
+    let j = (x * m).round();
+    (0.0..=m).contains(&j) && j / m == x
+}
+
 /// Where the boundary meets the strips of a grid across one axis (strip `i`: the cells whose
 /// index on that axis is `i`; across axis 0 the strips are columns, across axis 1 rows), in
 /// flat arrays: per strip, the ranges of cells the boundary touches, widened by
@@ -421,35 +427,81 @@ impl Strip<'_> {
         self.touched_runs().flat_map(|(start, end)| start..end)
     }
 
-    /// The runs of untouched cells `start..end` that lie inside.
-    fn inside_runs(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+    /// Calls `visit(start, end)` for each run of untouched cells `start..end` that lies inside.
+    ///
+    /// A cell's side is inside when an odd number of crossings lie below its centre. Within a
+    /// run of untouched cells that count changes only at an edge on a grid line (every other
+    /// edge's crossing lies in the cells it touches), so each run is split where such a
+    /// crossing passes from below one cell's centre to below the next's.
+    fn for_each_inside_run(&self, mut visit: impl FnMut(usize, usize)) {
+        let cells = self.cells as f64;
+        let centre = |c: usize| (c as f64 + 0.5) / cells;
+        let below = |c: usize| self.crossings.partition_point(|&y| y < centre(c));
         let ends = self
             .touched_runs()
             .map(|(start, _)| start)
             .chain(std::iter::once(self.cells));
         let starts = std::iter::once(0).chain(self.touched_runs().map(|(_, end)| end));
-        starts.zip(ends).filter(move |&(start, end)| {
-            let centre = (start as f64 + 0.5) / self.cells as f64;
-            start < end && self.crossings.partition_point(|&y| y < centre) % 2 == 1
-        })
+        for (start, end) in starts.zip(ends).filter(|&(start, end)| start < end) {
+            let (mut from, mut count) = (start, below(start));
+            loop {
+                // The first cell of the run with more crossings below its centre.
+                let next = match self.crossings.get(count) {
+                    Some(&y) if y < centre(end - 1) => first_centre_above(y, cells).max(from + 1),
+                    _ => end,
+                };
+                if count % 2 == 1 {
+                    visit(from, next);
+                }
+                if next == end {
+                    break;
+                }
+                (from, count) = (next, below(next));
+            }
+        }
     }
 }
 
+/// The first cell of `m` whose centre `(c + 1/2)/m` (as computed) lies above `y`.
+fn first_centre_above(y: f64, m: f64) -> usize {
+    let centre = |c: usize| (c as f64 + 0.5) / m;
+    let mut c = (y * m - 0.5).floor().max(0.0) as usize;
+    while c > 0 && centre(c - 1) > y {
+        c -= 1;
+    }
+    while centre(c) <= y {
+        c += 1;
+    }
+    c
+}
+
 impl Polygon {
-    /// Calls `visit(strip, lo, hi, crossing)` for each strip of `grid` across axis `across`
-    /// that each edge meets: the cells `lo..=hi` it touches (widened by [`STRIP_ROUNDING`])
-    /// and where it crosses the strip's centre line, if it does.
+    /// Calls `visit(strip, touched, crossing)` for each strip of `grid` across axis `across`
+    /// that each edge meets: the cells `lo..=hi` it touches (widened by [`STRIP_ROUNDING`]), if
+    /// any, and where it crosses the strip's centre line, if it does.
+    ///
+    /// An edge that lies on a line of the grid (the square's faces, and any axis-aligned edge at
+    /// a multiple of the cell side) passes through no cell's interior: it touches none. The
+    /// cells beside it are whole or empty unless another edge passes through them, and that
+    /// edge touches them; the parity of the crossings still classifies them, so such an edge
+    /// keeps its crossings. The line must be the grid's to the bit (`j / m` as the cells'
+    /// sides are computed), so that the clips it spares would have cut nothing.
     fn visit_strips(
         &self,
         grid: &[usize],
         across: usize,
-        mut visit: impl FnMut(usize, usize, usize, Option<f64>),
+        mut visit: impl FnMut(usize, Option<(usize, usize)>, Option<f64>),
     ) {
         let along = 1 - across;
         let (fx, fy) = (grid[across] as f64, grid[along] as f64);
         let to_cell = |y: f64| (y * fy).floor().clamp(0.0, fy - 1.0) as usize;
         for (a, b) in self.edges() {
             let (a, b) = ([a[across], a[along]], [b[across], b[along]]);
+            if a[0] == b[0] && on_grid_line(a[0], fx) {
+                // Along a strips' boundary: no cell touched, and no strip's centre crossed.
+                continue;
+            }
+            let touches = !(a[1] == b[1] && on_grid_line(a[1], fy));
             let (xmin, xmax) = (a[0].min(b[0]), a[0].max(b[0]));
             let y_at = |x: f64| a[1] + (x - a[0]) / (b[0] - a[0]) * (b[1] - a[1]);
             let first = ((xmin * fx).floor() - 1.0).clamp(0.0, fx - 1.0) as usize;
@@ -464,12 +516,16 @@ impl Polygon {
                 } else {
                     (y_at(x0.max(xmin)), y_at(x1.min(xmax)))
                 };
-                let lo = to_cell(ya.min(yb) - STRIP_ROUNDING);
-                let hi = to_cell(ya.max(yb) + STRIP_ROUNDING);
+                let touched = touches.then(|| {
+                    (
+                        to_cell(ya.min(yb) - STRIP_ROUNDING),
+                        to_cell(ya.max(yb) + STRIP_ROUNDING),
+                    )
+                });
                 // Half-open across the strip, so a vertex on the line counts once.
                 let centre = (i as f64 + 0.5) / fx;
                 let crossing = ((a[0] > centre) != (b[0] > centre)).then(|| y_at(centre));
-                visit(i, lo, hi, crossing);
+                visit(i, touched, crossing);
             }
         }
     }
@@ -479,8 +535,8 @@ impl Polygon {
     fn strips(&self, grid: &[usize], across: usize) -> Strips {
         let count = grid[across];
         let (mut range_at, mut crossing_at) = (vec![0; count + 1], vec![0; count + 1]);
-        self.visit_strips(grid, across, |i, _, _, crossing| {
-            range_at[i + 1] += 1;
+        self.visit_strips(grid, across, |i, touched, crossing| {
+            range_at[i + 1] += usize::from(touched.is_some());
             crossing_at[i + 1] += usize::from(crossing.is_some());
         });
         for i in 0..count {
@@ -491,9 +547,11 @@ impl Polygon {
         let mut crossings = vec![0.0; crossing_at[count]];
         // Each strip's start serves as its cursor, which then ends at the next strip's start:
         // shifted back by one, the starts are restored.
-        self.visit_strips(grid, across, |i, lo, hi, crossing| {
-            ranges[range_at[i]] = (lo, hi);
-            range_at[i] += 1;
+        self.visit_strips(grid, across, |i, touched, crossing| {
+            if let Some(range) = touched {
+                ranges[range_at[i]] = range;
+                range_at[i] += 1;
+            }
             if let Some(y) = crossing {
                 crossings[crossing_at[i]] = y;
                 crossing_at[i] += 1;
@@ -530,7 +588,8 @@ impl Polygon {
             let strip = strips.strip(i);
             let (x0, x1) = (i as f64 / fx, (i + 1) as f64 / fx);
             let (mut squares, mut within) = (CompensatedSum::default(), CompensatedSum::default());
-            let inside: usize = strip.inside_runs().map(|(start, end)| end - start).sum();
+            let mut inside = 0;
+            strip.for_each_inside_run(|start, end| inside += end - start);
             squares.add(a * a * inside as f64);
             clip_into(&self.vertices, [-1.0, 0.0], -x0, next);
             column_part.clear();
@@ -572,9 +631,7 @@ impl Polygon {
             || [Vec::new(), Vec::new(), Vec::new()],
             |[row_part, part, next], (j, row)| {
                 let strip = strips.strip(j);
-                for (start, end) in strip.inside_runs() {
-                    row[start..end].fill(whole);
-                }
+                strip.for_each_inside_run(|start, end| row[start..end].fill(whole));
                 let (y0, y1) = (j as f64 / fy, (j + 1) as f64 / fy);
                 clip_into(&self.vertices, [0.0, -1.0], -y0, next);
                 clip_into(next, [0.0, 1.0], y1, row_part);
