@@ -378,9 +378,9 @@ fn on_grid_line(x: f64, m: f64) -> bool {
 /// outside the polygon, as the parity of the crossings below its centre says (the polygon lies
 /// in the square, so below it is outside).
 struct Strips {
-    /// Strip `i`'s ranges `lo..=hi` are `ranges[range_at[i]..range_at[i + 1]]`, sorted.
+    /// Strip `i`'s ranges are `ranges[range_at[i]..range_at[i + 1]]`, sorted.
     range_at: Vec<usize>,
-    ranges: Vec<(usize, usize)>,
+    ranges: Vec<Touch>,
     /// Strip `i`'s crossings are `crossings[crossing_at[i]..crossing_at[i + 1]]`, sorted.
     crossing_at: Vec<usize>,
     crossings: Vec<f64>,
@@ -388,9 +388,22 @@ struct Strips {
     cells: usize,
 }
 
+/// The cells `lo..=hi` of a strip that one edge touches, and that edge's index when it crosses
+/// the whole strip ([`NO_EDGE`] otherwise): in the cells no other edge touches, the polygon is
+/// then the half-plane on its side.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+struct Touch {
+    lo: usize,
+    hi: usize,
+    spanning: u32,
+}
+
+/// [`Touch::spanning`] of an edge that ends inside the strip.
+const NO_EDGE: u32 = u32::MAX;
+
 /// One strip of [`Strips`].
 struct Strip<'a> {
-    ranges: &'a [(usize, usize)],
+    ranges: &'a [Touch],
     crossings: &'a [f64],
     cells: usize,
 }
@@ -414,17 +427,43 @@ impl Strip<'_> {
     fn touched_runs(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
         self.ranges
             .iter()
-            .scan(0, |next, &(lo, hi)| {
-                let start = lo.max(*next);
-                *next = (*next).max(hi + 1);
-                Some((start, hi + 1))
+            .scan(0, |next, t| {
+                let start = t.lo.max(*next);
+                *next = (*next).max(t.hi + 1);
+                Some((start, t.hi + 1))
             })
             .filter(|&(start, end)| start < end)
     }
 
-    /// Every touched cell once, in increasing order.
-    fn touched(&self) -> impl Iterator<Item = usize> + '_ {
-        self.touched_runs().flat_map(|(start, end)| start..end)
+    /// Calls `visit(start, end, edge)` for the touched cells as disjoint increasing runs,
+    /// [`touched_runs`](Self::touched_runs) split where a second range begins: `edge` is the one
+    /// edge that alone touches every cell of the run and crosses the whole strip, if there is
+    /// one.
+    fn for_each_touched(&self, mut visit: impl FnMut(usize, usize, Option<usize>)) {
+        let mut next = 0;
+        for (k, t) in self.ranges.iter().enumerate() {
+            let (start, end) = (t.lo.max(next), t.hi + 1);
+            next = next.max(end);
+            if start >= end {
+                continue;
+            }
+            // The earlier ranges end before `start`, and the later ones begin no lower than the
+            // next: the cells below it are this range's alone.
+            let alone = self
+                .ranges
+                .get(k + 1)
+                .map_or(end, |u| u.lo.clamp(start, end));
+            if start < alone {
+                visit(
+                    start,
+                    alone,
+                    (t.spanning != NO_EDGE).then_some(t.spanning as usize),
+                );
+            }
+            if alone < end {
+                visit(alone, end, None);
+            }
+        }
     }
 
     /// Calls `visit(start, end)` for each run of untouched cells `start..end` that lies inside.
@@ -436,7 +475,7 @@ impl Strip<'_> {
     fn for_each_inside_run(&self, mut visit: impl FnMut(usize, usize)) {
         let cells = self.cells as f64;
         let centre = |c: usize| (c as f64 + 0.5) / cells;
-        let below = |c: usize| self.crossings.partition_point(|&y| y < centre(c));
+        let below = |c: usize| self.crossings_below(c);
         let ends = self
             .touched_runs()
             .map(|(start, _)| start)
@@ -462,6 +501,14 @@ impl Strip<'_> {
     }
 }
 
+impl Strip<'_> {
+    /// How many crossings lie below the centre of cell `c`.
+    fn crossings_below(&self, c: usize) -> usize {
+        let centre = (c as f64 + 0.5) / self.cells as f64;
+        self.crossings.partition_point(|&y| y < centre)
+    }
+}
+
 /// The first cell of `m` whose centre `(c + 1/2)/m` (as computed) lies above `y`.
 fn first_centre_above(y: f64, m: f64) -> usize {
     let centre = |c: usize| (c as f64 + 0.5) / m;
@@ -477,8 +524,8 @@ fn first_centre_above(y: f64, m: f64) -> usize {
 
 impl Polygon {
     /// Calls `visit(strip, touched, crossing)` for each strip of `grid` across axis `across`
-    /// that each edge meets: the cells `lo..=hi` it touches (widened by [`STRIP_ROUNDING`]), if
-    /// any, and where it crosses the strip's centre line, if it does.
+    /// that each edge meets: the cells it touches (widened by [`STRIP_ROUNDING`]), if any, and
+    /// where it crosses the strip's centre line, if it does.
     ///
     /// An edge that lies on a line of the grid (the square's faces, and any axis-aligned edge at
     /// a multiple of the cell side) passes through no cell's interior: it touches none. The
@@ -490,12 +537,12 @@ impl Polygon {
         &self,
         grid: &[usize],
         across: usize,
-        mut visit: impl FnMut(usize, Option<(usize, usize)>, Option<f64>),
+        mut visit: impl FnMut(usize, Option<Touch>, Option<f64>),
     ) {
         let along = 1 - across;
         let (fx, fy) = (grid[across] as f64, grid[along] as f64);
         let to_cell = |y: f64| (y * fy).floor().clamp(0.0, fy - 1.0) as usize;
-        for (a, b) in self.edges() {
+        for (e, (a, b)) in self.edges().enumerate() {
             let (a, b) = ([a[across], a[along]], [b[across], b[along]]);
             if a[0] == b[0] && on_grid_line(a[0], fx) {
                 // Along a strips' boundary: no cell touched, and no strip's centre crossed.
@@ -516,11 +563,14 @@ impl Polygon {
                 } else {
                     (y_at(x0.max(xmin)), y_at(x1.min(xmax)))
                 };
-                let touched = touches.then(|| {
-                    (
-                        to_cell(ya.min(yb) - STRIP_ROUNDING),
-                        to_cell(ya.max(yb) + STRIP_ROUNDING),
-                    )
+                let touched = touches.then(|| Touch {
+                    lo: to_cell(ya.min(yb) - STRIP_ROUNDING),
+                    hi: to_cell(ya.max(yb) + STRIP_ROUNDING),
+                    spanning: if xmin <= x0 && xmax >= x1 {
+                        e as u32
+                    } else {
+                        NO_EDGE
+                    },
                 });
                 // Half-open across the strip, so a vertex on the line counts once.
                 let centre = (i as f64 + 0.5) / fx;
@@ -543,7 +593,14 @@ impl Polygon {
             range_at[i + 1] += range_at[i];
             crossing_at[i + 1] += crossing_at[i];
         }
-        let mut ranges = vec![(0, 0); range_at[count]];
+        let mut ranges = vec![
+            Touch {
+                lo: 0,
+                hi: 0,
+                spanning: NO_EDGE
+            };
+            range_at[count]
+        ];
         let mut crossings = vec![0.0; crossing_at[count]];
         // Each strip's start serves as its cursor, which then ends at the next strip's start:
         // shifted back by one, the starts are restored.
@@ -574,38 +631,149 @@ impl Polygon {
         }
     }
 
+    /// Calls `visit(j, area)` with the polygon's area in each cell `j` of strip `i` (of `grid`
+    /// across axis `across`) that the boundary touches. Where one edge alone touches the cell
+    /// and crosses the whole strip, the polygon there is that edge's half-plane where its line
+    /// passes through the cell ([`Polygon::area_beside_edge`]), and the cell is whole or empty
+    /// where it does not; elsewhere the polygon is clipped to the strip (once, when first
+    /// needed) and that part to the cell, in `buffers`.
+    fn for_each_touched_area(
+        &self,
+        (strips, i): (&Strips, usize),
+        (grid, across): (&[usize], usize),
+        buffers: &mut [Vec<[f64; 2]>; 3],
+        mut visit: impl FnMut(usize, f64),
+    ) {
+        let along = 1 - across;
+        let (fx, fy) = (grid[across] as f64, grid[along] as f64);
+        let (x0, x1) = (i as f64 / fx, (i + 1) as f64 / fx);
+        let toward = |axis: usize, sign: f64| {
+            let mut n = [0.0; 2];
+            n[axis] = sign;
+            n
+        };
+        let [strip_part, part, next] = buffers;
+        let mut clipped = false;
+        let strip = strips.strip(i);
+        strip.for_each_touched(|start, end, edge| {
+            for j in start..end {
+                let (y0, y1) = (j as f64 / fy, (j + 1) as f64 / fy);
+                let area = match edge {
+                    Some(e) => self
+                        .area_beside_edge(e, across, [x0, x1], [y0, y1])
+                        .unwrap_or_else(|| {
+                            // Whole or empty, as the parity at its centre says.
+                            let odd = strip.crossings_below(j) % 2 == 1;
+                            if odd {
+                                (x1 - x0) * (y1 - y0)
+                            } else {
+                                0.0
+                            }
+                        }),
+                    None => {
+                        if !clipped {
+                            clip_into(&self.vertices, toward(across, -1.0), -x0, next);
+                            strip_part.clear();
+                            if next.len() >= 3 {
+                                clip_into(next, toward(across, 1.0), x1, strip_part);
+                            }
+                            clipped = true;
+                        }
+                        let planes = [(toward(along, -1.0), -y0), (toward(along, 1.0), y1)];
+                        let mut corner = [0.0; 2];
+                        (corner[across], corner[along]) = (x0, y0);
+                        clipped_area(strip_part, &planes, corner, [part, next])
+                    }
+                };
+                visit(j, area);
+            }
+        });
+    }
+
+    /// The area of the cell `[x0, x1] × [y0, y1]` (in the strips' frame, `x` across them) on the
+    /// polygon's side of edge `e`, which crosses the whole strip while no other edge touches the
+    /// cell, when the edge's line passes through the cell's interior; `None` when it may not.
+    ///
+    /// Inside the cell the boundary is then that line alone (the edge's ends lie outside the
+    /// open strip, and an edge on a grid line lies on the cell's sides), so the polygon there is
+    /// the half-plane left of the edge (its vertices turn counter-clockwise), right of it in the
+    /// frame across axis 1, whose axes are swapped. A line that misses the interior, or may by
+    /// its rounding, leaves a cell that is whole or empty, but not always on this line's side:
+    /// an end of the edge at a corner of the cell turns there, and an edge on a grid line may
+    /// lie between. The caller then reads the cell's side from the parity of the crossings
+    /// below its centre, which counts every edge; the cell is whole or empty but for a sliver
+    /// of the depth the line may enter by, within [`STRIP_ROUNDING`].
+    ///
+    /// The line's height over the cell's width is linear between the cell's sides, so the mean
+    /// of its clamp to the cell is exact from the two ends ([`mean_clamped`]). The height is
+    /// taken along the axis on which the line is less steep, where its rounding is a few ε (as
+    /// a clip's crossing is), not amplified by the slope; [`STRIP_ROUNDING`] bounds it.
+    fn area_beside_edge(
+        &self,
+        e: usize,
+        across: usize,
+        [x0, x1]: [f64; 2],
+        [y0, y1]: [f64; 2],
+    ) -> Option<f64> {
+        let (p, q) = (
+            self.vertices[e],
+            self.vertices[(e + 1) % self.vertices.len()],
+        );
+        let (a, b) = ([p[across], p[1 - across]], [q[across], q[1 - across]]);
+        let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+        let (w, h) = (x1 - x0, y1 - y0);
+        // The part of the cell below (before) a line whose height (width) runs from `c0` to `c1`
+        // over the cell, if the line clearly passes through it.
+        let crossing = |c0: f64, c1: f64, side: f64, length: f64| {
+            let (lo, hi) = (c0.min(c1), c0.max(c1));
+            (hi > STRIP_ROUNDING && lo < side - STRIP_ROUNDING)
+                .then(|| length * mean_clamped(c0, c1, side))
+        };
+        let left = if dy.abs() <= dx.abs() {
+            let slope = dy / dx;
+            let height = |x: f64| (a[1] - y0) + (x - a[0]) * slope;
+            let below = crossing(height(x0), height(x1), h, w)?;
+            // Left of a line running towards +x is above it.
+            if dx > 0.0 {
+                w * h - below
+            } else {
+                below
+            }
+        } else {
+            let slope = dx / dy;
+            let width = |y: f64| (a[0] - x0) + (y - a[1]) * slope;
+            let before = crossing(width(y0), width(y1), w, h)?;
+            // Left of a line running towards +y is before it in x.
+            if dy > 0.0 {
+                before
+            } else {
+                w * h - before
+            }
+        };
+        let inside = if across == 0 { left } else { w * h - left };
+        Some(inside.clamp(0.0, w * h))
+    }
+
     /// [`CellSums`](super::CellSums) over the `mx × my` cells of `grid`, visiting only the cells
     /// the boundary touches: every other cell lies wholly inside (mean `height`, no inner
     /// variance) or wholly outside.
     fn polygon_cell_sums(&self, grid: &[usize]) -> super::CellSums {
-        let (fx, fy) = (grid[0] as f64, grid[1] as f64);
-        let (a, cells_f) = (self.height, fx * fy);
+        let (a, cells_f) = (self.height, (grid[0] * grid[1]) as f64);
         let strips = self.strips(grid, 0);
-        // The polygon is clipped to each column once, and that part to each cell the boundary
-        // touches: the same clips, in the same order, as the cell's own four (so the same
-        // bits as `area_in_box`), with the column's two done once for all its cells.
-        let column = |[column_part, part, next]: &mut [Vec<[f64; 2]>; 3], i: usize| {
-            let strip = strips.strip(i);
-            let (x0, x1) = (i as f64 / fx, (i + 1) as f64 / fx);
+        let column = |buffers: &mut [Vec<[f64; 2]>; 3], i: usize| {
             let (mut squares, mut within) = (CompensatedSum::default(), CompensatedSum::default());
             let mut inside = 0;
-            strip.for_each_inside_run(|start, end| inside += end - start);
+            strips
+                .strip(i)
+                .for_each_inside_run(|start, end| inside += end - start);
             squares.add(a * a * inside as f64);
-            clip_into(&self.vertices, [-1.0, 0.0], -x0, next);
-            column_part.clear();
-            if next.len() >= 3 {
-                clip_into(next, [1.0, 0.0], x1, column_part);
-            }
             let mut touched = 0;
-            for j in strip.touched() {
-                let (y0, y1) = (j as f64 / fy, (j + 1) as f64 / fy);
-                let planes = [([0.0, -1.0], -y0), ([0.0, 1.0], y1)];
-                let area = clipped_area(column_part, &planes, [x0, y0], [part, next]);
+            self.for_each_touched_area((&strips, i), (grid, 0), buffers, |_, area| {
                 let mean = a * area * cells_f;
                 squares.add(mean * mean);
                 within.add((a * a * area * cells_f - mean * mean).max(0.0));
                 touched += 1;
-            }
+            });
             (squares.value(), within.value(), touched)
         };
         let columns: Vec<(f64, f64, u64)> = (0..strips.len())
@@ -616,34 +784,29 @@ impl Polygon {
     }
 
     /// `∫_c f` over the `mx × my` cells of `grid`, row by row, with the cells on which `f` is
-    /// constant: the polygon is clipped to each row once, and that part to each cell the
-    /// boundary touches; the other cells are the height times the cell's area, or 0.
+    /// constant: only the cells the boundary touches are computed
+    /// ([`Polygon::for_each_touched_area`]); the other cells are the height times the cell's
+    /// area, or 0.
     fn polygon_grid_masses(&self, grid: &[usize]) -> super::GridMasses {
-        let (mx, my) = (grid[0], grid[1]);
-        let (fx, fy) = (mx as f64, my as f64);
-        let area = 1.0 / (fx * fy);
+        let mx = grid[0];
+        let area = 1.0 / (grid[0] * grid[1]) as f64;
         let whole = self.height * area;
         let strips = self.strips(grid, 1);
-        // Every cell constant until a clip says otherwise.
-        let constant = super::ConstantCells::all(mx * my);
-        let mut masses = vec![0.0; mx * my];
+        // Every cell constant until its area says otherwise.
+        let constant = super::ConstantCells::all(mx * grid[1]);
+        let mut masses = vec![0.0; mx * grid[1]];
         masses.par_chunks_mut(mx).enumerate().for_each_init(
             || [Vec::new(), Vec::new(), Vec::new()],
-            |[row_part, part, next], (j, row)| {
-                let strip = strips.strip(j);
-                strip.for_each_inside_run(|start, end| row[start..end].fill(whole));
-                let (y0, y1) = (j as f64 / fy, (j + 1) as f64 / fy);
-                clip_into(&self.vertices, [0.0, -1.0], -y0, next);
-                clip_into(next, [0.0, 1.0], y1, row_part);
-                for i in strip.touched() {
-                    let (x0, x1) = (i as f64 / fx, (i + 1) as f64 / fx);
-                    let planes = [([-1.0, 0.0], -x0), ([1.0, 0.0], x1)];
-                    let clipped = clipped_area(row_part, &planes, [x0, y0], [part, next]);
+            |buffers, (j, row)| {
+                strips
+                    .strip(j)
+                    .for_each_inside_run(|start, end| row[start..end].fill(whole));
+                self.for_each_touched_area((&strips, j), (grid, 1), buffers, |i, clipped| {
                     row[i] = self.height * clipped;
                     if !super::constant_on_cell(row[i], self.height * row[i], area) {
                         constant.clear(j * mx + i);
                     }
-                }
+                });
             },
         );
         super::GridMasses {
@@ -651,6 +814,26 @@ impl Polygon {
             constant: Some(constant.into_words()),
         }
     }
+}
+
+/// The mean over `t ∈ [0, 1]` of `clamp(c0 + (c1 − c0) t, 0, h)`: the share of `t` on which the
+/// linear height lies within `[0, h]`, at the mean of its ends there, and the share above, at
+/// `h`, each from the height's run (exact pieces of a linear function).
+fn mean_clamped(c0: f64, c1: f64, h: f64) -> f64 {
+    let (lo, hi) = (c0.min(c1), c0.max(c1));
+    if hi <= 0.0 {
+        return 0.0;
+    }
+    if lo >= h {
+        return h;
+    }
+    let run = hi - lo;
+    if run == 0.0 {
+        // A level line, inside the cell's height.
+        return lo;
+    }
+    let (bottom, top) = (lo.max(0.0), hi.min(h));
+    (top - bottom) / run * (0.5 * (bottom + top)) + (hi - top) / run * h
 }
 
 impl Integrand for Polygon {
@@ -857,6 +1040,32 @@ impl Integrand for Polygon {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The clamped linear height's mean against the midpoint rule on 2^16 panels (exact on each
+    /// panel but the few where the clamp bends, each off by at most `h / panels`), the level
+    /// and the degenerate cases included.
+    #[test]
+    fn the_clamped_height_is_its_mean() {
+        const PANELS: usize = 1 << 16;
+        let h = 0.7;
+        let ends = [-0.4, -0.0, 0.0, 0.1, 0.35, 0.7, 0.9, 1.6];
+        for &c0 in &ends {
+            for &c1 in &ends {
+                let midpoint = (0..PANELS)
+                    .map(|k| {
+                        let t = (k as f64 + 0.5) / PANELS as f64;
+                        (c0 + (c1 - c0) * t).clamp(0.0, h)
+                    })
+                    .sum::<f64>()
+                    / PANELS as f64;
+                let mean = mean_clamped(c0, c1, h);
+                assert!(
+                    (mean - midpoint).abs() <= 2.0 * h / PANELS as f64,
+                    "{c0} → {c1}: {mean} against {midpoint}"
+                );
+            }
+        }
+    }
 
     /// A box's rows give the moments `box_moments` gives, to the bit, and both are the clipped
     /// area of the general polygon to rounding, on cells inside, outside and across its edges.
