@@ -125,20 +125,23 @@ fn gaussian_tail(c: f64, kmax: i64) -> f64 {
 /// The variance of Gaussian jitter of width `width` (in strata) on the grid `strata`, as
 /// drawn, with its bias, exactly up to the bounded truncation and rounding.
 fn moments(f: &dyn Integrand, strata: &[usize], width: f64, budget: &Budget) -> Result<Moments> {
-    let axes: Vec<Axis> = strata.iter().map(|&m| Axis::new(m, width)).collect();
-    let frequencies: f64 = axes.iter().map(|a| (2 * a.kmax + 1) as f64).product();
+    // Each axis's reach is known before its tables are built (at 10^6 strata an axis, 1.1e7
+    // entries each, which took longer than the answer that the budget then refused).
+    let lengths: Vec<f64> = strata
+        .iter()
+        .map(|&m| (2 * Axis::decay_and_reach(m, width, TRUNCATION).1 + 1) as f64)
+        .collect();
+    let frequencies: f64 = lengths.iter().product();
     budget.check(
         "Gaussian jitter's aliased frequencies",
         Needs {
-            memory_bytes: axes
-                .iter()
-                .map(|a| 24.0 * a.weight.len() as f64)
-                .sum::<f64>()
+            memory_bytes: 24.0 * lengths.iter().sum::<f64>()
                 + (16.0 * frequencies).min(COEFFICIENT_TABLES_BYTES as f64),
             work_seconds: frequencies * COEFFICIENT_SECONDS,
         },
         "lower N or widen the offsets",
     )?;
+    let axes: Vec<Axis> = strata.iter().map(|&m| Axis::new(m, width)).collect();
     let classes: usize = strata.iter().product();
     let (aliased, mean) =
         match f.separable_coefficients(&axes.iter().map(|a| a.kmax as usize).collect::<Vec<_>>()) {
@@ -217,25 +220,26 @@ fn shifted_moments(
     width: f64,
     budget: &Budget,
 ) -> Result<Moments> {
-    // φ² is the characteristic function of offsets √2 times wider.
-    let axes: Vec<Axis> = strata
+    // φ² is the characteristic function of offsets √2 times wider; each axis's reach is known
+    // before its tables are built.
+    let sides: Vec<usize> = strata
         .iter()
-        .map(|&m| Axis::new(m, width * SQRT_2))
+        .map(|&m| (2 * Axis::decay_and_reach(m, width * SQRT_2, TRUNCATION).1 + 1) as usize)
         .collect();
-    let sides: Vec<usize> = axes.iter().map(|a| (2 * a.kmax + 1) as usize).collect();
     let frequencies = shifted_frequencies(strata, width);
     budget.check(
         "Gaussian jitter's smoothed energy",
         Needs {
-            memory_bytes: axes
-                .iter()
-                .map(|a| 24.0 * a.weight.len() as f64)
-                .sum::<f64>()
+            memory_bytes: 24.0 * sides.iter().sum::<usize>() as f64
                 + (16.0 * frequencies).min(COEFFICIENT_TABLES_BYTES as f64),
             work_seconds: frequencies * COEFFICIENT_SECONDS,
         },
         "lower N or widen the offsets",
     )?;
+    let axes: Vec<Axis> = strata
+        .iter()
+        .map(|&m| Axis::new(m, width * SQRT_2))
+        .collect();
     let kmax: Vec<usize> = axes.iter().map(|a| a.kmax as usize).collect();
     let smoothed = match f.separable_coefficients(&kmax) {
         Some(rows) => {
