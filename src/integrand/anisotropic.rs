@@ -167,8 +167,17 @@ impl AnisotropicGaussian {
     }
 
     fn transform(&self, nu: [f64; 2]) -> Complex64 {
-        let amplitude = self.spectral_integral() * (-2.0 * PI * PI * self.quadratic(nu)).exp();
-        shift_phase(&nu, &self.centre) * amplitude
+        shift_phase(&nu, &self.centre) * self.amplitude(nu)
+    }
+
+    /// `|f̂(ν)|`, the transform without its phase: `exp` of an exponent below −745 is 0, which
+    /// is returned without the library's slow path for results beyond the subnormals.
+    fn amplitude(&self, nu: [f64; 2]) -> f64 {
+        let exponent = -2.0 * PI * PI * self.quadratic(nu);
+        if exponent < -745.2 {
+            return 0.0;
+        }
+        self.spectral_integral() * exponent.exp()
     }
 }
 
@@ -267,10 +276,10 @@ impl Integrand for AnisotropicGaussian {
         match &self.truncated {
             Some(lobe) => lobe.power_on_lattice(lattice.kmax, out),
             None => {
-                for (i, slot) in out.iter_mut().enumerate() {
-                    let k = lattice.frequency(i);
-                    *slot = self.transform([k[0] as f64, k[1] as f64]).norm_sqr();
-                }
+                // The power needs no phase: one exponential a frequency, no sine or cosine.
+                super::on_lattice(lattice, out, |k| {
+                    self.amplitude([k[0] as f64, k[1] as f64]).powi(2)
+                });
             }
         }
     }
