@@ -118,11 +118,11 @@ pub fn predict_polar(
     };
     let width = f.panel_width().min(scale / 2.0);
     let panels = rho_end / width;
-    // A closed form's radial mean, tabulated once (white noise needs none).
-    let table = match source {
-        SpectrumSource::Closed(c) if *c != ClosedForm::WhiteNoise => {
-            RadialTable::new(*c, d, nu_end)
-        }
+    // A closed form's radial mean, tabulated once (white noise needs none) as far as it is
+    // read: to `ν_end` where the far part is taken by its mean, else to `ρ_end` (at large N a
+    // small part of `ν_end`, whose table would cost more than the integral).
+    let table_to = |end: f64| match source {
+        SpectrumSource::Closed(c) if *c != ClosedForm::WhiteNoise => RadialTable::new(*c, d, end),
         _ => None,
     };
     if panels > params.max_panels as f64
@@ -130,8 +130,10 @@ pub fn predict_polar(
         && let (SpectrumSource::Closed(closed), Some(_)) = (source, f.radial_oscillation(rho_end))
     {
         let split = params.max_panels as f64 * width;
+        let table = table_to(nu_end);
         return far_by_mean(f, *closed, n, params, (split, nu_end), table.as_ref());
     }
+    let table = table_to(rho_end / scale);
     if panels.is_nan() || panels > PANEL_LIMIT {
         return Err(Error::OutsideValidity {
             route: "the polar form".into(),
