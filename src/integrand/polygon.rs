@@ -466,6 +466,12 @@ impl Strip<'_> {
         }
     }
 
+    /// How many crossings lie below the centre of cell `c`.
+    fn crossings_below(&self, c: usize) -> usize {
+        let centre = (c as f64 + 0.5) / self.cells as f64;
+        self.crossings.partition_point(|&y| y < centre)
+    }
+
     /// Calls `visit(start, end)` for each run of untouched cells `start..end` that lies inside.
     ///
     /// A cell's side is inside when an odd number of crossings lie below its centre. Within a
@@ -475,14 +481,13 @@ impl Strip<'_> {
     fn for_each_inside_run(&self, mut visit: impl FnMut(usize, usize)) {
         let cells = self.cells as f64;
         let centre = |c: usize| (c as f64 + 0.5) / cells;
-        let below = |c: usize| self.crossings_below(c);
         let ends = self
             .touched_runs()
             .map(|(start, _)| start)
             .chain(std::iter::once(self.cells));
         let starts = std::iter::once(0).chain(self.touched_runs().map(|(_, end)| end));
         for (start, end) in starts.zip(ends).filter(|&(start, end)| start < end) {
-            let (mut from, mut count) = (start, below(start));
+            let (mut from, mut count) = (start, self.crossings_below(start));
             loop {
                 // The first cell of the run with more crossings below its centre.
                 let next = match self.crossings.get(count) {
@@ -495,17 +500,9 @@ impl Strip<'_> {
                 if next == end {
                     break;
                 }
-                (from, count) = (next, below(next));
+                (from, count) = (next, self.crossings_below(next));
             }
         }
-    }
-}
-
-impl Strip<'_> {
-    /// How many crossings lie below the centre of cell `c`.
-    fn crossings_below(&self, c: usize) -> usize {
-        let centre = (c as f64 + 0.5) / self.cells as f64;
-        self.crossings.partition_point(|&y| y < centre)
     }
 }
 
