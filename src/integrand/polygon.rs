@@ -468,7 +468,7 @@ impl Strip<'_> {
 
     /// How many crossings lie below the centre of cell `c`.
     fn crossings_below(&self, c: usize) -> usize {
-        let centre = (c as f64 + 0.5) / self.cells as f64;
+        let centre = cell_centre(c, self.cells as f64);
         self.crossings.partition_point(|&y| y < centre)
     }
 
@@ -480,7 +480,6 @@ impl Strip<'_> {
     /// crossing passes from below one cell's centre to below the next's.
     fn for_each_inside_run(&self, mut visit: impl FnMut(usize, usize)) {
         let cells = self.cells as f64;
-        let centre = |c: usize| (c as f64 + 0.5) / cells;
         let ends = self
             .touched_runs()
             .map(|(start, _)| start)
@@ -491,7 +490,9 @@ impl Strip<'_> {
             loop {
                 // The first cell of the run with more crossings below its centre.
                 let next = match self.crossings.get(count) {
-                    Some(&y) if y < centre(end - 1) => first_centre_above(y, cells).max(from + 1),
+                    Some(&y) if y < cell_centre(end - 1, cells) => {
+                        first_centre_above(y, cells).max(from + 1)
+                    }
                     _ => end,
                 };
                 if count % 2 == 1 {
@@ -506,14 +507,19 @@ impl Strip<'_> {
     }
 }
 
-/// The first cell of `m` whose centre `(c + 1/2)/m` (as computed) lies above `y`.
+/// The centre `(c + 1/2)/m` of cell `c` of `m` along a strip (or of strip `c` of `m`), as every
+/// parity test computes it.
+fn cell_centre(c: usize, m: f64) -> f64 {
+    (c as f64 + 0.5) / m
+}
+
+/// The first cell of `m` whose centre ([`cell_centre`]) lies above `y`.
 fn first_centre_above(y: f64, m: f64) -> usize {
-    let centre = |c: usize| (c as f64 + 0.5) / m;
     let mut c = (y * m - 0.5).floor().max(0.0) as usize;
-    while c > 0 && centre(c - 1) > y {
+    while c > 0 && cell_centre(c - 1, m) > y {
         c -= 1;
     }
-    while centre(c) <= y {
+    while cell_centre(c, m) <= y {
         c += 1;
     }
     c
@@ -570,7 +576,7 @@ impl Polygon {
                     },
                 });
                 // Half-open across the strip, so a vertex on the line counts once.
-                let centre = (i as f64 + 0.5) / fx;
+                let centre = cell_centre(i, fx);
                 let crossing = ((a[0] > centre) != (b[0] > centre)).then(|| y_at(centre));
                 visit(i, touched, crossing);
             }

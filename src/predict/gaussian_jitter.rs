@@ -83,6 +83,16 @@ impl Axis {
         }
     }
 
+    /// The length `2 kmax + 1` of each axis's tables, known before they are built: a budget
+    /// reads it first (at 10^6 strata an axis, 1.1e7 entries each, whose building took longer
+    /// than the answer the budget then refused).
+    fn lengths(strata: &[usize], width: f64) -> Vec<usize> {
+        strata
+            .iter()
+            .map(|&m| (2 * Self::decay_and_reach(m, width, TRUNCATION).1 + 1) as usize)
+            .collect()
+    }
+
     fn new(strata: usize, width: f64) -> Self {
         let (c, kmax) = Self::decay_and_reach(strata, width, TRUNCATION);
         let weight: Vec<f64> = (-kmax..=kmax)
@@ -125,17 +135,12 @@ fn gaussian_tail(c: f64, kmax: i64) -> f64 {
 /// The variance of Gaussian jitter of width `width` (in strata) on the grid `strata`, as
 /// drawn, with its bias, exactly up to the bounded truncation and rounding.
 fn moments(f: &dyn Integrand, strata: &[usize], width: f64, budget: &Budget) -> Result<Moments> {
-    // Each axis's reach is known before its tables are built (at 10^6 strata an axis, 1.1e7
-    // entries each, which took longer than the answer that the budget then refused).
-    let lengths: Vec<f64> = strata
-        .iter()
-        .map(|&m| (2 * Axis::decay_and_reach(m, width, TRUNCATION).1 + 1) as f64)
-        .collect();
-    let frequencies: f64 = lengths.iter().product();
+    let lengths = Axis::lengths(strata, width);
+    let frequencies: f64 = lengths.iter().map(|&l| l as f64).product();
     budget.check(
         "Gaussian jitter's aliased frequencies",
         Needs {
-            memory_bytes: 24.0 * lengths.iter().sum::<f64>()
+            memory_bytes: 24.0 * lengths.iter().sum::<usize>() as f64
                 + (16.0 * frequencies).min(COEFFICIENT_TABLES_BYTES as f64),
             work_seconds: frequencies * COEFFICIENT_SECONDS,
         },
@@ -220,12 +225,8 @@ fn shifted_moments(
     width: f64,
     budget: &Budget,
 ) -> Result<Moments> {
-    // φ² is the characteristic function of offsets √2 times wider; each axis's reach is known
-    // before its tables are built.
-    let sides: Vec<usize> = strata
-        .iter()
-        .map(|&m| (2 * Axis::decay_and_reach(m, width * SQRT_2, TRUNCATION).1 + 1) as usize)
-        .collect();
+    // φ² is the characteristic function of offsets √2 times wider.
+    let sides = Axis::lengths(strata, width * SQRT_2);
     let frequencies = shifted_frequencies(strata, width);
     budget.check(
         "Gaussian jitter's smoothed energy",

@@ -133,7 +133,6 @@ pub fn predict_polar(
         let table = table_to(nu_end);
         return far_by_mean(f, *closed, n, params, (split, nu_end), table.as_ref());
     }
-    let table = table_to(rho_end / scale);
     if panels.is_nan() || panels > PANEL_LIMIT {
         return Err(Error::OutsideValidity {
             route: "the polar form".into(),
@@ -145,6 +144,7 @@ pub fn predict_polar(
             ),
         });
     }
+    let table = table_to(rho_end / scale);
     let breaks = panel_breakpoints(rho_end, width, kinks);
     let energy = f.spectral_energy();
     let tol = params.tolerance * energy.max(f64::MIN_POSITIVE);
