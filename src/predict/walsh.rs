@@ -40,8 +40,9 @@ use crate::integrand::Integrand;
 use crate::pointset::PointSet;
 use crate::progress::{stage, Progress};
 use crate::quadrature::CompensatedSum;
-use crate::randomization::{digital_shift, xor_digits, Randomization};
+use crate::randomization::{digital_shift, xor_digits, Randomization, DIGITAL_SHIFT_BITS};
 use crate::sampler::Sampler;
+use rayon::prelude::*;
 use serde::Serialize;
 use std::fmt;
 
@@ -177,6 +178,36 @@ impl Remainder<'_> {
         )
     }
 
+    /// [`term`](Self::term) visiting only the points that `mask` moves into a varying cell,
+    /// found through `index` (the same points in the same order, so the same bits).
+    fn term_indexed(
+        &self,
+        (pattern, index): (&PointSet, &PointsByCell),
+        varying: &VaryingCells,
+        mask: &[u64],
+    ) -> f64 {
+        let mut hits = Vec::new();
+        let shift_cell = varying.shift_cell(mask);
+        for &v in &varying.cells {
+            hits.extend_from_slice(index.points_in(v as usize ^ shift_cell));
+        }
+        // The direct sum visits the points in their order; so does this one.
+        hits.sort_unstable();
+        let d = pattern.dimension();
+        let mut y = [0.0; MAX_AXES];
+        self.squared_mean(
+            pattern.len(),
+            hits.iter().map(|&j| {
+                let x = pattern.point(j as usize);
+                for l in 0..d {
+                    y[l] = xor_digits(x[l], mask[l]);
+                }
+                y
+            }),
+            d,
+        )
+    }
+
     /// `((1/N) Σ_j g(x_j))²` for the pattern as it is.
     pub(super) fn as_drawn(&self, pattern: &PointSet) -> f64 {
         let d = pattern.dimension();
@@ -214,6 +245,79 @@ impl Remainder<'_> {
         })
     }
 }
+
+/// The cells of a level of `2^level` cells per axis where the integrand varies, where the
+/// remainder `g` can be non-zero. A cell's index is its axes' top `level` digits side by side
+/// ([`cell_of`] with axis 0 the fastest), so a digital shift, which XORs each axis's digits,
+/// moves the points of cell `u` to cell `u ⊕ c(Δ)`, `c(Δ)` the shift's own cell.
+struct VaryingCells {
+    cells: Vec<u32>,
+    level: u32,
+}
+
+impl VaryingCells {
+    /// The cells not marked in `constant` (a bit per cell, of `cells` cells).
+    fn new(constant: &[u64], cells: usize, level: u32) -> Self {
+        Self {
+            cells: (0..cells as u32)
+                .filter(|&c| !is_marked(constant, c as usize))
+                .collect(),
+            level,
+        }
+    }
+
+    /// The cell of the level holding the shift's own digits.
+    fn shift_cell(&self, mask: &[u64]) -> usize {
+        let drop = DIGITAL_SHIFT_BITS - self.level;
+        mask.iter().enumerate().fold(0, |cell, (a, &m)| {
+            cell | ((m >> drop) as usize) << (a as u32 * self.level)
+        })
+    }
+}
+
+/// A fixed pattern's points grouped by the cell of a level that holds them: the points of cell
+/// `c` are `order[starts[c]..starts[c + 1]]`, in their order in the pattern.
+struct PointsByCell {
+    starts: Vec<u32>,
+    order: Vec<u32>,
+}
+
+impl PointsByCell {
+    /// The bytes of the index of `n` points over `cells` cells.
+    fn bytes(n: usize, cells: usize) -> f64 {
+        4.0 * (cells + 1 + n) as f64
+    }
+
+    /// `pattern`'s points grouped by the cells of `grid` (of fewer than `2^32` cells and
+    /// points), by a counting sort.
+    fn new(pattern: &PointSet, grid: &[usize]) -> Self {
+        let cells: usize = grid.iter().product();
+        let mut starts = vec![0u32; cells + 1];
+        let homes: Vec<u32> = pattern.points().map(|x| cell_of(x, grid) as u32).collect();
+        for &c in &homes {
+            starts[c as usize + 1] += 1;
+        }
+        for c in 0..cells {
+            starts[c + 1] += starts[c];
+        }
+        let mut next = starts.clone();
+        let mut order = vec![0u32; homes.len()];
+        for (j, &c) in homes.iter().enumerate() {
+            order[next[c as usize] as usize] = j as u32;
+            next[c as usize] += 1;
+        }
+        Self { starts, order }
+    }
+
+    /// The points (their indices in the pattern) in cell `c`.
+    fn points_in(&self, c: usize) -> &[u32] {
+        &self.order[self.starts[c] as usize..self.starts[c + 1] as usize]
+    }
+}
+
+/// The work of visiting one varying cell of a shifted pattern's index (its start in a table
+/// beyond the caches, about one memory access).
+const VISIT_SECONDS: f64 = 1e-7;
 
 /// The variance of the estimator of `patterns` (each a fixed pattern, all equally likely)
 /// under a uniform random digital shift: exact through level `walsh_level(N, d)` by the Walsh
@@ -292,7 +396,34 @@ pub(crate) fn digital_shift_variance(
     // Only the points in cells where the integrand varies are evaluated (a disk's or an edge's
     // boundary cells, a small share at fine levels).
     let varying = remainder_of.varying();
-    let per_shift = nf * (SKIP_SECONDS + varying * EVALUATION_SECONDS);
+    let evaluations = nf * varying * EVALUATION_SECONDS;
+    let indexed = table
+        .constant
+        .as_deref()
+        .map(|bits| VaryingCells::new(bits, cells, level))
+        .filter(|v| {
+            // Visiting the varying cells must cost less than skipping the points outside them,
+            // and the patterns' indices must fit the memory budget.
+            let needs = Needs {
+                memory_bytes: patterns.len() as f64 * PointsByCell::bytes(n, cells),
+                work_seconds: 0.0,
+            };
+            (v.cells.len() as f64 * VISIT_SECONDS) < nf * SKIP_SECONDS
+                && budget
+                    .check("the patterns' points by cell", needs, "")
+                    .is_ok()
+        })
+        .map(|v| {
+            let index: Vec<PointsByCell> = patterns
+                .par_iter()
+                .map(|p| PointsByCell::new(p, &grid))
+                .collect();
+            (v, index)
+        });
+    let per_shift = evaluations
+        + indexed.as_ref().map_or(nf * SKIP_SECONDS, |(v, _)| {
+            v.cells.len() as f64 * VISIT_SECONDS
+        });
     let max_shifts = ((work_seconds / per_shift) as usize).clamp(INITIAL_SHIFTS, MAX_SHIFTS);
     // The remainder below the level, measured by shifts until its standard error is
     // `target_noise` of the whole.
@@ -302,9 +433,14 @@ pub(crate) fn digital_shift_variance(
         target_noise,
         exact,
         |unit| {
-            let pattern = &patterns[unit % patterns.len()];
+            let p = unit % patterns.len();
             let mask = digital_shift(d, seed, unit as u64);
-            Ok(remainder_of.term(pattern, &mask[..d]))
+            Ok(match &indexed {
+                Some((varying, index)) => {
+                    remainder_of.term_indexed((&patterns[p], &index[p]), varying, &mask[..d])
+                }
+                None => remainder_of.term(&patterns[p], &mask[..d]),
+            })
         },
         progress,
     )?;
@@ -627,4 +763,64 @@ fn check_choices(params: &PredictParams) -> Result<()> {
         });
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::integrand::{Ball, Polygon};
+    use crate::rng::{realization_rng, Stream};
+
+    /// `n` independent uniform points in `d` axes.
+    fn uniform_pattern(n: usize, d: usize, seed: u64) -> PointSet {
+        let mut rng = realization_rng(seed, 0, Stream::Points);
+        let coords = (0..n * d).map(|_| crate::rng::uniform(&mut rng)).collect();
+        PointSet::new(d, coords).unwrap()
+    }
+
+    /// The indexed remainder visits exactly the points the direct one evaluates, in the same
+    /// order: the same bits for every shift, with several points to a cell and in 2D and 3D.
+    #[test]
+    fn the_indexed_remainder_is_the_direct_one() {
+        let shapes: Vec<(Box<dyn Integrand>, u32)> = vec![
+            (Box::new(Ball::new(0.25, vec![0.15, 0.6], 2.0).unwrap()), 6),
+            (Box::new(Polygon::edge(30.0, 0.4, 1.0).unwrap()), 7),
+            (
+                Box::new(Polygon::new(vec![[0.1, 0.2], [0.8, 0.35], [0.3, 0.9]], 1.0).unwrap()),
+                5,
+            ),
+            (
+                Box::new(Ball::new(0.3, vec![0.4, 0.55, 0.9], 1.0).unwrap()),
+                4,
+            ),
+        ];
+        for (f, level) in shapes {
+            let d = f.dimension();
+            let grid = vec![1usize << level; d];
+            let cells: usize = grid.iter().product();
+            let table = LevelTable::new(f.as_ref(), &grid);
+            let constant = table.constant.as_deref().expect("a shape's constant cells");
+            let varying = VaryingCells::new(constant, cells, level);
+            assert!(!varying.cells.is_empty() && varying.cells.len() < cells);
+            let remainder = table.remainder(f.as_ref(), &grid);
+            let pattern = uniform_pattern(3 * cells, d, 11);
+            let index = PointsByCell::new(&pattern, &grid);
+            for unit in 0..64 {
+                let mask = digital_shift(d, 5, unit);
+                let direct = remainder.term(&pattern, &mask[..d]);
+                let indexed = remainder.term_indexed((&pattern, &index), &varying, &mask[..d]);
+                assert_eq!(
+                    direct.to_bits(),
+                    indexed.to_bits(),
+                    "{}, shift {unit}",
+                    f.label()
+                );
+                assert!(
+                    direct > 0.0,
+                    "{}, shift {unit}: no varying point",
+                    f.label()
+                );
+            }
+        }
+    }
 }
