@@ -29,6 +29,7 @@ mod cmj_control;
 mod dual_lattice;
 mod dyadic_levels;
 mod gaussian_jitter;
+mod halton_remainder;
 mod jitter_tent;
 mod lattice;
 mod linear_net;

@@ -28,6 +28,7 @@
 //! A level a few digits past the points' own leaves it a small part of the whole.
 
 use super::cell_moments::{check_box_moments, masses_and_constant_cells, CELL_ROUNDING};
+use super::halton_remainder::{VaryingIndices, CANDIDATE_SECONDS};
 use super::permuted_digits::{
     agreement, digit_bits, helmert_transform, packed_digits, pair_work_seconds, positions,
     support_of,
@@ -41,7 +42,7 @@ use crate::integrand::Integrand;
 use crate::progress::{stage, Progress};
 use crate::quadrature::CompensatedSum;
 use crate::randomization::Randomization;
-use crate::sampler::{Sampler, HALTON_BASES};
+use crate::sampler::{Halton, Sampler, SamplerKind, HALTON_BASES};
 use crate::spectrum::written_zeros;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -491,11 +492,34 @@ pub(crate) fn halton_level_variance(
         grid: &level.grid,
         constant: constant.as_deref(),
     };
-    let remainder_of = |unit: usize| -> Result<f64> {
-        Ok(finer.as_drawn(&sampler.sample(n, params.seed, unit as u64)?))
-    };
     let varying = finer.varying();
-    let each = per_realization + varying * n as f64 * EVALUATION_SECONDS;
+    let evaluations = varying * n as f64 * EVALUATION_SECONDS;
+    // Where the integrand is constant on most cells, a realization's points in the others are
+    // found from their indices, and no other point is drawn. The varying cells, at most the
+    // candidates, are counted first: finding the candidates takes a pass over the level.
+    let cheaper = |draws: f64| draws * CANDIDATE_SECONDS < per_realization;
+    let fewer_varying =
+        cheaper(varying * level.cells() as f64 * (n as f64 / level.cells() as f64).ceil());
+    let indexed = match (sampler.kind(), constant.as_deref()) {
+        (Some(SamplerKind::Halton), Some(bits)) if fewer_varying => Some(VaryingIndices::new(
+            Halton::new(d)?,
+            &level.grid,
+            &level.digits,
+            bits,
+        )),
+        _ => None,
+    }
+    .filter(|v| cheaper(v.draws(n)));
+    let each = evaluations
+        + indexed
+            .as_ref()
+            .map_or(per_realization, |v| v.draws(n) * CANDIDATE_SECONDS);
+    let remainder_of = |unit: usize| -> Result<f64> {
+        match &indexed {
+            Some(v) => Ok(v.as_drawn(&finer, n, params.seed, unit as u64)),
+            None => Ok(finer.as_drawn(&sampler.sample(n, params.seed, unit as u64)?)),
+        }
+    };
     let spare = (params.work_budget_seconds - table_work).max(0.0);
     let max = ((spare / each) as usize).clamp(INITIAL_REALIZATIONS, MAX_REALIZATIONS);
     let remainder = mean_to_target_noise(

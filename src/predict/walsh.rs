@@ -224,7 +224,12 @@ impl Remainder<'_> {
 
     /// `((1/N) Σ g(y))²` over the `n` points `ys` (their first `d` coordinates), skipping
     /// those in constant cells.
-    fn squared_mean(&self, n: usize, ys: impl Iterator<Item = [f64; MAX_AXES]>, d: usize) -> f64 {
+    pub(super) fn squared_mean(
+        &self,
+        n: usize,
+        ys: impl Iterator<Item = [f64; MAX_AXES]>,
+        d: usize,
+    ) -> f64 {
         let mut sum = CompensatedSum::default();
         for y in ys {
             let c = cell_of(&y[..d], self.grid);

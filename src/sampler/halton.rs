@@ -54,6 +54,46 @@ impl Halton {
     }
 }
 
+/// One realization of the scrambled sequence: its axes' permutations, from which any point is
+/// drawn by its index alone, with the same bits as [`Sampler::sample`] gives it.
+pub(crate) struct HaltonRealization {
+    axes: Vec<ScrambledAxis>,
+}
+
+impl HaltonRealization {
+    /// Point `index`'s coordinates, into `out` (its first `d` entries).
+    pub(crate) fn point(&self, index: u64, out: &mut [f64]) {
+        for (x, axis) in out.iter_mut().zip(&self.axes) {
+            *x = axis.radical_inverse(index);
+        }
+    }
+
+    /// Axis `a`'s cell among `b^m` (`b` its base) for each residue of the index modulo `b^m`:
+    /// the points whose indices share that residue all lie in that cell (up to rounding at its
+    /// sides: a point is the sum of its digits' values in floating point), and distinct
+    /// residues make distinct cells.
+    pub(crate) fn leading_cells(&self, a: usize, m: u32) -> Vec<usize> {
+        self.axes[a].leading_cells(m)
+    }
+}
+
+impl Halton {
+    /// Realization `realization` of `seed`: every digit position's permutation on every axis.
+    pub(crate) fn realization(&self, seed: u64, realization: u64) -> HaltonRealization {
+        let mut rng = realization_rng(seed, realization, Stream::Points);
+        let axes = PRIMES[..self.dimension]
+            .iter()
+            .map(|&b| {
+                let perms = (0..digit_count(b))
+                    .map(|_| random_permutation(&mut rng, b as usize))
+                    .collect();
+                ScrambledAxis::new(b, perms)
+            })
+            .collect();
+        HaltonRealization { axes }
+    }
+}
+
 /// Digits needed in base `b` to reach below 2^-53.
 fn digit_count(b: u64) -> usize {
     (53.0 / (b as f64).log2()).ceil() as usize
@@ -65,26 +105,46 @@ fn digit_count(b: u64) -> usize {
 /// so that summing the values gives the same bits. Once the index's digits run out, every
 /// further digit is 0, whose scrambled contribution is `tails[j]`
 /// (`Σ_{m ≥ j} perms[m][0] b^-(m+1)`), so only `log_b(index)` digits are visited.
+/// The permutations themselves are kept for [`leading_cells`](Self::leading_cells).
 struct ScrambledAxis {
     base: u64,
     values: Vec<f64>,
     tails: Vec<f64>,
+    perms: Vec<Vec<usize>>,
 }
 
 impl ScrambledAxis {
-    fn new(b: u64, perms: &[Vec<usize>]) -> Self {
+    fn new(b: u64, perms: Vec<Vec<usize>>) -> Self {
         let inv = 1.0 / b as f64;
         let mut scale = inv;
         let mut values = Vec::with_capacity(perms.len() * b as usize);
-        for perm in perms {
+        for perm in &perms {
             values.extend(perm.iter().map(|&d| d as f64 * scale));
             scale *= inv;
         }
         Self {
             base: b,
             values,
-            tails: zero_digit_tails(b, perms),
+            tails: zero_digit_tails(b, &perms),
+            perms,
         }
+    }
+
+    /// For each residue `r < b^m` of the index, the cell of `b^m` cells that its point's
+    /// first `m` permuted digits make, `Σ_{j<m} π_j(r_j) b^{m−1−j}`, in integers (the index's
+    /// first `m` digits are `r`'s; at most the digits this axis permutes).
+    fn leading_cells(&self, m: u32) -> Vec<usize> {
+        let b = self.base as usize;
+        let m = (m as usize).min(self.perms.len());
+        let mut cells = vec![0usize; b.pow(m as u32)];
+        for (r, cell) in cells.iter_mut().enumerate() {
+            let mut rest = r;
+            for perm in &self.perms[..m] {
+                *cell = *cell * b + perm[rest % b];
+                rest /= b;
+            }
+        }
+        cells
     }
 
     /// The scrambled radical inverse of `index`, the base a constant for the common bases
@@ -139,25 +199,11 @@ impl Sampler for Halton {
     }
     fn sample(&self, n: usize, seed: u64, realization: u64) -> Result<PointSet> {
         self.check_count(n)?;
-        let d = self.dimension;
-        let mut rng = realization_rng(seed, realization, Stream::Points);
-        let perms: Vec<Vec<Vec<usize>>> = PRIMES[..d]
-            .iter()
-            .map(|&b| {
-                (0..digit_count(b))
-                    .map(|_| random_permutation(&mut rng, b as usize))
-                    .collect()
-            })
-            .collect();
-        let axes: Vec<ScrambledAxis> = PRIMES[..d]
-            .iter()
-            .zip(&perms)
-            .map(|(&b, p)| ScrambledAxis::new(b, p))
-            .collect();
-        let mut coords = Vec::with_capacity(n * d);
+        let axes = self.realization(seed, realization).axes;
+        let mut coords = Vec::with_capacity(n * self.dimension);
         for i in 0..n as u64 {
             coords.extend(axes.iter().map(|axis| axis.radical_inverse(i)));
         }
-        Ok(PointSet::from_trusted(d, coords))
+        Ok(PointSet::from_trusted(self.dimension, coords))
     }
 }

@@ -40,6 +40,7 @@ pub use gaussian_jitter::{
 };
 pub use gbn::{GaussianBlueNoise, GbnParams};
 pub use halton::Halton;
+pub(crate) use halton::HaltonRealization;
 pub(crate) use halton::PRIMES as HALTON_BASES;
 pub use homogenize::{homogenize, homogenizing_shift, Homogenized};
 pub use jitter::Jitter;
