@@ -1,5 +1,6 @@
 //! The ball (the disk in 2D, an interval in 1D) of constant height, on the torus.
 
+use super::disk_column::{cells_are_small, disk_column};
 use super::{
     check_parameters, shift_phase, unit_ball_volume, Integrand, IntegrandKind, RadialOscillation,
 };
@@ -243,12 +244,55 @@ impl Ball {
             }
             (squares.value(), within.value(), crossed.len() as u64)
         };
+        if cells_are_small(1.0 / mx as f64, 1.0 / my as f64, self.radius) {
+            return self.disk_cell_sums_by_rows(grid, &images);
+        }
         // Each thread's strips reuse two buffers: a million columns would otherwise allocate
         // two million times.
         let columns: Vec<(f64, f64, u64)> = (0..mx)
             .into_par_iter()
             .map_init(|| (Vec::new(), Vec::new()), column)
             .collect();
+        CellSums::of_columns(columns)
+    }
+
+    /// [`disk_cell_sums`](Self::disk_cell_sums) on cells small beside the disk: each column's
+    /// crossed cells' areas from each circle's crossings of the rows ([`disk_column`]), the
+    /// images' areas in a cell summed (they do not overlap).
+    fn disk_cell_sums_by_rows(&self, grid: &[usize], images: &[[f64; 2]]) -> CellSums {
+        let (mx, my) = (grid[0], grid[1]);
+        let a = self.height;
+        let cells = (mx * my) as f64;
+        let column = |crossed: &mut Vec<(usize, f64)>, i: usize| -> (f64, f64, u64) {
+            let (x0, x1) = (i as f64 / mx as f64, (i + 1) as f64 / mx as f64);
+            crossed.clear();
+            let inside: usize = images
+                .iter()
+                .map(|&c| disk_column(c, self.radius, [x0, x1], my, crossed))
+                .sum();
+            crossed.sort_unstable_by_key(|&(j, _)| j);
+            let (mut squares, mut within) = (CompensatedSum::default(), CompensatedSum::default());
+            squares.add(a * a * inside as f64);
+            let mut visited = 0;
+            let mut k = 0;
+            while k < crossed.len() {
+                let (j, mut area) = crossed[k];
+                k += 1;
+                while k < crossed.len() && crossed[k].0 == j {
+                    area += crossed[k].1;
+                    k += 1;
+                }
+                // As `box_moments` gives them: the height times the area, and its square.
+                let (mass, square) = (a * area, a * a * area);
+                let mean = mass * cells;
+                squares.add(mean * mean);
+                within.add((square * cells - mean * mean).max(0.0));
+                visited += 1;
+            }
+            (squares.value(), within.value(), visited)
+        };
+        let columns: Vec<(f64, f64, u64)> =
+            (0..mx).into_par_iter().map_init(Vec::new, column).collect();
         CellSums::of_columns(columns)
     }
 

@@ -13,7 +13,7 @@ const SLICE_TOLERANCE: f64 = 1e-14;
 
 /// `√(r² − x²)`, from `(r − x)(r + x)`: exact differences near `|x| = r`, where `r² − x²`
 /// would cancel.
-fn half_chord(x: f64, r: f64) -> f64 {
+pub(super) fn half_chord(x: f64, r: f64) -> f64 {
     ((r - x) * (r + x)).max(0.0).sqrt()
 }
 
@@ -42,7 +42,7 @@ pub(crate) fn disk_in_rectangle(c: [f64; 2], r: f64, lo: [f64; 2], hi: [f64; 2])
 
 /// Boxes whose diagonal is at most this share of the radius take [`small_box_area`]: the arcs
 /// inside them subtend less than about a quarter of a radian.
-const SMALL_BOX_SHARE: f64 = 0.25;
+pub(super) const SMALL_BOX_SHARE: f64 = 0.25;
 
 /// Where a box's side meets the circle, walking the box counterclockwise: entering the disk or
 /// leaving it.
@@ -144,7 +144,7 @@ fn small_box_area(r: f64, [x0, x1]: [f64; 2], [y0, y1]: [f64; 2]) -> Option<f64>
 /// `r²(θ − sin θ)/2` with `θ = 2 asin(c / 2r)`, for chords up to a quarter of the radius
 /// (`θ ≤ 0.2507`): `θ − sin θ` by its series `θ³ Σ_j (−θ²)^j / (2j + 3)!` to `j = 5` (the next
 /// term is below `3e-19` of the first), where the difference would cancel.
-fn circular_segment(r: f64, c: f64) -> f64 {
+pub(super) fn circular_segment(r: f64, c: f64) -> f64 {
     let theta = 2.0 * (c / (2.0 * r)).asin();
     let t2 = theta * theta;
     // 1/(2j + 3)! for j = 5 down to 0, in Horner's form.
@@ -165,7 +165,7 @@ fn circular_segment(r: f64, c: f64) -> f64 {
 /// The volume the ball of radius `r` at the origin shares with the box `[lo, hi]` when the box
 /// lies wholly inside it (its farthest corner does) or wholly outside (its nearest point
 /// does); `None` when the sphere crosses it.
-fn whole_or_none(lo: &[f64], hi: &[f64], r: f64) -> Option<f64> {
+pub(super) fn whole_or_none(lo: &[f64], hi: &[f64], r: f64) -> Option<f64> {
     let (mut far, mut near) = (0.0, 0.0);
     for (&l, &h) in lo.iter().zip(hi) {
         let f = l.abs().max(h.abs());

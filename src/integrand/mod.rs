@@ -14,6 +14,7 @@
 mod anisotropic;
 mod ball;
 mod ball_in_box;
+mod disk_column;
 mod gaussian;
 mod grid;
 mod grid_io;
