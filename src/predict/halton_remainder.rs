@@ -225,6 +225,7 @@ mod tests {
                 means: &means,
                 grid: &grid,
                 constant: Some(&constant),
+                axis_means: None,
             };
             let halton = Halton::new(d).unwrap();
             let indices = VaryingIndices::new(halton, &grid, &digits, &constant);

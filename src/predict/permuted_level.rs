@@ -34,7 +34,7 @@ use super::permuted_digits::{
     support_of,
 };
 use super::term_mean::mean_to_target_noise;
-use super::walsh::Remainder;
+use super::walsh::{AxisMeans, Remainder};
 use super::{ErrorBudget, Form, PredictParams, Prediction, Route, SpectrumOrigin};
 use crate::budget::Needs;
 use crate::error::{Error, Result};
@@ -486,11 +486,13 @@ pub(crate) fn halton_level_variance(
     let (means, constant, exact) = stage(progress, "Halton's digit supports", 0, || {
         exact_part(f, &level, n)
     });
+    let axis_means = AxisMeans::matching(f, &level.grid, &means);
     let finer = Remainder {
         f,
         means: &means,
         grid: &level.grid,
         constant: constant.as_deref(),
+        axis_means: axis_means.as_ref(),
     };
     let varying = finer.varying();
     let evaluations = varying * n as f64 * EVALUATION_SECONDS;
