@@ -52,6 +52,9 @@ pub struct Polygon {
     label: String,
     /// Its triangles, cut when the autocorrelation is first asked for (`None`: not cut).
     triangles: std::sync::OnceLock<Option<Vec<[[f64; 2]; 3]>>>,
+    /// Its overlaps with its translates in closed form, made when first asked for (`None`:
+    /// not convex).
+    convex: std::sync::OnceLock<Option<super::polygon_overlap::ConvexOverlap>>,
     /// Its edges that are not horizontal, as [`eval`](Integrand::eval) reads them.
     spans: Vec<Span>,
     /// Whether it is its bounding box: then a product of one interval per axis.
@@ -148,6 +151,7 @@ impl Polygon {
             height,
             label,
             triangles: std::sync::OnceLock::new(),
+            convex: std::sync::OnceLock::new(),
             spans: Vec::new(),
             is_box: false,
         };
@@ -988,6 +992,9 @@ impl Integrand for Polygon {
             .get_or_init(|| super::polygon_overlap::triangulate(&self.vertices))
             .as_ref()?;
         let s = [r[0] - r[0].floor(), r[1] - r[1].floor()];
+        let convex = self
+            .convex
+            .get_or_init(|| super::polygon_overlap::ConvexOverlap::new(&self.vertices, self.area));
         // The quadratures in space take millions of values: each thread keeps its buffers.
         thread_local! {
             static SCRATCH: std::cell::RefCell<super::polygon_overlap::ClipScratch> =
@@ -997,13 +1004,23 @@ impl Integrand for Polygon {
             [[0.0, 0.0], [-1.0, 0.0], [0.0, -1.0], [-1.0, -1.0]]
                 .iter()
                 .map(|m| {
-                    super::polygon_overlap::shared_area(
-                        &self.vertices,
-                        self.bounds,
-                        triangles,
-                        [s[0] + m[0], s[1] + m[1]],
-                        scratch,
-                    )
+                    let shift = [s[0] + m[0], s[1] + m[1]];
+                    // The image nearest the origin, for a convex polygon: its closed form
+                    // while no edge vanishes.
+                    let nearest = shift.iter().all(|t| t.abs() <= 0.5);
+                    convex
+                        .as_ref()
+                        .filter(|_| nearest)
+                        .and_then(|c| c.shared_area(shift))
+                        .unwrap_or_else(|| {
+                            super::polygon_overlap::shared_area(
+                                &self.vertices,
+                                self.bounds,
+                                triangles,
+                                shift,
+                                scratch,
+                            )
+                        })
                 })
                 .sum()
         });
