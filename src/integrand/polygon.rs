@@ -1005,6 +1005,11 @@ impl Integrand for Polygon {
                 .iter()
                 .map(|m| {
                     let shift = [s[0] + m[0], s[1] + m[1]];
+                    let (lo, hi) = self.bounds;
+                    if (0..2).any(|a| shift[a].abs() >= hi[a] - lo[a]) {
+                        // Moved past its own extent: no overlap.
+                        return 0.0;
+                    }
                     // The image nearest the origin, for a convex polygon: its closed form
                     // while no edge vanishes.
                     let nearest = shift.iter().all(|t| t.abs() <= 0.5);
