@@ -497,11 +497,12 @@ pub(crate) fn halton_level_variance(
     let varying = finer.varying();
     let evaluations = varying * n as f64 * EVALUATION_SECONDS;
     // Where the integrand is constant on most cells, a realization's points in the others are
-    // found from their indices, and no other point is drawn. The varying cells, at most the
-    // candidates, are counted first: finding the candidates takes a pass over the level.
+    // found from their indices, and no other point is drawn. The candidates are at most 3^d
+    // a varying cell: tested on that bound first, which also bounds their memory (12 bytes
+    // each, below 1.25 N of them) before the pass over the level that finds them.
     let cheaper = |draws: f64| draws * CANDIDATE_SECONDS < per_realization;
-    let fewer_varying =
-        cheaper(varying * level.cells() as f64 * (n as f64 / level.cells() as f64).ceil());
+    let per_cell = (n as f64 / level.cells() as f64).ceil();
+    let fewer_varying = cheaper(3f64.powi(d as i32) * varying * level.cells() as f64 * per_cell);
     let indexed = match (sampler.kind(), constant.as_deref()) {
         (Some(SamplerKind::Halton), Some(bits)) if fewer_varying => Some(VaryingIndices::new(
             Halton::new(d)?,
