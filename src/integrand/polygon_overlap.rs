@@ -252,18 +252,21 @@ impl ConvexOverlap {
 mod tests {
     use super::*;
 
-    /// An L-shaped (non-convex) hexagon: its triangles cover its area, and its overlap with
+    /// An L-shaped hexagon, not convex.
+    const L_SHAPE: [[f64; 2]; 6] = [
+        [0.0, 0.0],
+        [0.6, 0.0],
+        [0.6, 0.2],
+        [0.2, 0.2],
+        [0.2, 0.8],
+        [0.0, 0.8],
+    ];
+
+    /// The L-shaped hexagon: its triangles cover its area, and its overlap with
     /// itself moved along an axis is the area of the two rectangles' overlaps, by hand.
     #[test]
     fn an_l_shape_overlaps_itself_as_drawn() {
-        let l = [
-            [0.0, 0.0],
-            [0.6, 0.0],
-            [0.6, 0.2],
-            [0.2, 0.2],
-            [0.2, 0.8],
-            [0.0, 0.8],
-        ];
+        let l = L_SHAPE;
         let triangles = triangulate(&l).unwrap();
         let covered: f64 = triangles.iter().map(|t| signed_area(t)).sum();
         assert!((covered - signed_area(&l)).abs() < 1e-15);
@@ -327,15 +330,7 @@ mod tests {
             );
         }
         // Not convex, or a turn too slight: no closed form.
-        let l = [
-            [0.0, 0.0],
-            [0.6, 0.0],
-            [0.6, 0.2],
-            [0.2, 0.2],
-            [0.2, 0.8],
-            [0.0, 0.8],
-        ];
-        assert!(ConvexOverlap::new(&l, signed_area(&l)).is_none());
+        assert!(ConvexOverlap::new(&L_SHAPE, signed_area(&L_SHAPE)).is_none());
         let flat = [[0.0, 0.0], [0.5, 1e-6], [1.0, 0.0], [0.5, 0.5]];
         assert!(ConvexOverlap::new(&flat, signed_area(&flat)).is_none());
     }

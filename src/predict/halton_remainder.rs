@@ -18,7 +18,7 @@
 use super::cell_moments::is_marked;
 use super::cells::cell_of;
 use super::walsh::Remainder;
-use crate::sampler::{Halton, HaltonRealization};
+use crate::sampler::{Halton, HaltonRealization, Sampler};
 
 /// The most axes (the level's).
 const AXES: usize = 3;
@@ -139,6 +139,21 @@ impl VaryingIndices {
     }
 }
 
+/// Whether `sampler` draws `halton`'s realizations (a sampler that says it is Halton but moves
+/// its points would not): the first points of realization 0 of `seed`, to the bit.
+pub(super) fn draws_as(halton: &Halton, sampler: &dyn Sampler, n: usize, seed: u64) -> bool {
+    let k = n.min(8);
+    let realization = halton.realization(seed, 0);
+    let mut y = [0.0; AXES];
+    sampler.sample(k, seed, 0).is_ok_and(|drawn| {
+        drawn.dimension() <= AXES
+            && drawn.points().enumerate().all(|(i, x)| {
+                realization.point(i as u64, &mut y[..x.len()]);
+                x.iter().zip(&y).all(|(a, b)| a.to_bits() == b.to_bits())
+            })
+    })
+}
+
 /// `x⁻¹ mod m` for `x` coprime to `m`, by the extended Euclidean algorithm.
 fn inverse_modulo(x: u64, m: u64) -> u64 {
     let (mut a, mut b) = (x as i128, m as i128);
@@ -246,6 +261,14 @@ mod tests {
                 assert!(evaluated > 0, "{}, N = {n}: no varying point", f.label());
             }
         }
+    }
+
+    #[test]
+    fn only_halton_draws_as_halton() {
+        let halton = Halton::new(2).unwrap();
+        assert!(draws_as(&halton, &halton, 1000, 7));
+        let jitter = crate::sampler::Jitter::new(2).unwrap();
+        assert!(!draws_as(&halton, &jitter, 1024, 7));
     }
 
     #[test]

@@ -28,7 +28,7 @@
 //! A level a few digits past the points' own leaves it a small part of the whole.
 
 use super::cell_moments::{check_box_moments, masses_and_constant_cells, CELL_ROUNDING};
-use super::halton_remainder::{VaryingIndices, CANDIDATE_SECONDS};
+use super::halton_remainder::{draws_as, VaryingIndices, CANDIDATE_SECONDS};
 use super::permuted_digits::{
     agreement, digit_bits, helmert_transform, packed_digits, pair_work_seconds, positions,
     support_of,
@@ -503,13 +503,18 @@ pub(crate) fn halton_level_variance(
     let cheaper = |draws: f64| draws * CANDIDATE_SECONDS < per_realization;
     let per_cell = (n as f64 / level.cells() as f64).ceil();
     let fewer_varying = cheaper(3f64.powi(d as i32) * varying * level.cells() as f64 * per_cell);
+    let halton = Halton::new(d)?;
     let indexed = match (sampler.kind(), constant.as_deref()) {
-        (Some(SamplerKind::Halton), Some(bits)) if fewer_varying => Some(VaryingIndices::new(
-            Halton::new(d)?,
-            &level.grid,
-            &level.digits,
-            bits,
-        )),
+        (Some(SamplerKind::Halton), Some(bits))
+            if fewer_varying && draws_as(&halton, sampler, n, params.seed) =>
+        {
+            Some(VaryingIndices::new(
+                halton,
+                &level.grid,
+                &level.digits,
+                bits,
+            ))
+        }
         _ => None,
     }
     .filter(|v| cheaper(v.draws(n)));
