@@ -1,6 +1,6 @@
 //! The ball (the disk in 2D, an interval in 1D) of constant height, on the torus.
 
-use super::disk_column::{cells_are_small, disk_column};
+use super::disk_column::{cells_are_small, disk_column, merge_by_row};
 use super::{
     check_parameters, shift_phase, unit_ball_volume, Integrand, IntegrandKind, RadialOscillation,
 };
@@ -268,28 +268,20 @@ impl Ball {
             crossed.clear();
             let inside: usize = images
                 .iter()
-                .map(|&c| disk_column(c, self.radius, [x0, x1], my, crossed))
+                .filter_map(|&c| disk_column(c, self.radius, [x0, x1], my, crossed))
+                .map(|(first, last)| last + 1 - first)
                 .sum();
-            crossed.sort_unstable_by_key(|&(j, _)| j);
+            merge_by_row(crossed);
             let (mut squares, mut within) = (CompensatedSum::default(), CompensatedSum::default());
             squares.add(a * a * inside as f64);
-            let mut visited = 0;
-            let mut k = 0;
-            while k < crossed.len() {
-                let (j, mut area) = crossed[k];
-                k += 1;
-                while k < crossed.len() && crossed[k].0 == j {
-                    area += crossed[k].1;
-                    k += 1;
-                }
+            for &(_, area) in crossed.iter() {
                 // As `box_moments` gives them: the height times the area, and its square.
                 let (mass, square) = (a * area, a * a * area);
                 let mean = mass * cells;
                 squares.add(mean * mean);
                 within.add((square * cells - mean * mean).max(0.0));
-                visited += 1;
             }
-            (squares.value(), within.value(), visited)
+            (squares.value(), within.value(), crossed.len() as u64)
         };
         let columns: Vec<(f64, f64, u64)> =
             (0..mx).into_par_iter().map_init(Vec::new, column).collect();
@@ -306,6 +298,34 @@ impl Ball {
         let images = self.disk_images();
         let constant = ConstantCells::all(mx * my);
         let mut masses = vec![0.0; mx * my];
+        if cells_are_small(1.0 / mx as f64, 1.0 / my as f64, self.radius) {
+            // Row by row along each circle: the rows of the transposed grid are the columns.
+            masses
+                .par_chunks_mut(mx)
+                .enumerate()
+                .for_each_init(Vec::new, |crossed, (j, row)| {
+                    let (y0, y1) = (j as f64 / my as f64, (j + 1) as f64 / my as f64);
+                    crossed.clear();
+                    for c in &images {
+                        let inside = disk_column([c[1], c[0]], self.radius, [y0, y1], mx, crossed);
+                        if let Some((first, last)) = inside {
+                            row[first..=last].fill(whole);
+                        }
+                    }
+                    merge_by_row(crossed);
+                    for &(i, a) in crossed.iter() {
+                        let (mass, square) = (self.height * a, self.height * self.height * a);
+                        row[i] = mass;
+                        if !constant_on_cell(mass, square, area) {
+                            constant.clear(j * mx + i);
+                        }
+                    }
+                });
+            return GridMasses {
+                masses,
+                constant: Some(constant.into_words()),
+            };
+        }
         masses.par_chunks_mut(mx).enumerate().for_each_init(
             || (Vec::new(), Vec::new()),
             |(interior, crossed), (j, row)| {

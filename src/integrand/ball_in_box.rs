@@ -61,26 +61,41 @@ enum Boundary {
 /// circle crosses, the box small beside the disk (diagonal at most [`SMALL_BOX_SHARE`] `r`):
 /// the convex region's vertices (the corners inside and the sides' crossings of the circle,
 /// counterclockwise) by the shoelace about the box's corner, plus the circular segment over
-/// each chord from an exit to the next entry, `r²(θ − sin θ)/2`, by its series. Every term is
-/// of the box's size, so the area rounds relative to the box (`ε r / side`), where the
-/// chord integrals' arctangents, of the disk's size, round by `ε r²` (a relative `3e-6` for
-/// cells of side `1e-6`). `None` for larger boxes, and where a corner lies on the circle or a
-/// side touches it (one point where two would be counted).
+/// each chord from an exit to the next entry, `r²(θ − sin θ)/2`, by its series (a corner on
+/// the circle is an exit, an entry or a plain corner as its sides leave or enter the disk).
+/// Every term is of the box's size, so the area rounds relative to the box (`ε r / side`),
+/// where the chord integrals' arctangents, of the disk's size, round by `ε r²` (a relative
+/// `3e-6` for cells of side `1e-6`). `None` for larger boxes, and where a side's crossing
+/// rounds onto a corner that is not on the circle, or a side touches it (one point where two
+/// would be counted).
 fn small_box_area(r: f64, [x0, x1]: [f64; 2], [y0, y1]: [f64; 2]) -> Option<f64> {
     let (w, h) = (x1 - x0, y1 - y0);
     if w * w + h * h > (SMALL_BOX_SHARE * r).powi(2) {
         return None;
     }
     let corners = [[x0, y0], [x1, y0], [x1, y1], [x0, y1]];
+    let on_circle = corners.map(|p| p[0] * p[0] + p[1] * p[1] == r * r);
     let mut points = [([0.0; 2], Boundary::Corner); 12];
     let mut count = 0;
     for k in 0..4 {
         let (p, q) = (corners[k], corners[(k + 1) % 4]);
         let inside = p[0] * p[0] + p[1] * p[1];
-        if inside == r * r {
-            return None;
-        }
-        if inside < r * r {
+        if on_circle[k] {
+            // A corner on the circle is where the region's boundary turns from the box's
+            // side to the arc, or back, as its sides point into the disk or out of it.
+            let o = corners[(k + 3) % 4];
+            let arrives_inside = (p[0] - o[0]) * p[0] + (p[1] - o[1]) * p[1] > 0.0;
+            let leaves_inside = (q[0] - p[0]) * p[0] + (q[1] - p[1]) * p[1] < 0.0;
+            let kind = match (arrives_inside, leaves_inside) {
+                (true, true) => Boundary::Corner,
+                (true, false) => Boundary::Exit,
+                (false, true) => Boundary::Entry,
+                // Both sides leave the disk: the box meets it at this corner alone.
+                (false, false) => return Some(0.0),
+            };
+            points[count] = ([p[0] - x0, p[1] - y0], kind);
+            count += 1;
+        } else if inside < r * r {
             points[count] = ([p[0] - x0, p[1] - y0], Boundary::Corner);
             count += 1;
         }
@@ -101,6 +116,12 @@ fn small_box_area(r: f64, [x0, x1]: [f64; 2], [y0, y1]: [f64; 2]) -> Option<f64>
             [(w, true), (-w, false)]
         };
         for (t, entering) in crossings {
+            // A crossing at a corner on the circle is that corner, listed as it.
+            let at_start = t == from && on_circle[k];
+            let at_end = t == to && on_circle[(k + 1) % 4];
+            if at_start || at_end {
+                continue;
+            }
             if t == lo || t == hi {
                 return None;
             }
@@ -455,6 +476,36 @@ mod tests {
     /// Boxes small beside the disk, near its circle at every angle: the shoelace with segments
     /// against the chord integrals, which are accurate to `ε r²` and so, for boxes of a tenth
     /// of the radius, to about `1e-13` of the box.
+    /// A box with a corner on the circle (15² + 20² = 25²) and the box's other corners
+    /// inside but one: the region's boundary leaves the box's top side there for the arc. Its
+    /// area in closed form, `∫_15^16 √(625 − x²) dx − 19`, at radius 25 and scaled by `2^-10`
+    /// (exactly: the corner stays on the circle).
+    #[test]
+    fn a_corner_on_the_circle_turns_onto_the_arc() {
+        for scale in [1.0, 1.0 / 1024.0] {
+            let r = 25.0 * scale;
+            let primitive = |x: f64| 0.5 * (x * (r * r - x * x).sqrt() + r * r * (x / r).asin());
+            let truth = primitive(16.0 * scale) - primitive(15.0 * scale) - 19.0 * scale * scale;
+            let x = [15.0 * scale, 16.0 * scale];
+            let y = [19.0 * scale, 20.0 * scale];
+            let area = small_box_area(r, x, y).expect("a small box");
+            assert!(
+                (area - truth).abs() <= 1e-12 * scale * scale,
+                "scale {scale}: {area:e} vs {truth:e}"
+            );
+            // Its mirror images across the axes: the corner on the circle entered instead.
+            let mirrored = small_box_area(r, [-x[1], -x[0]], y).expect("a small box");
+            assert!((mirrored - truth).abs() <= 1e-12 * scale * scale);
+            // The box beyond the corner meets the disk there alone.
+            let beyond = small_box_area(
+                r,
+                [15.0 * scale, 16.0 * scale],
+                [20.0 * scale, 21.0 * scale],
+            );
+            assert_eq!(beyond, Some(0.0));
+        }
+    }
+
     #[test]
     fn small_boxes_agree_with_the_chord_integrals() {
         let r = 0.25;

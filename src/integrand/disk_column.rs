@@ -101,18 +101,18 @@ impl ArcPiece {
 /// The disk of radius `r` at `c` in the cells of column `[x0, x1]` of a grid of `rows` rows
 /// (row `j` spans `[j/rows, (j+1)/rows]`), whose cells are small beside it
 /// ([`cells_are_small`]): appends `(row, area)` for every row the circle may cross (the rows
-/// within one of its crossings; their areas may be 0 or the whole cell), and returns the count
-/// of the rows between them, which lie wholly inside the disk.
+/// within one of its crossings; their areas may be 0 or the whole cell), and returns the rows
+/// between them, `first..=last`, which lie wholly inside the disk (`None` if there are none).
 pub(super) fn disk_column(
     c: [f64; 2],
     r: f64,
     [x0, x1]: [f64; 2],
     rows: usize,
     cells: &mut Vec<(usize, f64)>,
-) -> usize {
+) -> Option<(usize, usize)> {
     let (u0, u1) = (x0 - c[0], x1 - c[0]);
     if u1 <= -r || u0 >= r || rows == 0 {
-        return 0;
+        return None;
     }
     let (a, b) = (u0.max(-r), u1.min(r));
     let pieces: ([f64; 2], Option<[f64; 2]>) = if a < 0.0 && b > 0.0 {
@@ -132,11 +132,14 @@ pub(super) fn disk_column(
     let top = (row_of(c[1] + s_min) - 1, row_of(c[1] + s_max) + 1);
     // The rows between the two ranges are inside; where the ranges meet there are none.
     let (merged, apart) = ([(bottom.0, top.1)], [bottom, top]);
-    let (ranges, inside): (&[(i64, i64)], usize) = if bottom.1 + 1 >= top.0 {
-        (&merged, 0)
+    let (ranges, inside): (&[(i64, i64)], _) = if bottom.1 + 1 >= top.0 {
+        (&merged, None)
     } else {
         let (first, end) = ((bottom.1 + 1).max(0), (top.0 - 1).min(last));
-        (&apart, (end - first + 1).max(0) as usize)
+        (
+            &apart,
+            (first <= end).then_some((first as usize, end as usize)),
+        )
     };
     // Both arcs on each piece, on the stack: a column's work is a few cells.
     let arc = |sigma: f64, p: [f64; 2]| ArcPiece::new(sigma, p, side(p), r);
@@ -169,6 +172,22 @@ pub(super) fn disk_column(
     inside
 }
 
+/// Sorts `cells` by row and sums the areas of a row listed more than once (a cell several
+/// images of a wrapped disk cross: they do not overlap, so their areas add).
+pub(super) fn merge_by_row(cells: &mut Vec<(usize, f64)>) {
+    cells.sort_unstable_by_key(|&(j, _)| j);
+    let mut kept = 0;
+    for k in 0..cells.len() {
+        if kept > 0 && cells[kept - 1].0 == cells[k].0 {
+            cells[kept - 1].1 += cells[k].1;
+        } else {
+            cells[kept] = cells[k];
+            kept += 1;
+        }
+    }
+    cells.truncate(kept);
+}
+
 #[cfg(test)]
 mod tests {
     use super::super::ball_in_box::disk_in_rectangle;
@@ -192,7 +211,8 @@ mod tests {
             for i in 0..mx {
                 let (x0, x1) = (i as f64 / mx as f64, (i + 1) as f64 / mx as f64);
                 cells.clear();
-                let inside = disk_column(c, r, [x0, x1], my, &mut cells);
+                let inside = disk_column(c, r, [x0, x1], my, &mut cells)
+                    .map_or(0, |(first, last)| last + 1 - first);
                 let mut listed = vec![false; my];
                 for &(j, area) in &cells {
                     let (y0, y1) = (j as f64 / my as f64, (j + 1) as f64 / my as f64);
