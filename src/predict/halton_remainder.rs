@@ -48,26 +48,13 @@ impl VaryingIndices {
         let d = grid.len();
         let cells: usize = grid.iter().product();
         let mut marked = vec![0u64; cells.div_ceil(64)];
-        let mut coordinates = [0usize; AXES];
         for c in (0..cells).filter(|&c| !is_marked(constant, c)) {
-            let mut rest = c;
-            for a in 0..d {
-                coordinates[a] = rest % grid[a];
-                rest /= grid[a];
-            }
-            for_each_neighbour(&coordinates[..d], grid, |n| marked[n / 64] |= 1 << (n % 64));
+            let at = coordinates(c, grid).map(|x| x as usize);
+            for_each_neighbour(&at[..d], grid, |n| marked[n / 64] |= 1 << (n % 64));
         }
         let candidates = (0..cells)
             .filter(|&c| is_marked(&marked, c))
-            .map(|c| {
-                let mut cell = [0u32; AXES];
-                let mut rest = c;
-                for a in 0..d {
-                    cell[a] = (rest % grid[a]) as u32;
-                    rest /= grid[a];
-                }
-                cell
-            })
+            .map(|c| coordinates(c, grid))
             .collect();
         let modulus: u64 = grid.iter().map(|&m| m as u64).product();
         let coefficients = grid
@@ -152,6 +139,17 @@ pub(super) fn draws_as(halton: &Halton, sampler: &dyn Sampler, n: usize, seed: u
                 x.iter().zip(&y).all(|(a, b)| a.to_bits() == b.to_bits())
             })
     })
+}
+
+/// The per-axis coordinates of cell `c` of `grid` (axis 0 the fastest, as [`cell_of`]).
+fn coordinates(c: usize, grid: &[usize]) -> [u32; AXES] {
+    let mut at = [0u32; AXES];
+    let mut rest = c;
+    for (x, &m) in at.iter_mut().zip(grid) {
+        *x = (rest % m) as u32;
+        rest /= m;
+    }
+    at
 }
 
 /// `x⁻¹ mod m` for `x` coprime to `m`, by the extended Euclidean algorithm.
