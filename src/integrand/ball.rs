@@ -227,6 +227,9 @@ impl Ball {
         let a = self.height;
         let cells = (mx * my) as f64;
         let images = self.disk_images();
+        if cells_are_small(1.0 / mx as f64, 1.0 / my as f64, self.radius) {
+            return self.disk_cell_sums_by_rows(grid, &images);
+        }
         let column = |(interior, crossed): &mut (Vec<(usize, usize)>, Vec<usize>),
                       i: usize|
          -> (f64, f64, u64) {
@@ -237,16 +240,11 @@ impl Ball {
             squares.add(a * a * inside as f64);
             for &j in crossed.iter() {
                 let (y0, y1) = (j as f64 / my as f64, (j + 1) as f64 / my as f64);
-                let (mass, square) = self.box_moments(&[x0, y0], &[x1, y1]).unwrap_or((0.0, 0.0));
-                let mean = mass * cells;
-                squares.add(mean * mean);
-                within.add((square * cells - mean * mean).max(0.0));
+                let moments = self.box_moments(&[x0, y0], &[x1, y1]).unwrap_or((0.0, 0.0));
+                add_crossed_cell(moments, cells, (&mut squares, &mut within));
             }
             (squares.value(), within.value(), crossed.len() as u64)
         };
-        if cells_are_small(1.0 / mx as f64, 1.0 / my as f64, self.radius) {
-            return self.disk_cell_sums_by_rows(grid, &images);
-        }
         // Each thread's strips reuse two buffers: a million columns would otherwise allocate
         // two million times.
         let columns: Vec<(f64, f64, u64)> = (0..mx)
@@ -276,10 +274,7 @@ impl Ball {
             squares.add(a * a * inside as f64);
             for &(_, area) in crossed.iter() {
                 // As `box_moments` gives them: the height times the area, and its square.
-                let (mass, square) = (a * area, a * a * area);
-                let mean = mass * cells;
-                squares.add(mean * mean);
-                within.add((square * cells - mean * mean).max(0.0));
+                add_crossed_cell((a * area, a * a * area), cells, (&mut squares, &mut within));
             }
             (squares.value(), within.value(), crossed.len() as u64)
         };
@@ -350,6 +345,19 @@ impl Ball {
             constant: Some(constant.into_words()),
         }
     }
+}
+
+/// A crossed cell's terms of [`CellSums`] from its moments `(∫ f, ∫ f²)` over the cell, on a
+/// grid of `cells` cells: its mean's square into `squares`, the variance within it into
+/// `within`.
+fn add_crossed_cell(
+    (mass, square): (f64, f64),
+    cells: f64,
+    (squares, within): (&mut CompensatedSum, &mut CompensatedSum),
+) {
+    let mean = mass * cells;
+    squares.add(mean * mean);
+    within.add((square * cells - mean * mean).max(0.0));
 }
 
 impl Integrand for Ball {

@@ -153,6 +153,18 @@ pub(crate) fn cell_of(x: &[f64], grid: &[usize]) -> usize {
     index
 }
 
+/// The per-axis coordinates of cell `index` of `grid` (at most 3 axes), the inverse of
+/// [`cell_of`]'s numbering (axis 0 the fastest).
+pub(crate) fn cell_coordinates(index: usize, grid: &[usize]) -> [usize; 3] {
+    let mut at = [0; 3];
+    let mut rest = index;
+    for (x, &m) in at.iter_mut().zip(grid) {
+        *x = rest % m;
+        rest /= m;
+    }
+    at
+}
+
 /// The variance of the unshifted estimator with `n` points spread evenly over the cells of
 /// `grid`, independent and uniform inside them (jitter's strata with one point each; one cell
 /// for independent points): `(1/N²) Σ_c (N/|C|) V_c`, exactly.

@@ -16,7 +16,7 @@
 //! they are summed in the same order.
 
 use super::cell_moments::is_marked;
-use super::cells::cell_of;
+use super::cells::{cell_coordinates, cell_of};
 use super::walsh::Remainder;
 use crate::sampler::{Halton, HaltonRealization, Sampler};
 
@@ -49,12 +49,12 @@ impl VaryingIndices {
         let cells: usize = grid.iter().product();
         let mut marked = vec![0u64; cells.div_ceil(64)];
         for c in (0..cells).filter(|&c| !is_marked(constant, c)) {
-            let at = coordinates(c, grid).map(|x| x as usize);
+            let at = cell_coordinates(c, grid);
             for_each_neighbour(&at[..d], grid, |n| marked[n / 64] |= 1 << (n % 64));
         }
         let candidates = (0..cells)
             .filter(|&c| is_marked(&marked, c))
-            .map(|c| coordinates(c, grid))
+            .map(|c| cell_coordinates(c, grid).map(|x| x as u32))
             .collect();
         let modulus: u64 = grid.iter().map(|&m| m as u64).product();
         let coefficients = grid
@@ -139,17 +139,6 @@ pub(super) fn draws_as(halton: &Halton, sampler: &dyn Sampler, n: usize, seed: u
                 x.iter().zip(&y).all(|(a, b)| a.to_bits() == b.to_bits())
             })
     })
-}
-
-/// The per-axis coordinates of cell `c` of `grid` (axis 0 the fastest, as [`cell_of`]).
-fn coordinates(c: usize, grid: &[usize]) -> [u32; AXES] {
-    let mut at = [0u32; AXES];
-    let mut rest = c;
-    for (x, &m) in at.iter_mut().zip(grid) {
-        *x = (rest % m) as u32;
-        rest /= m;
-    }
-    at
 }
 
 /// `x⁻¹ mod m` for `x` coprime to `m`, by the extended Euclidean algorithm.

@@ -26,7 +26,7 @@ use super::cell_moments::{
     check_box_moments, chunked_sum, is_marked, masses_and_constant_cells, CELL_ROUNDING,
     CELL_SECONDS,
 };
-use super::cells::cell_of;
+use super::cells::{cell_coordinates, cell_of};
 use super::term_mean::mean_to_target_noise;
 use super::walsh_net::{linear_net_variance, NetVariance};
 use super::walsh_transform::walsh_hadamard;
@@ -192,12 +192,7 @@ impl AxisMeans {
         let same = axis_means.rows.len() == grid.len()
             && means.len() == cells
             && means.par_chunks(side).enumerate().all(|(row, entries)| {
-                let mut rest = row;
-                let mut at = [0usize; MAX_AXES];
-                for a in 1..grid.len() {
-                    at[a] = rest % grid[a];
-                    rest /= grid[a];
-                }
+                let mut at = cell_coordinates(row * side, grid);
                 entries.iter().enumerate().all(|(i, &entry)| {
                     at[0] = i;
                     axis_means.product(&at[..grid.len()]).to_bits() == entry.to_bits()
