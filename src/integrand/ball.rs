@@ -1,6 +1,7 @@
 //! The ball (the disk in 2D, an interval in 1D) of constant height, on the torus.
 
-use super::disk_column::{cells_are_small, disk_column, merge_by_row};
+use super::ball_in_box::cells_are_small;
+use super::disk_column::{disk_column, merge_by_row};
 use super::{
     check_parameters, shift_phase, unit_ball_volume, Integrand, IntegrandKind, RadialOscillation,
 };

@@ -42,7 +42,13 @@ pub(crate) fn disk_in_rectangle(c: [f64; 2], r: f64, lo: [f64; 2], hi: [f64; 2])
 
 /// Boxes whose diagonal is at most this share of the radius take [`small_box_area`]: the arcs
 /// inside them subtend less than about a quarter of a radian.
-pub(super) const SMALL_BOX_SHARE: f64 = 0.25;
+const SMALL_BOX_SHARE: f64 = 0.25;
+
+/// Whether boxes of `w × h` are small beside a circle of radius `r`: a diagonal of at most
+/// [`SMALL_BOX_SHARE`] `r`, where a circular segment's series holds.
+pub(super) fn cells_are_small(w: f64, h: f64, r: f64) -> bool {
+    w * w + h * h <= (SMALL_BOX_SHARE * r).powi(2)
+}
 
 /// Where a box's side meets the circle, walking the box counterclockwise: entering the disk or
 /// leaving it.
@@ -69,8 +75,7 @@ enum Boundary {
 /// rounds onto a corner that is not on the circle, or a side touches it (one point where two
 /// would be counted).
 fn small_box_area(r: f64, [x0, x1]: [f64; 2], [y0, y1]: [f64; 2]) -> Option<f64> {
-    let (w, h) = (x1 - x0, y1 - y0);
-    if w * w + h * h > (SMALL_BOX_SHARE * r).powi(2) {
+    if !cells_are_small(x1 - x0, y1 - y0, r) {
         return None;
     }
     let corners = [[x0, y0], [x1, y0], [x1, y1], [x0, y1]];

@@ -16,15 +16,11 @@
 //! Every term is of the cell's size (lengths and heights measured from the cell's sides), so
 //! the area rounds relative to the cell, as [`super::ball_in_box`]'s small boxes do; the
 //! segment's series holds for chords up to a quarter of the radius, so a cell's diagonal must
-//! be at most [`SMALL_BOX_SHARE`] `r`.
+//! be at most a quarter of `r` ([`cells_are_small`]).
 
-use super::ball_in_box::{circular_segment, half_chord, whole_or_none, SMALL_BOX_SHARE};
-
-/// Whether cells of `w × h` are small enough beside a circle of radius `r` for
-/// [`disk_column`].
-pub(super) fn cells_are_small(w: f64, h: f64, r: f64) -> bool {
-    w * w + h * h <= (SMALL_BOX_SHARE * r).powi(2)
-}
+#[cfg(doc)]
+use super::ball_in_box::cells_are_small;
+use super::ball_in_box::{circular_segment, half_chord, whole_or_none};
 
 /// A piece of the column where the arc `a(u) = σ s(u)` is monotone: its ends, ordered by the
 /// arc's value (`low` where `a` is least), the arc's values there, and the side of the centre
@@ -190,7 +186,7 @@ pub(super) fn merge_by_row(cells: &mut Vec<(usize, f64)>) {
 
 #[cfg(test)]
 mod tests {
-    use super::super::ball_in_box::disk_in_rectangle;
+    use super::super::ball_in_box::{cells_are_small, disk_in_rectangle};
     use super::*;
 
     /// Each row's area against the cell's own, and the rows counted inside against whole
