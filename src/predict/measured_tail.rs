@@ -56,6 +56,9 @@ const FFT_SECONDS_PER_CELL: f64 = 3e-8;
 const TAIL_NU: f64 = 2.0;
 /// The smallest lattice extent.
 const MIN_KMAX: usize = 16;
+/// The share `1 − ρ²` of the lattice parts' variance that [`least_half_width`] takes to
+/// survive their correlation `ρ` with the tails: half, for `|ρ|` up to `1/√2`.
+const LEAST_SPREAD_SHARE: f64 = 0.5;
 
 /// The integrand's torus coefficients on a lattice, with what the error bound needs.
 struct Coefficients {
@@ -184,6 +187,63 @@ fn pattern_term(
     })
 }
 
+/// The route's lattice, its transform and the seconds one pattern costs.
+struct TailPlan {
+    lattice: Lattice,
+    plan: NufftPlan,
+    per_pattern: f64,
+}
+
+impl TailPlan {
+    /// The plan on `|k_i| ≤ kmax`, at most [`TAIL_NU`] `N^{1/d}`: a pattern's draw, its
+    /// transform, and its integrand values and lattice parts at the shifts.
+    fn new(source: PatternSource<'_>, kmax: usize) -> Result<Self> {
+        let (n, d) = (source.points(), source.dimension());
+        let kmax = kmax.min(kmax_at_nu(n, d, TAIL_NU).max(MIN_KMAX));
+        let lattice = Lattice { dimension: d, kmax };
+        let plan = NufftPlan::new(d, kmax, n, TRANSFORM_TOLERANCE)?;
+        let grid = (plan.grid_size() as f64).powi(d as i32);
+        let per_pattern = source.pattern_needs().work_seconds
+            + (n as f64 * TRANSFORM_SECONDS_PER_POINT + grid * FFT_SECONDS_PER_CELL)
+            + SHIFTS_PER_PATTERN as f64
+                * (n as f64 * EVALUATION_SECONDS + lattice.len() as f64 * LATTICE_TERM_SECONDS);
+        Ok(Self {
+            lattice,
+            plan,
+            per_pattern,
+        })
+    }
+}
+
+/// The least 99% half-width this route can reach for a stationary sampler, with as many
+/// patterns as the work budget allows, from the standard error `stderr` of the raw lattice
+/// form's mean over `realizations` of the same patterns on the same lattice; `None` where this
+/// route's lattice is another (the white-tail route's extends past [`TAIL_NU`]).
+///
+/// Each pattern's term here is its lattice part, which is the raw lattice form's term, plus
+/// its measured tail: with `m` patterns the standard error is at least
+/// `√(1 − ρ²) σ_L / √m`, `σ_L` the lattice parts' spread and `ρ` their correlation with the
+/// tails. The two are sums over disjoint frequencies of a stationary pattern, nearly
+/// uncorrelated; [`LEAST_SPREAD_SHARE`] grants them a correlation as strong as `1/√2`.
+///
+/// # Errors
+/// A lattice or transform outside the planner's range.
+pub(crate) fn least_half_width(
+    source: PatternSource<'_>,
+    kmax: usize,
+    params: &PredictParams,
+    (stderr, realizations): (f64, usize),
+) -> Result<Option<f64>> {
+    let plan = TailPlan::new(source, kmax)?;
+    if plan.lattice.kmax != kmax {
+        return Ok(None);
+    }
+    let (_, max) = terms_within_budget(params, plan.per_pattern, (INITIAL_PATTERNS, MAX_PATTERNS));
+    let spread = stderr * (realizations as f64).sqrt();
+    let least = LEAST_SPREAD_SHARE.sqrt() * spread / (max.max(2) as f64).sqrt();
+    Ok(Some(crate::montecarlo::Z_99 * least))
+}
+
 /// The randomly shifted variance of the patterns of `source` on `f` by the lattice form on
 /// `|k_i| ≤ kmax` (at most [`TAIL_NU`] `N^{1/d}`) with the tail measured at [`SHIFTS_PER_PATTERN`] shifts of each pattern:
 /// patterns added until the relative standard error reaches `params.target_noise` or the work
@@ -200,14 +260,14 @@ pub(crate) fn predict_measured_tail(
 ) -> Result<Prediction> {
     let (n, d) = (source.points(), source.dimension());
     let shifts = SHIFTS_PER_PATTERN;
-    let kmax = kmax.min(kmax_at_nu(n, d, TAIL_NU).max(MIN_KMAX));
-    let lattice = Lattice { dimension: d, kmax };
+    let TailPlan {
+        lattice,
+        plan,
+        per_pattern,
+    } = TailPlan::new(source, kmax)?;
+    let kmax = lattice.kmax;
     let len = lattice.len() as f64;
-    let plan = NufftPlan::new(d, kmax, n, TRANSFORM_TOLERANCE)?;
     let grid = (plan.grid_size() as f64).powi(d as i32);
-    let per_pattern = source.pattern_needs().work_seconds
-        + (n as f64 * TRANSFORM_SECONDS_PER_POINT + grid * FFT_SECONDS_PER_CELL)
-        + shifts as f64 * (n as f64 * EVALUATION_SECONDS + len * LATTICE_TERM_SECONDS);
     let (initial, max) = terms_within_budget(params, per_pattern, (INITIAL_PATTERNS, MAX_PATTERNS));
     let threads = rayon::current_num_threads() as f64;
     params.budget.check(
@@ -340,5 +400,59 @@ mod tests {
                 p.budget
             );
         }
+    }
+
+    /// The least half-width is at most the one the route reaches on the same patterns, where
+    /// the lattice parts dominate (a Gaussian's energy is low) and where the tail does (a
+    /// disk's edge at `K = 16`); on a lattice wider than the route's own there is none.
+    #[test]
+    fn the_least_half_width_is_below_the_reached_one() {
+        use crate::predict::lattice::{predict_on_patterns, LatticePower, PatternPlan};
+        use crate::spectrum::SpectrumParams;
+        let poisson = crate::sampler::PoissonDisk::new(2).unwrap();
+        let sets: Vec<PointSet> = (0..48)
+            .map(|i| poisson.sample(1024, 5, i).unwrap())
+            .collect();
+        let source = PatternSource::Sets(&sets);
+        let params = PredictParams {
+            realizations: Some(sets.len()),
+            ..Default::default()
+        };
+        let kmax = 16;
+        for text in ["gaussian:sigma=0.2,c=0.2;0.7", "disk"] {
+            let f = parse_integrand(text).unwrap().build(2).unwrap();
+            let power = LatticePower::of(f.as_ref(), Lattice { dimension: 2, kmax }).unwrap();
+            let plan = PatternPlan {
+                initial: sets.len(),
+                target_noise: 0.0,
+                max_realizations: sets.len(),
+                spectrum: SpectrumParams {
+                    kmax,
+                    realizations: sets.len(),
+                    ..Default::default()
+                },
+                symmetric: false,
+                low_band: None,
+            };
+            let raw = predict_on_patterns(&power, source, &plan, &Silent).unwrap();
+            let noise = (raw.budget.spectrum_noise, sets.len());
+            let least = least_half_width(source, kmax, &params, noise)
+                .unwrap()
+                .unwrap();
+            let reached = predict_measured_tail(f.as_ref(), source, kmax, &params, &Silent)
+                .unwrap()
+                .budget
+                .spectrum_noise
+                * crate::montecarlo::Z_99;
+            assert!(
+                least <= reached,
+                "{text}: least {least:e}, reached {reached:e}"
+            );
+        }
+        let wide = kmax_at_nu(1024, 2, TAIL_NU) + 1;
+        assert_eq!(
+            least_half_width(source, wide, &params, (1.0, 48)).unwrap(),
+            None
+        );
     }
 }

@@ -1491,7 +1491,7 @@ fn estimated_lattice_many(
                 let why = why_estimated((kind, asked), &what, n);
                 let tail = MeasuredTail { source, kmax, why };
                 if let Some(m) =
-                    with_measured_tail(problems[i].integrand, &tail, &p, params, progress)?
+                    with_measured_tail(problems[i].integrand, &tail, (&p, kind), params, progress)?
                 {
                     done[i] = Some(m);
                     continue;
@@ -1561,14 +1561,30 @@ struct MeasuredTail<'a> {
 /// The lattice form with the energy beyond it measured at shifts of each pattern, `white`
 /// (the lattice form with the white-tail bound) as its alternative; `None` where the
 /// measurement would exceed the budget or its 99% budget is not the narrower (the white-tail
-/// form is then widened as before).
+/// form is then widened as before), and, for a stationary sampler, untried where its least
+/// half-width ([`least_half_width`](super::measured_tail::least_half_width)) is already the
+/// wider.
 fn with_measured_tail(
     f: &dyn Integrand,
     tail: &MeasuredTail<'_>,
-    white: &Prediction,
+    (white, kind): (&Prediction, Option<SamplerKind>),
     params: &PredictParams,
     progress: &dyn Progress,
 ) -> Result<Option<Prediction>> {
+    let width = |p: &Prediction| p.budget.half_width(crate::montecarlo::Z_99);
+    // A stationary sampler's measured tail is not tried where the spread of its lattice
+    // parts alone, the raw lattice form's, would leave it the wider.
+    if kind.is_some_and(|k| k.facts().randomness.is_stationary()) {
+        let raw = raw_lattice_noise(white);
+        let least = super::measured_tail::least_half_width(tail.source, tail.kmax, params, raw);
+        match least {
+            Err(Error::TooLarge { .. }) => return Ok(None),
+            Ok(Some(least)) if least >= width(white) => return Ok(None),
+            other => {
+                other?;
+            }
+        }
+    }
     let measured =
         super::measured_tail::predict_measured_tail(f, tail.source, tail.kmax, params, progress);
     let mut p = match measured {
@@ -1589,12 +1605,31 @@ fn with_measured_tail(
         100.0 * white.budget.truncation / white.variance,
         super::measured_tail::SHIFTS_PER_PATTERN,
     );
-    let width = |p: &Prediction| p.budget.half_width(crate::montecarlo::Z_99);
     if width(&p) >= width(white) {
         return Ok(None);
     }
     p.alternatives.push(white.as_alternative());
     Ok(Some(p))
+}
+
+/// The standard error of the raw per-pattern sums behind an estimated lattice form, and their
+/// realizations: its own, or those of the raw sums beside a fitted low band.
+fn raw_lattice_noise(p: &Prediction) -> (f64, usize) {
+    let raw = |origin: &SpectrumOrigin| match origin {
+        SpectrumOrigin::Estimated {
+            realizations,
+            low_band: None,
+            ..
+        } => Some(*realizations),
+        _ => None,
+    };
+    if let Some(r) = raw(&p.route.spectrum) {
+        return (p.budget.spectrum_noise, r);
+    }
+    p.alternatives
+        .iter()
+        .find_map(|a| raw(&a.route.spectrum).map(|r| (a.budget.spectrum_noise, r)))
+        .unwrap_or((0.0, 0))
 }
 
 /// Why a spectrum is estimated: no closed form is known, or an estimate was asked for.
