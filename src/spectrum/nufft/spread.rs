@@ -144,10 +144,8 @@ pub fn block_order(layout: &Padded, points: &PointSet, sort: &mut SortScratch) {
     match layout.dimension {
         1 => block_order_in::<1>(layout, points.coords(), sort),
         2 => block_order_in::<2>(layout, points.coords(), sort),
-        d => {
-            debug_assert_eq!(d, 3, "a plan has 1 to 3 dimensions");
-            block_order_in::<3>(layout, points.coords(), sort);
-        }
+        3 => block_order_in::<3>(layout, points.coords(), sort),
+        d => unreachable!("a plan has 1 to 3 dimensions, not {d}"),
     }
 }
 
