@@ -58,6 +58,10 @@ pub const PATTERN_FORMAT: u32 = 5;
 
 const MAGIC: &[u8; 4] = b"SPVP";
 
+/// Bytes before a stored pattern's coordinates: the magic, the format, the dimension, the
+/// point count and the parameters' hash.
+const HEADER_BYTES: usize = 4 + 4 + 4 + 8 + 8;
+
 /// A sampler whose patterns are kept on disk under a cache directory, keyed by the sampler's
 /// kind, dimension and parameters (a hash of its `Debug` text, which names them all, kept in
 /// each file's header too), N, seed and realization and by [`PATTERN_FORMAT`]: a costly pattern (CCVT,
@@ -119,7 +123,7 @@ impl DiskCached {
     fn load(&self, path: &std::path::Path, n: usize) -> Option<PointSet> {
         let bytes = std::fs::read(path).ok()?;
         let d = self.inner.dimension();
-        let header = 4 + 4 + 4 + 8 + 8;
+        let header = HEADER_BYTES;
         let payload = n * d * 8;
         if bytes.len() != header + payload + 8 || &bytes[..4] != MAGIC {
             return None;
@@ -290,12 +294,12 @@ mod tests {
         let drawn = cached.sample(32, 3, 1).unwrap();
         let path = cached.path(32, 3, 1);
         let stored = std::fs::read(&path).unwrap();
-        let header = 28;
+        let header = HEADER_BYTES;
         let damages: [fn(&mut [u8]); 3] = [
-            |b| b[28 + 8 * 5 + 2] ^= 0x10,
-            |b| b[28 + 8 * 63 + 7] ^= 0x80,
+            |b| b[HEADER_BYTES + 8 * 5 + 2] ^= 0x10,
+            |b| b[HEADER_BYTES + 8 * 63 + 7] ^= 0x80,
             |b| {
-                let (first, second) = b[28..28 + 16].split_at_mut(8);
+                let (first, second) = b[HEADER_BYTES..HEADER_BYTES + 16].split_at_mut(8);
                 first.swap_with_slice(second);
             },
         ];
