@@ -14,6 +14,7 @@ mod docs;
 mod dual_lattice;
 mod examples;
 mod gaussian_jitter;
+mod golden;
 mod grid_exr;
 mod halton;
 mod integrand;
