@@ -352,6 +352,7 @@ impl PaddedPrediction {
             ),
             budget: self.budget,
             alternatives: Vec::new(),
+            analysis: None,
             evaluations: self.first.evaluations + self.second.evaluations,
             ..self.first.clone()
         }

@@ -428,6 +428,7 @@ pub fn plan_pilot(
                 },
                 evaluations: at_n.iter().map(|p| p.evaluations).sum(),
                 alternatives: Vec::new(),
+                analysis: None,
                 ..at_n[0].clone()
             })
         },

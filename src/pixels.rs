@@ -326,6 +326,7 @@ impl ImagePrediction {
             dc_term: 0.0,
             evaluations: self.evaluations,
             alternatives: Vec::new(),
+            analysis: None,
         }
     }
 

@@ -355,7 +355,7 @@ pub fn occupancy_variance(
 
 /// How a scrambled net's pair counts are known.
 #[derive(Clone, Copy)]
-enum NetPairs {
+pub(crate) enum NetPairs {
     /// Scrambling permutes one fixed net's cells: any pattern has its counts.
     OneNet,
     /// Every pattern is a `(0,m,2)`-net, whose counts the net property fixes: any such net
@@ -488,16 +488,35 @@ pub(crate) fn check_sets_occupy(sets: &[PointSet], rule: CellRule, grid: &[usize
     Ok(())
 }
 
-/// The unshifted estimator's prediction for `source`: exact for fixed strata and a sampler's
-/// Latin hypercube (within the cell budget), estimated from the occupancy of patterns
-/// otherwise (a sampler's realizations, or every given set).
-pub(crate) fn predict_cells(
+/// How the cell form computes a problem's occupancy term: the analyses of strata in space.
+#[derive(Clone, Copy)]
+pub(crate) enum CellMethod {
+    /// Fixed occupancy (strata, or independent points): the per-stratum form.
+    Fixed,
+    /// An N-rooks sampler's pairs of occupied cells in closed form.
+    Rooks(SamplerKind),
+    /// A scrambled net's pairs of points by Owen's gains, read from one net.
+    Gains(NetPairs),
+    /// Owen's gains averaged over patterns whose pair counts differ (drawn at this many
+    /// nanoseconds a point).
+    GainsOverPatterns(f64),
+    /// The occupancy estimated from patterns.
+    Estimated,
+}
+
+/// Which [`CellMethod`] predicts `source` at `n` on `f`, and its grid of cells, decided from the
+/// problem alone (no pattern is drawn).
+///
+/// # Errors
+/// No grid of cells at N, an integrand without moments over boxes, sets that do not occupy
+/// their declared cells, or a choice (a lattice extent, the polar form, a closed spectrum) that
+/// belongs to the shifted estimator.
+pub(crate) fn cell_method(
     f: &dyn Integrand,
     source: CellSource<'_>,
     n: usize,
     params: &super::PredictParams,
-    progress: &dyn Progress,
-) -> Result<Prediction> {
+) -> Result<(CellMethod, Vec<usize>)> {
     let d = f.dimension();
     let (rule, name) = (source.rule(), source.name());
     let grid = rule.grid(n, d).ok_or_else(|| Error::OutsideValidity {
@@ -545,134 +564,190 @@ pub(crate) fn predict_cells(
     // pattern at a power of two (every such prefix is a (0,m,2)-net, whose pair counts the net
     // property fixes), from the mean over patterns between two.
     let scrambled = match source {
-        CellSource::Sampler(sampler, SamplerKind::Sobol) => Some((sampler, NetPairs::OneNet)),
-        CellSource::Sampler(sampler, SamplerKind::Pmj02) if n.is_power_of_two() => {
-            Some((sampler, NetPairs::EveryNet))
+        CellSource::Sampler(_, SamplerKind::Sobol) => Some(NetPairs::OneNet),
+        CellSource::Sampler(_, SamplerKind::Pmj02) if n.is_power_of_two() => {
+            Some(NetPairs::EveryNet)
         }
-        CellSource::Sampler(sampler, SamplerKind::Pmj02) => {
-            let cost = SamplerKind::Pmj02.cost_per_point_ns_at(n, 2);
-            Some((sampler, NetPairs::PerPattern(cost)))
-        }
+        CellSource::Sampler(_, SamplerKind::Pmj02) => Some(NetPairs::PerPattern(
+            SamplerKind::Pmj02.cost_per_point_ns_at(n, 2),
+        )),
         _ => None,
     }
     .filter(|_| params.spectrum != SpectrumChoice::Estimated);
     let exact = params.spectrum != SpectrumChoice::Estimated
         && (rule.is_fixed()
             || pairs.is_some()
-            || scrambled.is_some_and(|(_, p)| !matches!(p, NetPairs::PerPattern(_))));
+            || scrambled.is_some_and(|p| !matches!(p, NetPairs::PerPattern(_))));
     check_choices(params, &name, exact)?;
+    let method = match (exact, scrambled, pairs) {
+        (true, _, _) if rule.is_fixed() => CellMethod::Fixed,
+        (_, Some(NetPairs::PerPattern(cost_ns)), _) => CellMethod::GainsOverPatterns(cost_ns),
+        (true, Some(net), _) => CellMethod::Gains(net),
+        (true, None, Some(kind)) => CellMethod::Rooks(kind),
+        _ => CellMethod::Estimated,
+    };
+    Ok((method, grid))
+}
+
+/// What a cell method needs before it answers: the pattern it reads Owen's gains from, or the
+/// first patterns of an estimate; the tables of cells check their own sizes as they are built.
+pub(crate) fn cell_method_needs(
+    method: CellMethod,
+    source: CellSource<'_>,
+    n: usize,
+    d: usize,
+) -> Needs {
+    let pattern = |kind: SamplerKind| kind.pattern_needs(n, d);
+    match (method, source) {
+        (CellMethod::Gains(NetPairs::EveryNet), _) => pattern(SamplerKind::Sobol),
+        (CellMethod::Gains(_), CellSource::Sampler(_, kind)) => pattern(kind),
+        (CellMethod::GainsOverPatterns(_) | CellMethod::Estimated, CellSource::Sampler(_, k)) => {
+            let one = pattern(k);
+            Needs {
+                memory_bytes: one.memory_bytes,
+                work_seconds: one.work_seconds * INITIAL_PATTERNS as f64,
+            }
+        }
+        _ => Needs::default(),
+    }
+}
+
+/// The unshifted estimator's prediction for `source` by `method` on `grid` ([`cell_method`]).
+pub(crate) fn predict_cells(
+    f: &dyn Integrand,
+    source: CellSource<'_>,
+    (method, grid): (CellMethod, Vec<usize>),
+    n: usize,
+    params: &super::PredictParams,
+    progress: &dyn Progress,
+) -> Result<Prediction> {
+    let d = f.dimension();
+    let (rule, name) = (source.rule(), source.name());
     let cells: usize = grid.iter().product();
     let strata = super::grid_label(&grid);
-    let (variance, budget, occupancy, evaluations, reason) = if exact && rule.is_fixed() {
-        let s = fixed_strata_variance(f, &grid, n, &params.budget)?;
-        let why = match rule {
-            CellRule::Whole => format!(
+    let sampler = match source {
+        CellSource::Sampler(sampler, _) => Some(sampler),
+        CellSource::Sets(..) => None,
+    };
+    let (variance, budget, occupancy, evaluations, reason) = match (method, sampler) {
+        (CellMethod::Fixed, _) => {
+            let s = fixed_strata_variance(f, &grid, n, &params.budget)?;
+            let why = match rule {
+                CellRule::Whole => format!(
                 "{name}: independent uniform points, (∫f² − I²)/N from the integrand's own moments"
             ),
-            _ => format!(
-                "{name}: one uniform point in each of the {strata} strata, unshifted; the \
+                _ => format!(
+                    "{name}: one uniform point in each of the {strata} strata, unshifted; the \
                  per-stratum form (1/N²) Σ_c Var_c f, exact (each stratum's moments in closed \
                  form, jumps at the faces included)"
-            ),
-        };
-        (
-            s.variance,
-            rounding(s.rounding),
-            Occupancy::Fixed,
-            cells,
-            why,
-        )
-    } else if let Some((sampler, NetPairs::PerPattern(cost_ns))) = scrambled {
-        gains_over_patterns(f, (sampler, name.as_str()), n, cost_ns, params, progress)?
-    } else if let (true, Some((sampler, pairs))) = (exact, scrambled) {
-        // Every (0,m,2)-net has the same pair counts: Sobol''s is drawn in a fraction of
-        // PMJ02's time (3.6 s at 2^20).
-        let pattern = match pairs {
-            NetPairs::EveryNet => crate::sampler::Sobol::new(d)?.sample(n, params.seed, 0)?,
-            _ => sampler.sample(n, params.seed, 0)?,
-        };
-        let (s, read) = super::owen_gains::scrambled_net_variance(f, &pattern, &params.budget)?;
-        let whose = match pairs {
-            NetPairs::EveryNet => format!(
+                ),
+            };
+            (
+                s.variance,
+                rounding(s.rounding),
+                Occupancy::Fixed,
+                cells,
+                why,
+            )
+        }
+        (CellMethod::GainsOverPatterns(cost_ns), Some(sampler)) => {
+            gains_over_patterns(f, (sampler, name.as_str()), n, cost_ns, params, progress)?
+        }
+        (CellMethod::Gains(pairs), Some(sampler)) => {
+            // Every (0,m,2)-net has the same pair counts: Sobol''s is drawn in a fraction of
+            // PMJ02's time (3.6 s at 2^20).
+            let pattern = match pairs {
+                NetPairs::EveryNet => crate::sampler::Sobol::new(d)?.sample(n, params.seed, 0)?,
+                _ => sampler.sample(n, params.seed, 0)?,
+            };
+            let (s, read) = super::owen_gains::scrambled_net_variance(f, &pattern, &params.budget)?;
+            let whose = match pairs {
+                NetPairs::EveryNet => format!(
                 "{name}, as drawn: every prefix of 2^m points is a (0,m,2)-net, whose pair counts \
                  on dyadic grids the net property fixes (read from a scrambled Sobol' net, one \
                  such net), and the sequence's law is unchanged by nested uniform scrambling, so \
                  its variance is that of any such net scrambled"
             ),
-            _ => format!("{name}, as drawn: a net under nested uniform scrambling"),
-        };
-        let why = format!(
+                _ => format!("{name}, as drawn: a net under nested uniform scrambling"),
+            };
+            let why = format!(
             "{whose}: Owen's gains (read from the net's pair counts on dyadic grids) times the \
              integrand's variance at each dyadic level (from its cells' integrals; for a \
              product of axis factors, from each factor's masses level by level and its \
              variance within the finest cells), exact: nothing is truncated, every level left \
              out has gain 1"
         );
-        (
-            s.variance,
-            rounding(s.rounding),
-            Occupancy::Gains,
-            read,
-            why,
-        )
-    } else if exact {
-        let s = match pairs {
-            Some(SamplerKind::MultiJitter) => {
-                super::cell_pairs::multi_jitter_variance(f, n, &params.budget)?
-            }
-            Some(SamplerKind::Cmj | SamplerKind::OrthogonalArray) => {
-                super::cell_pairs::correlated_multi_jitter_variance(f, n, &params.budget)?
-            }
-            _ => super::cell_pairs::latin_hypercube_variance(f, n, &params.budget)?,
-        };
-        let alias = match source {
-            CellSource::Sampler(_, SamplerKind::OrthogonalArray) => {
-                " (in 2D Bose's array with its offsets is correlated multi-jitter on p × p \
+            (
+                s.variance,
+                rounding(s.rounding),
+                Occupancy::Gains,
+                read,
+                why,
+            )
+        }
+        (CellMethod::Rooks(kind), _) => {
+            let s = match kind {
+                SamplerKind::MultiJitter => {
+                    super::cell_pairs::multi_jitter_variance(f, n, &params.budget)?
+                }
+                SamplerKind::Cmj | SamplerKind::OrthogonalArray => {
+                    super::cell_pairs::correlated_multi_jitter_variance(f, n, &params.budget)?
+                }
+                _ => super::cell_pairs::latin_hypercube_variance(f, n, &params.budget)?,
+            };
+            let alias = match source {
+                CellSource::Sampler(_, SamplerKind::OrthogonalArray) => {
+                    " (in 2D Bose's array with its offsets is correlated multi-jitter on p × p \
                  cells: relabelling the strata leaves one uniform permutation of the \
                  sub-columns and one of the sub-rows)"
-            }
-            _ => "",
-        };
-        let bounded = if super::cell_pairs::bounded_cell_sums(f)
-            && matches!(
-                pairs,
-                Some(SamplerKind::LatinHypercube | SamplerKind::MultiJitter)
-            ) {
-            "; where the cells are not tabulated, the smooth integrand's variance within them \
+                }
+                _ => "",
+            };
+            let bounded = if super::cell_pairs::bounded_cell_sums(f)
+                && matches!(kind, SamplerKind::LatinHypercube | SamplerKind::MultiJitter)
+            {
+                "; where the cells are not tabulated, the smooth integrand's variance within them \
              bounded by Poincaré's inequality, its bound in the budget"
-        } else {
-            ""
-        };
-        let why = format!(
-            "{name}, unshifted{alias}: the cell form over the {n}^{d} cells, its pairs of \
+            } else {
+                ""
+            };
+            let why = format!(
+                "{name}, unshifted{alias}: the cell form over the {n}^{d} cells, its pairs of \
              occupied cells in closed form (exact{bounded})"
-        );
-        (
-            s.variance,
-            rounding(s.rounding),
-            Occupancy::Permutations,
-            cells,
-            why,
-        )
-    } else {
-        let (e, note) = estimate_occupancy(f, source, &grid, n, params, progress)?;
-        let why = format!(
-            "{name}, unshifted: the points are independent and uniform in the cells of the \
+            );
+            (
+                s.variance,
+                rounding(s.rounding),
+                Occupancy::Permutations,
+                cells,
+                why,
+            )
+        }
+        (CellMethod::Estimated, _) => {
+            let (e, note) = estimate_occupancy(f, source, &grid, n, params, progress)?;
+            let why = format!(
+                "{name}, unshifted: the points are independent and uniform in the cells of the \
              {strata} grid once their cells are known, so the variance is the cells' inner \
              variance plus the variance of the occupied cells' mean, estimated from {} patterns \
              with each pattern's terms exact{note} (no Fourier series: jumps at the faces cost \
              nothing extra)",
-            e.patterns
-        );
-        let budget = ErrorBudget {
-            spectrum_noise: e.standard_error,
-            quadrature: e.rounding,
-            ..Default::default()
-        };
-        let occupancy = Occupancy::Estimated {
-            patterns: e.patterns,
-        };
-        (e.variance, budget, occupancy, e.patterns * n, why)
+                e.patterns
+            );
+            let budget = ErrorBudget {
+                spectrum_noise: e.standard_error,
+                quadrature: e.rounding,
+                ..Default::default()
+            };
+            let occupancy = Occupancy::Estimated {
+                patterns: e.patterns,
+            };
+            (e.variance, budget, occupancy, e.patterns * n, why)
+        }
+        (CellMethod::Gains(_) | CellMethod::GainsOverPatterns(_), None) => {
+            return Err(Error::Mismatch(
+                "Owen's gains of point sets without their sampler".into(),
+            ))
+        }
     };
     Ok(Prediction {
         variance,
@@ -700,6 +775,7 @@ pub(crate) fn predict_cells(
         dc_term: 0.0,
         evaluations: evaluations as u64,
         alternatives: Vec::new(),
+        analysis: None,
     })
 }
 

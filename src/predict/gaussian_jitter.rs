@@ -669,6 +669,7 @@ fn exact_prediction(
         dc_term: 0.0,
         evaluations: m.frequencies,
         alternatives: Vec::new(),
+        analysis: None,
     }
 }
 

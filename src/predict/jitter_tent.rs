@@ -335,6 +335,7 @@ pub(crate) fn predict_jitter_tent(
         dc_term: 0.0,
         evaluations,
         alternatives: Vec::new(),
+        analysis: None,
     })
 }
 
@@ -404,6 +405,7 @@ pub(crate) fn predict_gaussian_jitter_in_space(
         dc_term: 0.0,
         evaluations: white.evaluations + count,
         alternatives: Vec::new(),
+        analysis: None,
     })
 }
 

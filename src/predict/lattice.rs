@@ -308,6 +308,7 @@ pub fn predict_from_power(
         dc_term: 0.0,
         evaluations: lattice.len() as u64,
         alternatives: Vec::new(),
+        analysis: None,
     })
 }
 
@@ -334,6 +335,7 @@ pub(crate) fn white_noise(f: &dyn Integrand, n: usize) -> Result<Prediction> {
         dc_term: 0.0,
         evaluations: 1,
         alternatives: Vec::new(),
+        analysis: None,
     })
 }
 
@@ -836,6 +838,7 @@ fn pattern_prediction(
         dc_term: 0.0,
         evaluations: (power.lattice.len() * realizations) as u64,
         alternatives: Vec::new(),
+        analysis: None,
     })
 }
 

@@ -328,6 +328,7 @@ pub(crate) fn predict_measured_tail(
         dc_term: 0.0,
         evaluations: (estimate.patterns * shifts * n) as u64,
         alternatives: Vec::new(),
+        analysis: None,
     })
 }
 

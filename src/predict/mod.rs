@@ -21,6 +21,7 @@
 //!
 //! The bias of a fixed pattern is [`bias_of_pattern`] and [`regular_grid_bias`].
 
+mod analysis;
 mod bias;
 mod cell_moments;
 mod cell_pairs;
@@ -46,11 +47,13 @@ mod shifted_cells;
 mod shifted_gains;
 mod shuffle_cells;
 mod space;
+mod table;
 mod term_mean;
 mod walsh;
 mod walsh_net;
 mod walsh_transform;
 
+pub use analysis::{AnalysisKind, AnalysisPlan, PlanNeeds};
 pub use bias::{bias_of_pattern, regular_grid_bias, sampler_bias, BiasMethod, SpectralBias};
 pub use cell_moments::CellSum;
 pub use cell_pairs::{
@@ -325,6 +328,9 @@ pub struct Prediction {
     pub evaluations: u64,
     /// Other valid routes computed for comparison.
     pub alternatives: Vec<Alternative>,
+    /// The analysis of the plan that produced it (`None` for a route called directly, and for
+    /// predictions composed from others, such as padded pairs).
+    pub analysis: Option<AnalysisKind>,
 }
 
 impl Prediction {
@@ -744,6 +750,31 @@ pub fn check_route(problem: &Problem<'_>) -> Result<()> {
     route::check_estimator(problem)
 }
 
+/// The plan of `problem`'s prediction, made before any work: the analysis that answers it, why,
+/// and what it needs, checked against `params.budget` ([`predict_with`] runs the same plan).
+///
+/// # Errors
+/// The error [`predict`] would return before any work: no analysis for this estimator, a choice
+/// outside every applicable analysis's validity, or needs above the budget.
+///
+/// # Examples
+/// ```
+/// use specvar::prelude::*;
+/// use specvar::predict::{plan_analysis, AnalysisKind};
+/// let disk = Ball::new(0.25, vec![0.5, 0.5], 1.0)?;
+/// let jitter = Jitter::new(2)?;
+/// let problem = Problem::new(&jitter, &disk, 256)?;
+/// let plan = plan_analysis(&problem, &PredictParams::default())?;
+/// assert_eq!(plan.analysis, AnalysisKind::FixedStrata);
+/// let p = predict(&problem, &PredictParams::default())?;
+/// assert_eq!(p.analysis, Some(plan.analysis));
+/// # Ok::<(), specvar::Error>(())
+/// ```
+pub fn plan_analysis(problem: &Problem<'_>, params: &PredictParams) -> Result<AnalysisPlan> {
+    check_params(params)?;
+    analysis::choose(problem, params).map(|(_, plan)| plan)
+}
+
 /// Refuses an estimator whose mean squared error is not its variance: Gaussian jitter used as
 /// drawn is biased (its points' density ripples at the grid's period;
 /// [`gaussian_jitter_bias`]), so a plan or an image's MSE, which read the variance as the
@@ -787,10 +818,28 @@ pub fn predict_with(
     progress: &dyn Progress,
 ) -> Result<Prediction> {
     check_params(params)?;
-    route::check_estimator(problem)?;
-    route::predict_routed(problem, params, progress)
+    predict_planned(problem, params, progress)
         .and_then(finite_prediction)
         .map(|p| for_estimator(p, problem))
+}
+
+/// The planned analysis's prediction for `problem`, labelled with the analysis.
+fn predict_planned(
+    problem: &Problem<'_>,
+    params: &PredictParams,
+    progress: &dyn Progress,
+) -> Result<Prediction> {
+    let (row, plan) = analysis::choose(problem, params)?;
+    row.predict(problem, params, progress)
+        .map(|p| planned(p, &plan))
+}
+
+/// `p` labelled with the analysis of `plan`.
+fn planned(p: Prediction, plan: &AnalysisPlan) -> Prediction {
+    Prediction {
+        analysis: Some(plan.analysis),
+        ..p
+    }
 }
 
 /// `p`, which a route computed for the shifted estimator or for the law as drawn, labelled with
@@ -855,10 +904,7 @@ pub fn predict_many(
     progress: &dyn Progress,
 ) -> Result<Vec<Prediction>> {
     check_params(params)?;
-    for problem in problems {
-        route::check_estimator(problem)?;
-    }
-    route::predict_routed_many(problems, params, progress)?
+    route::predict_planned_many(problems, params, progress)?
         .into_iter()
         .zip(problems)
         .map(|(p, problem)| finite_prediction(p).map(|p| for_estimator(p, problem)))

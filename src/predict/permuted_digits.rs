@@ -513,6 +513,7 @@ pub(crate) fn predict_halton_as_drawn(
         dc_term: 0.0,
         evaluations: (n as u64).saturating_mul(n as u64),
         alternatives: Vec::new(),
+        analysis: None,
     })
 }
 

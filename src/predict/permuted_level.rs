@@ -677,6 +677,7 @@ pub(crate) fn predict_halton_level(
         dc_term: 0.0,
         evaluations: (e.realizations * n) as u64,
         alternatives: Vec::new(),
+        analysis: None,
     })
 }
 

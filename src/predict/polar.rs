@@ -197,6 +197,7 @@ pub fn predict_polar(
         dc_term: dc / n as f64,
         evaluations: deficit.evaluations,
         alternatives: Vec::new(),
+        analysis: None,
     })
 }
 
@@ -408,5 +409,6 @@ fn far_by_mean(
         dc_term: dc / n as f64,
         evaluations: evaluations + 64,
         alternatives: Vec::new(),
+        analysis: None,
     })
 }

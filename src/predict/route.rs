@@ -1,7 +1,7 @@
 //! Which route [`super::predict`] takes, and why: every decision of substance about a prediction
 //! (closed form or estimate, form, reference N, lattice extent, realizations) is made here.
 
-use super::cells::CellSource;
+use super::analysis::AnalysisKind;
 use super::lattice::{white_noise, LatticePower, PatternEstimate, PatternPlan};
 use super::low_band::LowBand;
 use super::space::{
@@ -13,7 +13,7 @@ use super::{
     Prediction, Problem, Route, SpectrumChoice, SpectrumOrigin, SpectrumSource,
 };
 use crate::budget::{Budget, Needs};
-use crate::error::{invalid, Error, Result};
+use crate::error::{Error, Result};
 use crate::integrand::Integrand;
 use crate::progress::{stage, Progress};
 use crate::randomization::Randomization;
@@ -38,7 +38,7 @@ const CLOSED_TAIL_SHARE: f64 = 1e-3;
 /// The same for an estimated spectrum, whose noise is larger anyway.
 const ESTIMATED_TAIL_SHARE: f64 = 1e-2;
 /// Realizations an estimate starts with.
-const INITIAL_REALIZATIONS: usize = 32;
+pub(super) const INITIAL_REALIZATIONS: usize = 32;
 /// Realizations an adaptive estimate never exceeds.
 const MAX_REALIZATIONS: usize = 4096;
 /// Relative full-space leak below which an integrand counts as contained in the cube.
@@ -211,7 +211,7 @@ pub(crate) fn check_estimator(problem: &Problem<'_>) -> Result<()> {
 /// Whether `problem` is the unshifted estimator of a sampler whose law a shift would change and
 /// whose points are independent and uniform in known cells: the cell form predicts it. A
 /// digital shift of an Owen-scrambled net is again nested uniform scrambling: its law as drawn.
-fn uses_cells(problem: &Problem<'_>) -> bool {
+pub(super) fn uses_cells(problem: &Problem<'_>) -> bool {
     if scrambling_absorbs_shift(problem) {
         return true;
     }
@@ -227,7 +227,7 @@ fn uses_cells(problem: &Problem<'_>) -> bool {
 
 /// Gaussian jitter used as drawn, with its closed form and strata: independent points with
 /// known densities, whose variance the aliased-pair form gives exactly.
-fn gaussian_jitter_as_drawn(
+pub(super) fn gaussian_jitter_as_drawn(
     problem: &Problem<'_>,
 ) -> Option<(crate::sampler::ClosedForm, Vec<usize>)> {
     let Patterns::Sampler(sampler) = problem.patterns else {
@@ -264,14 +264,16 @@ fn halton_through_level(problem: &Problem<'_>) -> bool {
     halton_drawn(problem) && problem.integrand.dimension() <= super::permuted_level::MAX_LEVEL_AXES
 }
 
-/// Halton as drawn: on a product integrand its pairs of points exactly while they fit the work
-/// budget, else (and on any other integrand in 1 to 3 axes) through a level of digit cells with
-/// the finer digits measured; `None` for another problem.
-fn predict_halton(
+/// Which analysis predicts Halton as drawn: on a product integrand its pairs of points exactly
+/// while they fit the work budget, else (and on any other integrand in 1 to 3 axes) through a
+/// level of digit cells with the finer digits measured; `None` for another problem.
+///
+/// # Errors
+/// A form, closed spectrum or lattice extent asked for, which belong to the shifted estimator.
+pub(super) fn halton_analysis(
     problem: &Problem<'_>,
     params: &PredictParams,
-    progress: &dyn Progress,
-) -> Result<Option<Prediction>> {
+) -> Result<Option<AnalysisKind>> {
     if !halton_drawn(problem) {
         return Ok(None);
     }
@@ -287,31 +289,14 @@ fn predict_halton(
                 .into(),
         });
     }
-    let n = problem.n;
-    let d = problem.integrand.dimension();
+    let (n, d) = (problem.n, problem.integrand.dimension());
     let pairs_fit = super::permuted_digits::pair_work_seconds(n, d) <= params.work_budget_seconds;
-    match (halton_as_drawn(problem), problem.patterns) {
-        (Some(form), _) if pairs_fit || !halton_through_level(problem) => {
-            super::permuted_digits::predict_halton_as_drawn(
-                &form,
-                n,
-                params.work_budget_seconds,
-                &params.budget,
-            )
-            .map(Some)
-        }
-        (_, Patterns::Sampler(sampler)) if halton_through_level(problem) => {
-            super::permuted_level::predict_halton_level(
-                problem.integrand,
-                sampler,
-                n,
-                params,
-                progress,
-            )
-            .map(Some)
-        }
-        _ => Ok(None),
-    }
+    let level = halton_through_level(problem);
+    Ok(match halton_as_drawn(problem) {
+        Some(_) if pairs_fit || !level => Some(AnalysisKind::PermutedDigits),
+        _ if level => Some(AnalysisKind::PermutedLevel),
+        _ => None,
+    })
 }
 
 /// Whether `problem` is Owen-scrambled Sobol' under a digital shift, whose law is Owen's
@@ -330,7 +315,7 @@ pub(crate) fn scrambling_absorbs_shift(problem: &Problem<'_>) -> bool {
 /// Owen-scrambled Sobol' (and PMJ02 at a power of two) under a random shift, on an integrand
 /// with moments over boxes of at most 3 axes, by default: Owen's gains averaged over shifts
 /// predict it without truncation (the estimated spectrum stays available as a check).
-fn shifted_scrambled_net<'a>(
+pub(super) fn shifted_scrambled_net<'a>(
     problem: &Problem<'a>,
     params: &PredictParams,
 ) -> Option<&'a dyn Sampler> {
@@ -359,24 +344,9 @@ fn cell_form_allowed(params: &PredictParams) -> bool {
         && params.kmax.is_none()
 }
 
-/// A random sampler with cells and no closed-form spectrum (multi-jitter, CMJ, orthogonal
-/// arrays, PMJ02) under a random shift, on an integrand with moments over boxes of at most 3
-/// axes, with `--form cells`: each pattern's cell form on the shifted integrand, averaged over
-/// patterns and shifts, predicts it without truncation. Returns the sampler, its kind and its
-/// cells at N.
-fn shifted_cells<'a>(
-    problem: &Problem<'a>,
-    params: &PredictParams,
-) -> Option<(&'a dyn Sampler, SamplerKind, Vec<usize>)> {
-    if params.form != FormChoice::Cells {
-        return None;
-    }
-    shifted_strata(problem, params)
-}
-
 /// A random sampler with cells and no closed-form spectrum under a random shift, on an
 /// integrand with moments over boxes of at most 3 axes, with the route left to the cell form.
-fn shifted_strata<'a>(
+pub(super) fn shifted_strata<'a>(
     problem: &Problem<'a>,
     params: &PredictParams,
 ) -> Option<(&'a dyn Sampler, SamplerKind, Vec<usize>)> {
@@ -401,7 +371,7 @@ fn shifted_strata<'a>(
 /// A random sampler (its patterns drawn anew) under a digital shift whose law the shift
 /// changes: not white noise (whose law it keeps) and not an Owen-scrambled net (which absorbs
 /// it); the mean over patterns of each one's Walsh sum predicts it.
-fn drawn_under_digital_shift(problem: &Problem<'_>) -> bool {
+pub(super) fn drawn_under_digital_shift(problem: &Problem<'_>) -> bool {
     let r = problem.randomization;
     r == Randomization::DigitalShift
         && matches!(problem.patterns, Patterns::Sampler(_))
@@ -413,7 +383,7 @@ fn drawn_under_digital_shift(problem: &Problem<'_>) -> bool {
 
 /// Whether `problem` is fixed patterns under a digital shift (a deterministic sampler's, or
 /// given sets): the Walsh form predicts it.
-fn uses_walsh(problem: &Problem<'_>) -> bool {
+pub(super) fn uses_walsh(problem: &Problem<'_>) -> bool {
     problem.randomization == Randomization::DigitalShift
         && match problem.patterns {
             Patterns::PointSets(_) => true,
@@ -421,146 +391,11 @@ fn uses_walsh(problem: &Problem<'_>) -> bool {
         }
 }
 
-pub(crate) fn predict_routed(
-    problem: &Problem<'_>,
-    params: &PredictParams,
-    progress: &dyn Progress,
-) -> Result<Prediction> {
-    let n = problem.n;
-    let kind = problem.kind();
-    if uses_cells(problem) {
-        if let Some(p) = jitter_by_aliasing(problem, params, progress)? {
-            return Ok(p);
-        }
-        let source = match (problem.patterns, kind, problem.cells) {
-            (Patterns::Sampler(sampler), Some(k), _) => CellSource::Sampler(sampler, k),
-            (Patterns::PointSets(sets), _, Some(rule)) => CellSource::Sets(sets, rule),
-            _ => return Err(Error::Mismatch("a cell form without cells".into())),
-        };
-        return super::cells::predict_cells(problem.integrand, source, n, params, progress);
-    }
-    if uses_walsh(problem) {
-        return super::walsh::predict_walsh(problem, params, progress);
-    }
-    if let (true, Patterns::Sampler(sampler)) =
-        (drawn_under_digital_shift(problem), problem.patterns)
-    {
-        return super::walsh::predict_walsh_drawn(problem, sampler, params, progress);
-    }
-    if let Some(p) = predict_halton(problem, params, progress)? {
-        return Ok(p);
-    }
-    if let Some((form, strata)) = gaussian_jitter_as_drawn(problem) {
-        return super::gaussian_jitter::predict_gaussian_jitter_as_drawn(
-            problem.integrand,
-            form,
-            &strata,
-            &params.budget,
-        );
-    }
-    if let Some(sampler) = shifted_scrambled_net(problem, params) {
-        return super::shifted_gains::predict_shifted_net(
-            problem.integrand,
-            sampler,
-            n,
-            params,
-            progress,
-        );
-    }
-    if let Some((_, kind, _)) = shifted_strata(problem, params)
-        && super::shifted_cells::shuffles_over_shifts(problem.integrand, kind)
-    {
-        return super::shifted_cells::predict_shifted_shuffles(
-            problem.integrand,
-            kind,
-            n,
-            params,
-            progress,
-        );
-    }
-    if params.form == FormChoice::Auto
-        && let Some((sampler, kind, _)) = shifted_strata(problem, params)
-    {
-        return shifted_strata_measured(problem, (sampler, kind), params, progress);
-    }
-    if let Some((sampler, kind, grid)) = shifted_cells(problem, params) {
-        return super::shifted_cells::predict_shifted_cells(
-            problem.integrand,
-            (sampler, kind),
-            &grid,
-            n,
-            params,
-            progress,
-        );
-    }
-    if params.form == FormChoice::Cells {
-        return Err(Error::OutsideValidity {
-            route: "the cell form".into(),
-            reason: format!(
-                "{} used {} has no cell form: it is the form of strata and nets used as drawn, \
-                 and under a shift of multi-jitter, CMJ, orthogonal arrays, PMJ02 and Sobol' on \
-                 integrands with moments over boxes (no spectrum or lattice asked for)",
-                kind.map_or("given point sets".to_string(), |k| k.to_string()),
-                problem.randomization.estimator()
-            ),
-        });
-    }
-    let closed = match (params.spectrum, problem.patterns) {
-        (SpectrumChoice::Estimated, _) | (_, Patterns::PointSets(_)) => None,
-        (_, Patterns::Sampler(s)) => s.closed_form(n),
-    };
-    // Gaussian jitter's closed form summed exactly (in frequency or in space) rather than on a
-    // lattice, unless a form or an extent is asked for.
-    if let Some(form @ ClosedForm::GaussianJitter { .. }) = closed
-        && problem.randomization == Randomization::Shift
-        && params.form == FormChoice::Auto
-        && params.kmax.is_none()
-        && let Some(strata) = crate::sampler::strata(n, problem.integrand.dimension())
-    {
-        return gaussian_jitter_shifted(problem.integrand, form, &strata, params);
-    }
-    let pairs_route = params.spectrum == SpectrumChoice::Auto
-        && params.form != FormChoice::Polar
-        && params.kmax.is_none()
-        && closed.is_none();
-    if pairs_route {
-        let drawn;
-        let fixed: Option<&[crate::pointset::PointSet]> = match (problem.patterns, kind) {
-            (Patterns::PointSets(sets), _) => Some(sets),
-            (Patterns::Sampler(s), Some(k)) if k.is_deterministic() => {
-                drawn = [s.sample(n, params.seed, 0)?];
-                Some(&drawn)
-            }
-            _ => None,
-        };
-        if let Some(sets) = fixed
-            && let Some(p) = fixed_sets_in_space(problem.integrand, sets, kind, params)?
-        {
-            return Ok(p);
-        }
-    }
-    if params.spectrum == SpectrumChoice::Closed && closed.is_none() {
-        return Err(invalid(
-            "spectrum",
-            "closed",
-            "a sampler with a closed form at N (random; jitter, Gaussian jitter and the regular \
-             grid with strata at N; Latin hypercube; rank-1 lattices; Kronecker); use the \
-             estimated spectrum",
-        ));
-    }
-    match (closed, params.form) {
-        (Some(c), FormChoice::Polar) => closed_polar(problem, c, kind, params),
-        (Some(c), _) => closed_lattice(problem, c, kind, params),
-        (None, FormChoice::Polar) => rescaled_polar(problem, kind, params, progress),
-        (None, _) => estimated_lattice(problem, kind, params, progress),
-    }
-}
-
 /// The default for strata under a shift: the lattice form with a measured tail. Their
 /// spectra along the axes are far below white (their projections are stratified), which a
 /// white tail overcounts, and per unit of noise it costs 5 to 60 times less than their cell
 /// form averaged over patterns and shifts (`--form cells`, the alternative route).
-fn shifted_strata_measured(
+pub(super) fn shifted_strata_measured(
     problem: &Problem<'_>,
     (sampler, kind): (&dyn Sampler, SamplerKind),
     params: &PredictParams,
@@ -616,7 +451,7 @@ fn weighs_in_space(f: &dyn Integrand, d: usize) -> bool {
 /// whose frequencies grow like N, or in space over the offsets' difference, at the same cost at
 /// any N (1D and 2D, a closed-form autocorrelation): space first where it is the cheaper, and
 /// where the frequencies exceed the budget.
-fn gaussian_jitter_shifted(
+pub(super) fn gaussian_jitter_shifted(
     f: &dyn Integrand,
     form: ClosedForm,
     strata: &[usize],
@@ -646,7 +481,7 @@ fn gaussian_jitter_shifted(
 }
 
 /// The lattice form with a closed form: exact, with an exact tail bound.
-fn closed_lattice(
+pub(super) fn closed_lattice(
     problem: &Problem<'_>,
     closed: ClosedForm,
     kind: Option<SamplerKind>,
@@ -903,7 +738,58 @@ fn fixed_sets_in_space(
         dc_term: 0.0,
         evaluations: pairs as u64,
         alternatives: Vec::new(),
+        analysis: None,
     }))
+}
+
+/// The fixed sets of `problem` whose pairs [`fixed_sets_in_space`] sums: given sets, or a
+/// deterministic sampler's one pattern (counted, not drawn); their count and N.
+fn fixed_sets_shape(problem: &Problem<'_>) -> Option<(usize, usize)> {
+    match (problem.patterns, problem.kind()) {
+        (Patterns::PointSets(sets), _) => Some((sets.len(), problem.n)),
+        (Patterns::Sampler(_), Some(k)) if k.is_deterministic() => Some((1, problem.n)),
+        _ => None,
+    }
+}
+
+/// Whether `problem`'s fixed sets are summed exactly over their pairs: within [`EXACT_PAIRS`],
+/// on an integrand with a closed-form autocorrelation.
+pub(super) fn fixed_pairs_fit(problem: &Problem<'_>) -> bool {
+    let f = problem.integrand;
+    fixed_sets_shape(problem).is_some_and(|(sets, n)| {
+        sets.saturating_mul(n.saturating_mul(n)) <= EXACT_PAIRS
+            && f.autocorrelation(&vec![0.0; f.dimension()]).is_some()
+    })
+}
+
+/// What the pair sum over `problem`'s fixed sets needs: one autocorrelation value a pair.
+pub(super) fn fixed_pairs_needs(problem: &Problem<'_>) -> Needs {
+    let (sets, n) = fixed_sets_shape(problem).unwrap_or((0, 0));
+    Needs {
+        memory_bytes: 8.0 * n as f64,
+        work_seconds: sets as f64 * (n as f64).powi(2) * autocorrelation_seconds(problem.integrand),
+    }
+}
+
+/// The pair sum over `problem`'s fixed sets ([`fixed_pairs_fit`] holds).
+///
+/// # Errors
+/// The budget, or an integrand whose autocorrelation is not in closed form.
+pub(super) fn fixed_pairs(problem: &Problem<'_>, params: &PredictParams) -> Result<Prediction> {
+    let drawn;
+    let sets: &[crate::pointset::PointSet] = match problem.patterns {
+        Patterns::PointSets(sets) => sets,
+        Patterns::Sampler(s) => {
+            drawn = [s.sample(problem.n, params.seed, 0)?];
+            &drawn
+        }
+    };
+    fixed_sets_in_space(problem.integrand, sets, problem.kind(), params)?.ok_or_else(|| {
+        Error::Mismatch(format!(
+            "{} has no autocorrelation in closed form",
+            problem.integrand.label()
+        ))
+    })
 }
 
 /// Pairs of points per pattern up to which the patterns of a sampler without a closed form may
@@ -1035,6 +921,7 @@ fn patterns_in_space(
         dc_term: 0.0,
         evaluations: (patterns * n * n) as u64,
         alternatives: Vec::new(),
+        analysis: None,
     })
 }
 
@@ -1119,31 +1006,18 @@ fn summed_in_space(
     })
 }
 
-/// Jitter as drawn beyond the table of its strata, on a smooth integrand without exact sums
-/// over a grid's cells of its own (an anisotropic Gaussian): the shifted estimator's variance,
-/// which its closed form gives at any N, with the distance between the two estimators bounded
-/// as the model term. That distance is `|‖Πf‖² − E_t ‖Πf_t‖²| / N` for the periodized `f_P`
-/// ([`super::dual_lattice::strata_aliasing`]), and `f` differs from `f_P` by its images `E`,
-/// which move either estimator's standard deviation by at most `E`; `None` where the bound is
-/// above [`CLOSED_TAIL_SHARE`] of the value, or for another problem.
-fn jitter_by_aliasing(
-    problem: &Problem<'_>,
-    params: &PredictParams,
-    progress: &dyn Progress,
-) -> Result<Option<Prediction>> {
+/// Jitter's strata as drawn beyond its table of cells, on a smooth integrand whose own sums over
+/// a grid's cells are not exact (an anisotropic Gaussian), with the form left to the route:
+/// where [`jitter_by_aliasing`] applies. `None` otherwise.
+fn jitter_strata_beyond_table(problem: &Problem<'_>, params: &PredictParams) -> Option<Vec<usize>> {
     let (f, n) = (problem.integrand, problem.n);
     let d = f.dimension();
-    let Some(decay) = f.smooth_decay() else {
-        return Ok(None);
-    };
-    let Some(grid) = (problem.kind() == Some(SamplerKind::Jitter)
+    f.smooth_decay()?;
+    let grid = (problem.kind() == Some(SamplerKind::Jitter)
         && problem.randomization == Randomization::None
         && params.form == FormChoice::Auto)
         .then(|| SamplerKind::Jitter.facts().cells.grid(n, d))
-        .flatten()
-    else {
-        return Ok(None);
-    };
+        .flatten()?;
     let beyond_table = grid
         .iter()
         .try_fold(1usize, |a, &m| a.checked_mul(m))
@@ -1151,14 +1025,38 @@ fn jitter_by_aliasing(
     // One cell per axis asks at no cost whether the integrand's own sums are exact (they then
     // answer through the cell form at any N).
     let exact_sums = f.cell_sums(&vec![1; d]).is_some() && !super::cell_pairs::bounded_cell_sums(f);
-    if !beyond_table || exact_sums {
+    (beyond_table && !exact_sums).then_some(grid)
+}
+
+/// Whether [`jitter_by_aliasing`] applies to `problem`.
+pub(super) fn jitter_aliasing_applies(problem: &Problem<'_>, params: &PredictParams) -> bool {
+    jitter_strata_beyond_table(problem, params).is_some()
+}
+
+/// Jitter as drawn beyond the table of its strata, on a smooth integrand without exact sums
+/// over a grid's cells of its own (an anisotropic Gaussian): the shifted estimator's variance,
+/// which its closed form gives at any N, with the distance between the two estimators bounded
+/// as the model term. That distance is `|‖Πf‖² − E_t ‖Πf_t‖²| / N` for the periodized `f_P`
+/// ([`super::dual_lattice::strata_aliasing`]), and `f` differs from `f_P` by its images `E`,
+/// which move either estimator's standard deviation by at most `E`; `None` where the bound is
+/// above [`CLOSED_TAIL_SHARE`] of the value, or for another problem.
+pub(super) fn jitter_by_aliasing(
+    problem: &Problem<'_>,
+    params: &PredictParams,
+    progress: &dyn Progress,
+) -> Result<Option<Prediction>> {
+    let (f, n) = (problem.integrand, problem.n);
+    let (Some(decay), Some(grid)) = (
+        f.smooth_decay(),
+        jitter_strata_beyond_table(problem, params),
+    ) else {
         return Ok(None);
-    }
+    };
     let shifted = Problem {
         randomization: Randomization::Shift,
         ..*problem
     };
-    let mut p = predict_routed(&shifted, params, progress)?;
+    let mut p = super::predict_planned(&shifted, params, progress)?;
     let images = decay.images;
     let spread = 2.0 * p.variance.sqrt() * images + images * images;
     let model = super::dual_lattice::strata_aliasing(&decay, &grid) / n as f64 + 2.0 * spread;
@@ -1237,11 +1135,12 @@ fn in_space(
         dc_term: 0.0,
         evaluations: n as u64,
         alternatives: Vec::new(),
+        analysis: None,
     }
 }
 
 /// The polar form with a closed form's radial mean.
-fn closed_polar(
+pub(super) fn closed_polar(
     problem: &Problem<'_>,
     closed: ClosedForm,
     kind: Option<SamplerKind>,
@@ -1280,7 +1179,7 @@ fn closed_polar(
 }
 
 /// The polar form with a spectrum estimated at a reference N and rescaled.
-fn rescaled_polar(
+pub(super) fn rescaled_polar(
     problem: &Problem<'_>,
     kind: Option<SamplerKind>,
     params: &PredictParams,
@@ -1352,7 +1251,7 @@ fn rescaled_polar(
 }
 
 /// The lattice form with the spectrum estimated at N, pattern by pattern.
-fn estimated_lattice(
+pub(super) fn estimated_lattice(
     problem: &Problem<'_>,
     kind: Option<SamplerKind>,
     params: &PredictParams,
@@ -1684,10 +1583,85 @@ fn estimated_reason(
     )
 }
 
+/// What a closed form's lattice needs at most: [`CLOSED_LATTICE_BUDGET`] coefficients.
+pub(super) fn closed_lattice_needs() -> Needs {
+    let len = CLOSED_LATTICE_BUDGET as f64;
+    Needs {
+        memory_bytes: 8.0 * len,
+        work_seconds: len * crate::budget::COEFFICIENT_SECONDS,
+    }
+}
+
+/// What the closed-form routes of `problem` need first: the sums in space one autocorrelation
+/// value per point or lag (their peaks continue beyond any lattice), the others at most their
+/// lattice's budget (beyond which the polar form answers).
+pub(super) fn closed_form_needs(problem: &Problem<'_>, closed: ClosedForm) -> Needs {
+    let n = problem.n as f64;
+    match closed {
+        ClosedForm::WhiteNoise => Needs::default(),
+        ClosedForm::RegularGrid
+        | ClosedForm::Rank1Lattice { .. }
+        | ClosedForm::Kronecker { .. } => Needs {
+            memory_bytes: 8.0 * n,
+            work_seconds: n * autocorrelation_seconds(problem.integrand),
+        },
+        _ => closed_lattice_needs(),
+    }
+}
+
+/// What the first pass of a per-pattern lattice estimate needs: its initial patterns, drawn
+/// and transformed on the initial lattice one at a time.
+pub(super) fn estimated_lattice_needs(problem: &Problem<'_>) -> Needs {
+    let (n, d) = (problem.n, problem.dimension());
+    let lattice = lattice(d, initial_kmax(n, d, 6.0, ESTIMATED_LATTICE_BUDGET));
+    let cells = (2.0 * lattice.side() as f64).powi(d as i32);
+    let transform = Needs {
+        // The oversampled grid of complex values and the lattice's weights.
+        memory_bytes: 16.0 * cells + 8.0 * lattice.len() as f64,
+        work_seconds: TRANSFORM_CELL_SECONDS * cells,
+    };
+    let (count, draw) = match (problem.patterns, problem.kind()) {
+        (Patterns::PointSets(sets), _) => (sets.len(), Needs::default()),
+        (_, Some(k)) => (
+            k.spectrum_realizations(INITIAL_REALIZATIONS),
+            k.pattern_needs(n, d),
+        ),
+        // A sampler of one's own: its cost is unknown; a microsecond a point.
+        (_, None) => (
+            INITIAL_REALIZATIONS,
+            Needs {
+                memory_bytes: 8.0 * (n * d) as f64,
+                work_seconds: 1e-6 * n as f64,
+            },
+        ),
+    };
+    let one = draw.and(transform);
+    Needs {
+        memory_bytes: one.memory_bytes,
+        work_seconds: one.work_seconds * count as f64,
+    }
+}
+
+/// What the polar form's estimate at its reference N needs first.
+pub(super) fn rescaled_polar_needs(problem: &Problem<'_>, params: &PredictParams) -> Needs {
+    let d = problem.dimension();
+    let n_ref = params
+        .reference_n
+        .unwrap_or_else(|| default_reference_n(d).max(problem.n));
+    let realizations = params.realizations.unwrap_or(INITIAL_REALIZATIONS);
+    problem.kind().map_or(Needs::default(), |k| {
+        let one = k.pattern_needs(n_ref, d);
+        Needs {
+            memory_bytes: one.memory_bytes,
+            work_seconds: one.work_seconds * realizations as f64,
+        }
+    })
+}
+
 /// Predictions for problems that share their patterns (one sampler and N, or the same point
-/// sets): as [`predict_routed`] for each, except that those on the per-pattern lattice form
-/// share their spectrum estimates ([`estimated_lattice_many`]).
-pub(crate) fn predict_routed_many(
+/// sets), each by its planned analysis, except that those whose plan is the per-pattern
+/// lattice form share their spectrum estimates ([`estimated_lattice_many`]).
+pub(crate) fn predict_planned_many(
     problems: &[Problem<'_>],
     params: &PredictParams,
     progress: &dyn Progress,
@@ -1711,42 +1685,27 @@ pub(crate) fn predict_routed_many(
                 .into(),
         ));
     }
-    let n = first.n;
-    let kind = first.kind();
-    let closed = params.spectrum != SpectrumChoice::Estimated
-        && matches!(first.patterns, Patterns::Sampler(s) if s.closed_form(n).is_some());
-    if closed
-        || uses_cells(first)
-        || uses_walsh(first)
-        || halton_drawn(first)
-        || drawn_under_digital_shift(first)
-        || kind.is_some_and(|k| k.is_deterministic())
-        || problems.iter().any(|p| {
-            shifted_scrambled_net(p, params).is_some() || shifted_strata(p, params).is_some()
-        })
-        || params.form == FormChoice::Polar
-        || params.spectrum == SpectrumChoice::Closed
-    {
-        return problems
-            .iter()
-            .map(|p| predict_routed(p, params, progress))
-            .collect();
+    let plans = problems
+        .iter()
+        .map(|p| super::analysis::choose(p, params))
+        .collect::<Result<Vec<_>>>()?;
+    let shared: Vec<usize> = (0..problems.len())
+        .filter(|&i| plans[i].1.analysis == AnalysisKind::EstimatedLattice)
+        .collect();
+    let refs: Vec<&Problem<'_>> = shared.iter().map(|&i| &problems[i]).collect();
+    let mut estimated = estimated_lattice_many(&refs, first.kind(), params, progress)?.into_iter();
+    let mut out = Vec::with_capacity(problems.len());
+    for (problem, (row, plan)) in problems.iter().zip(plans) {
+        let p = if plan.analysis == AnalysisKind::EstimatedLattice {
+            estimated
+                .next()
+                .ok_or_else(|| Error::Mismatch("a problem left unpredicted".into()))?
+        } else {
+            row.predict(problem, params, progress)?
+        };
+        out.push(super::planned(p, &plan));
     }
-    if let Patterns::PointSets(sets) = first.patterns
-        && first.randomization == Randomization::Shift
-        && params.spectrum == SpectrumChoice::Auto
-        && params.kmax.is_none()
-    {
-        let exact = problems
-            .iter()
-            .map(|p| fixed_sets_in_space(p.integrand, sets, None, params))
-            .collect::<Result<Option<Vec<_>>>>()?;
-        if let Some(all) = exact {
-            return Ok(all);
-        }
-    }
-    let refs: Vec<&Problem<'_>> = problems.iter().collect();
-    estimated_lattice_many(&refs, kind, params, progress)
+    Ok(out)
 }
 
 /// How many realizations the work budget pays for: drawing each pattern (the sampler's measured

@@ -152,5 +152,6 @@ pub(super) fn shifted_prediction(
         dc_term: 0.0,
         evaluations,
         alternatives: Vec::new(),
+        analysis: None,
     }
 }

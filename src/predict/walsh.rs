@@ -675,6 +675,7 @@ fn walsh_prediction(problem: &Problem<'_>, e: &WalshEstimate, reason: String) ->
         dc_term: 0.0,
         evaluations: (e.shifts * problem.n) as u64,
         alternatives: Vec::new(),
+        analysis: None,
     }
 }
 
@@ -815,6 +816,7 @@ fn net_prediction(problem: &Problem<'_>, sets: usize, net: &NetVariance) -> Pred
         dc_term: 0.0,
         evaluations: 0,
         alternatives: Vec::new(),
+        analysis: None,
     }
 }
 

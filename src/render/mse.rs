@@ -330,5 +330,6 @@ pub fn predict_mse_per_pixel(
         dc_term: 0.0,
         evaluations: predicted.iter().map(|p| p.evaluations).sum(),
         alternatives: Vec::new(),
+        analysis: None,
     })
 }

@@ -1,0 +1,235 @@
+//! A prediction is planned before it is computed. Each analysis (a Fourier form, strata in
+//! space, Owen's gains, a Walsh sum, …) states whether it applies to a problem and why, what it
+//! needs (seconds of one core and bytes) as a function of the problem, and computes its
+//! prediction with every budget term. [`plan_analysis`] walks one ordered table of analyses,
+//! takes the first that applies, and checks its needs against the budget before any work; the
+//! plan is a value that can be shown ([`AnalysisPlan`], `specvar predict --explain`) and then
+//! run. Every prediction of the crate (one problem, many problems, pixels, plans, padded pairs,
+//! the report) goes through it.
+
+use super::{PredictParams, Prediction, Problem};
+use crate::budget::Needs;
+use crate::error::{Error, Result};
+use crate::progress::Progress;
+use serde::Serialize;
+use std::fmt;
+
+/// The analyses of the table, in the order they are tried.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "kebab-case")]
+#[non_exhaustive]
+pub enum AnalysisKind {
+    /// Jitter as drawn beyond its table of strata on a smooth integrand: the shifted
+    /// estimator's closed form, the gap between the two bounded through the strata's aliases.
+    JitterAliasing,
+    /// Strata (or independent points) as drawn with a fixed occupancy: the per-stratum form.
+    FixedStrata,
+    /// N-rooks samplers as drawn (Latin hypercube, multi-jitter, CMJ, orthogonal arrays): their
+    /// pairs of occupied cells in closed form.
+    RooksPairs,
+    /// An Owen-scrambled base-2 net as drawn: Owen's gains from one net's pair counts.
+    OwenGains,
+    /// PMJ02 as drawn between powers of two: Owen's gains averaged over patterns.
+    OwenGainsOverPatterns,
+    /// Strata as drawn whose occupancy has no closed form: estimated from patterns, each
+    /// pattern's terms exact.
+    EstimatedOccupancy,
+    /// Fixed patterns (a deterministic sampler's, or given sets) under a digital shift: the
+    /// Walsh form.
+    WalshFixed,
+    /// A random sampler under a digital shift that changes its law: each pattern's Walsh sum,
+    /// averaged over patterns.
+    WalshDrawn,
+    /// Halton with permuted digits as drawn on a product integrand: its pairs of points.
+    PermutedDigits,
+    /// Halton with permuted digits as drawn: a level of digit cells exact, the finer digits
+    /// measured.
+    PermutedLevel,
+    /// Gaussian jitter as drawn: the pairs of frequencies its strata alias together.
+    AliasedPairs,
+    /// An Owen-scrambled net under a random shift: Owen's gains averaged over shifts.
+    OwenGainsOverShifts,
+    /// N-rooks permutations under a random shift: their pairs in closed form averaged over
+    /// shifts.
+    RooksOverShifts,
+    /// Strata under a random shift: the lattice form with each pattern's transform and the
+    /// tail measured at shifts.
+    MeasuredTail,
+    /// Strata under a random shift, the cell form asked for: each pattern's cells on the
+    /// shifted integrand.
+    StrataOverShifts,
+    /// Gaussian jitter under a shift: its closed form summed exactly, in frequency or in space.
+    GaussianJitterShifted,
+    /// Fixed patterns under a shift: each set's periodogram summed in space over its pairs.
+    FixedPairs,
+    /// The polar form with a closed form's radial mean.
+    ClosedPolar,
+    /// The lattice form with a closed form (exact on the torus), or its sums in space.
+    ClosedLattice,
+    /// The polar form with a spectrum estimated at a reference N and rescaled.
+    RescaledPolar,
+    /// The lattice form with the spectrum estimated at N, pattern by pattern.
+    EstimatedLattice,
+}
+
+impl AnalysisKind {
+    /// Every analysis, in the table's order.
+    pub const ALL: [AnalysisKind; 21] = [
+        AnalysisKind::JitterAliasing,
+        AnalysisKind::FixedStrata,
+        AnalysisKind::RooksPairs,
+        AnalysisKind::OwenGains,
+        AnalysisKind::OwenGainsOverPatterns,
+        AnalysisKind::EstimatedOccupancy,
+        AnalysisKind::WalshFixed,
+        AnalysisKind::WalshDrawn,
+        AnalysisKind::PermutedDigits,
+        AnalysisKind::PermutedLevel,
+        AnalysisKind::AliasedPairs,
+        AnalysisKind::OwenGainsOverShifts,
+        AnalysisKind::RooksOverShifts,
+        AnalysisKind::MeasuredTail,
+        AnalysisKind::StrataOverShifts,
+        AnalysisKind::GaussianJitterShifted,
+        AnalysisKind::FixedPairs,
+        AnalysisKind::ClosedPolar,
+        AnalysisKind::ClosedLattice,
+        AnalysisKind::RescaledPolar,
+        AnalysisKind::EstimatedLattice,
+    ];
+
+    /// The name in output and on the command line (`fixed-strata`).
+    pub fn name(self) -> &'static str {
+        match self {
+            AnalysisKind::JitterAliasing => "jitter-aliasing",
+            AnalysisKind::FixedStrata => "fixed-strata",
+            AnalysisKind::RooksPairs => "rooks-pairs",
+            AnalysisKind::OwenGains => "owen-gains",
+            AnalysisKind::OwenGainsOverPatterns => "owen-gains-over-patterns",
+            AnalysisKind::EstimatedOccupancy => "estimated-occupancy",
+            AnalysisKind::WalshFixed => "walsh-fixed",
+            AnalysisKind::WalshDrawn => "walsh-drawn",
+            AnalysisKind::PermutedDigits => "permuted-digits",
+            AnalysisKind::PermutedLevel => "permuted-level",
+            AnalysisKind::AliasedPairs => "aliased-pairs",
+            AnalysisKind::OwenGainsOverShifts => "owen-gains-over-shifts",
+            AnalysisKind::RooksOverShifts => "rooks-over-shifts",
+            AnalysisKind::MeasuredTail => "measured-tail",
+            AnalysisKind::StrataOverShifts => "strata-over-shifts",
+            AnalysisKind::GaussianJitterShifted => "gaussian-jitter-shifted",
+            AnalysisKind::FixedPairs => "fixed-pairs",
+            AnalysisKind::ClosedPolar => "closed-polar",
+            AnalysisKind::ClosedLattice => "closed-lattice",
+            AnalysisKind::RescaledPolar => "rescaled-polar",
+            AnalysisKind::EstimatedLattice => "estimated-lattice",
+        }
+    }
+}
+
+impl fmt::Display for AnalysisKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Whether an analysis answers a problem.
+pub(crate) enum Applies {
+    /// It does, for this reason.
+    Yes(String),
+    /// It does not (the next row is asked).
+    No,
+    /// The problem asks for something this analysis's family refuses (a lattice extent for the
+    /// cell form, say): the plan stops with this error.
+    Refuse(Error),
+}
+
+/// One analysis: a row of the table.
+pub(crate) trait Analysis: Sync {
+    /// Which analysis it is.
+    fn kind(&self) -> AnalysisKind;
+
+    /// Whether it answers `problem` with `params`, decided before any work.
+    fn applies(&self, problem: &Problem<'_>, params: &PredictParams) -> Applies;
+
+    /// What its first pass needs (the patterns, tables and transforms it must hold or compute
+    /// before it can say anything), from the problem's sizes alone. Adaptive analyses spend
+    /// more within `params.work_budget_seconds`, each further step checked as it goes.
+    fn needs(&self, problem: &Problem<'_>, params: &PredictParams) -> Needs;
+
+    /// Its prediction, with every budget term.
+    ///
+    /// # Errors
+    /// What the computation refuses (a budget, a validity check only the work reveals).
+    fn predict(
+        &self,
+        problem: &Problem<'_>,
+        params: &PredictParams,
+        progress: &dyn Progress,
+    ) -> Result<Prediction>;
+}
+
+/// The plan of a prediction: the analysis chosen, why, and what it needs.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct AnalysisPlan {
+    /// The analysis.
+    pub analysis: AnalysisKind,
+    /// Why it answers this problem.
+    pub reason: String,
+    /// What it needs before it can answer.
+    pub needs: PlanNeeds,
+}
+
+/// [`Needs`] as a plan reports them.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct PlanNeeds {
+    /// Seconds of one core's work.
+    pub seconds: f64,
+    /// Bytes held at once.
+    pub bytes: f64,
+}
+
+impl From<Needs> for PlanNeeds {
+    fn from(n: Needs) -> Self {
+        Self {
+            seconds: n.work_seconds,
+            bytes: n.memory_bytes,
+        }
+    }
+}
+
+/// The row of the table that answers `problem`, with its reason and needs; the needs are
+/// checked against `params.budget` here, before any work.
+pub(crate) fn choose<'t>(
+    problem: &Problem<'_>,
+    params: &PredictParams,
+) -> Result<(&'t dyn Analysis, AnalysisPlan)> {
+    super::route::check_estimator(problem)?;
+    for row in super::table::TABLE {
+        let reason = match row.applies(problem, params) {
+            Applies::Yes(reason) => reason,
+            Applies::No => continue,
+            Applies::Refuse(e) => return Err(e),
+        };
+        let needs = row.needs(problem, params);
+        params.budget.check(
+            &format!("the {} analysis at N = {}", row.kind(), problem.n),
+            needs,
+            "lower N",
+        )?;
+        let plan = AnalysisPlan {
+            analysis: row.kind(),
+            reason,
+            needs: needs.into(),
+        };
+        return Ok((*row, plan));
+    }
+    Err(Error::OutsideValidity {
+        route: "every analysis".into(),
+        reason: format!(
+            "no analysis answers the {} estimator of {} at N = {}",
+            problem.randomization.estimator(),
+            problem.integrand.label(),
+            problem.n
+        ),
+    })
+}
