@@ -135,7 +135,7 @@ const PROBE_FROM: f64 = (16u64 << 20) as f64;
 
 /// A size in words: MiB below a GiB, GiB above, with at most three significant digits (very
 /// large sizes in exponent notation).
-pub(crate) fn bytes(b: f64) -> String {
+pub fn bytes(b: f64) -> String {
     if !b.is_finite() {
         return "an unbounded amount of memory".into();
     }

@@ -126,6 +126,51 @@ impl AnalysisKind {
     }
 }
 
+impl AnalysisKind {
+    /// What it computes, in a phrase.
+    pub fn description(self) -> &'static str {
+        match self {
+            AnalysisKind::JitterAliasing => {
+                "jitter's shifted closed form, the gap to the strata as drawn bounded by aliasing"
+            }
+            AnalysisKind::FixedStrata => "the per-stratum form, (1/N²) Σ_c Var_c f, exact",
+            AnalysisKind::RooksPairs => {
+                "the cell form with the N-rooks permutations' pairs of cells in closed form"
+            }
+            AnalysisKind::OwenGains => "Owen's gains read from one net's pair counts, exact",
+            AnalysisKind::OwenGainsOverPatterns => "Owen's gains averaged over patterns",
+            AnalysisKind::EstimatedOccupancy => {
+                "the cell form with the occupancy estimated from patterns"
+            }
+            AnalysisKind::WalshFixed => "the Walsh form of fixed patterns under a digital shift",
+            AnalysisKind::WalshDrawn => "each drawn pattern's Walsh sum, averaged over patterns",
+            AnalysisKind::PermutedDigits => "the pairs of Halton's points on every digit support",
+            AnalysisKind::PermutedLevel => {
+                "a level of digit cells exact, Halton's finer digits measured"
+            }
+            AnalysisKind::AliasedPairs => "the aliased-pair form of Gaussian jitter as drawn",
+            AnalysisKind::OwenGainsOverShifts => "Owen's gains averaged over random shifts",
+            AnalysisKind::RooksOverShifts => {
+                "the N-rooks pairs in closed form averaged over random shifts"
+            }
+            AnalysisKind::MeasuredTail => {
+                "the lattice form on each pattern's transform, its tail measured at shifts"
+            }
+            AnalysisKind::StrataOverShifts => "each pattern's cells on the shifted integrand",
+            AnalysisKind::GaussianJitterShifted => {
+                "Gaussian jitter's closed form by Parseval or summed in space"
+            }
+            AnalysisKind::FixedPairs => "each fixed set's pairs summed in space",
+            AnalysisKind::ClosedPolar => "the polar form with a closed form's radial mean",
+            AnalysisKind::ClosedLattice => {
+                "the lattice form with a closed form, or summed in space over its peaks"
+            }
+            AnalysisKind::RescaledPolar => "the polar form with a spectrum rescaled from N_ref",
+            AnalysisKind::EstimatedLattice => "the lattice form with each pattern's transform at N",
+        }
+    }
+}
+
 impl fmt::Display for AnalysisKind {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(self.name())
@@ -195,41 +240,4 @@ impl From<Needs> for PlanNeeds {
             bytes: n.memory_bytes,
         }
     }
-}
-
-/// The row of the table that answers `problem`, with its reason and needs; the needs are
-/// checked against `params.budget` here, before any work.
-pub(crate) fn choose<'t>(
-    problem: &Problem<'_>,
-    params: &PredictParams,
-) -> Result<(&'t dyn Analysis, AnalysisPlan)> {
-    super::route::check_estimator(problem)?;
-    for row in super::table::TABLE {
-        let reason = match row.applies(problem, params) {
-            Applies::Yes(reason) => reason,
-            Applies::No => continue,
-            Applies::Refuse(e) => return Err(e),
-        };
-        let needs = row.needs(problem, params);
-        params.budget.check(
-            &format!("the {} analysis at N = {}", row.kind(), problem.n),
-            needs,
-            "lower N",
-        )?;
-        let plan = AnalysisPlan {
-            analysis: row.kind(),
-            reason,
-            needs: needs.into(),
-        };
-        return Ok((*row, plan));
-    }
-    Err(Error::OutsideValidity {
-        route: "every analysis".into(),
-        reason: format!(
-            "no analysis answers the {} estimator of {} at N = {}",
-            problem.randomization.estimator(),
-            problem.integrand.label(),
-            problem.n
-        ),
-    })
 }

@@ -772,7 +772,7 @@ pub fn check_route(problem: &Problem<'_>) -> Result<()> {
 /// ```
 pub fn plan_analysis(problem: &Problem<'_>, params: &PredictParams) -> Result<AnalysisPlan> {
     check_params(params)?;
-    analysis::choose(problem, params).map(|(_, plan)| plan)
+    table::choose(problem, params).map(|(_, plan)| plan)
 }
 
 /// Refuses an estimator whose mean squared error is not its variance: Gaussian jitter used as
@@ -829,7 +829,7 @@ fn predict_planned(
     params: &PredictParams,
     progress: &dyn Progress,
 ) -> Result<Prediction> {
-    let (row, plan) = analysis::choose(problem, params)?;
+    let (row, plan) = table::choose(problem, params)?;
     row.predict(problem, params, progress)
         .map(|p| planned(p, &plan))
 }
@@ -904,7 +904,7 @@ pub fn predict_many(
     progress: &dyn Progress,
 ) -> Result<Vec<Prediction>> {
     check_params(params)?;
-    route::predict_planned_many(problems, params, progress)?
+    table::predict_planned_many(problems, params, progress)?
         .into_iter()
         .zip(problems)
         .map(|(p, problem)| finite_prediction(p).map(|p| for_estimator(p, problem)))

@@ -1,7 +1,6 @@
 //! Which route [`super::predict`] takes, and why: every decision of substance about a prediction
 //! (closed form or estimate, form, reference N, lattice extent, realizations) is made here.
 
-use super::analysis::AnalysisKind;
 use super::lattice::{white_noise, LatticePower, PatternEstimate, PatternPlan};
 use super::low_band::LowBand;
 use super::space::{
@@ -264,7 +263,16 @@ fn halton_through_level(problem: &Problem<'_>) -> bool {
     halton_drawn(problem) && problem.integrand.dimension() <= super::permuted_level::MAX_LEVEL_AXES
 }
 
-/// Which analysis predicts Halton as drawn: on a product integrand its pairs of points exactly
+/// How Halton as drawn is predicted.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum HaltonMethod {
+    /// Its pairs of points on a product integrand.
+    Pairs,
+    /// Through a level of digit cells.
+    Level,
+}
+
+/// Which method predicts Halton as drawn: on a product integrand its pairs of points exactly
 /// while they fit the work budget, else (and on any other integrand in 1 to 3 axes) through a
 /// level of digit cells with the finer digits measured; `None` for another problem.
 ///
@@ -273,7 +281,7 @@ fn halton_through_level(problem: &Problem<'_>) -> bool {
 pub(super) fn halton_analysis(
     problem: &Problem<'_>,
     params: &PredictParams,
-) -> Result<Option<AnalysisKind>> {
+) -> Result<Option<HaltonMethod>> {
     if !halton_drawn(problem) {
         return Ok(None);
     }
@@ -293,8 +301,8 @@ pub(super) fn halton_analysis(
     let pairs_fit = super::permuted_digits::pair_work_seconds(n, d) <= params.work_budget_seconds;
     let level = halton_through_level(problem);
     Ok(match halton_as_drawn(problem) {
-        Some(_) if pairs_fit || !level => Some(AnalysisKind::PermutedDigits),
-        _ if level => Some(AnalysisKind::PermutedLevel),
+        Some(_) if pairs_fit || !level => Some(HaltonMethod::Pairs),
+        _ if level => Some(HaltonMethod::Level),
         _ => None,
     })
 }
@@ -1266,7 +1274,7 @@ pub(super) fn estimated_lattice(
 /// share their patterns: each lattice size's realizations serve every integrand that needs
 /// that size (their weighted sums accumulated together), and a lattice is doubled only for the
 /// integrands whose tail is still above [`ESTIMATED_TAIL_SHARE`] of their variance.
-fn estimated_lattice_many(
+pub(super) fn estimated_lattice_many(
     problems: &[&Problem<'_>],
     kind: Option<SamplerKind>,
     params: &PredictParams,
@@ -1593,19 +1601,19 @@ pub(super) fn closed_lattice_needs() -> Needs {
 }
 
 /// What the closed-form routes of `problem` need first: the sums in space one autocorrelation
-/// value per point or lag (their peaks continue beyond any lattice), the others at most their
-/// lattice's budget (beyond which the polar form answers).
+/// value per point or lag (their peaks continue beyond any lattice). White noise needs nothing,
+/// and the lattice forms nothing before their first lattice, which checks its own size and
+/// gives way to the polar form (whose work does not grow with N) where it is too large.
 pub(super) fn closed_form_needs(problem: &Problem<'_>, closed: ClosedForm) -> Needs {
     let n = problem.n as f64;
     match closed {
-        ClosedForm::WhiteNoise => Needs::default(),
         ClosedForm::RegularGrid
         | ClosedForm::Rank1Lattice { .. }
         | ClosedForm::Kronecker { .. } => Needs {
             memory_bytes: 8.0 * n,
             work_seconds: n * autocorrelation_seconds(problem.integrand),
         },
-        _ => closed_lattice_needs(),
+        _ => Needs::default(),
     }
 }
 
@@ -1656,56 +1664,6 @@ pub(super) fn rescaled_polar_needs(problem: &Problem<'_>, params: &PredictParams
             work_seconds: one.work_seconds * realizations as f64,
         }
     })
-}
-
-/// Predictions for problems that share their patterns (one sampler and N, or the same point
-/// sets), each by its planned analysis, except that those whose plan is the per-pattern
-/// lattice form share their spectrum estimates ([`estimated_lattice_many`]).
-pub(crate) fn predict_planned_many(
-    problems: &[Problem<'_>],
-    params: &PredictParams,
-    progress: &dyn Progress,
-) -> Result<Vec<Prediction>> {
-    let Some(first) = problems.first() else {
-        return Ok(Vec::new());
-    };
-    let same = |p: &Problem<'_>| {
-        p.n == first.n
-            && p.randomization == first.randomization
-            && match (p.patterns, first.patterns) {
-                (Patterns::Sampler(a), Patterns::Sampler(b)) => std::ptr::addr_eq(a, b),
-                (Patterns::PointSets(a), Patterns::PointSets(b)) => std::ptr::eq(a, b),
-                _ => false,
-            }
-    };
-    if !problems.iter().all(same) {
-        return Err(Error::Mismatch(
-            "problems predicted together must share their sampler, N and randomization, or their \
-             point sets"
-                .into(),
-        ));
-    }
-    let plans = problems
-        .iter()
-        .map(|p| super::analysis::choose(p, params))
-        .collect::<Result<Vec<_>>>()?;
-    let shared: Vec<usize> = (0..problems.len())
-        .filter(|&i| plans[i].1.analysis == AnalysisKind::EstimatedLattice)
-        .collect();
-    let refs: Vec<&Problem<'_>> = shared.iter().map(|&i| &problems[i]).collect();
-    let mut estimated = estimated_lattice_many(&refs, first.kind(), params, progress)?.into_iter();
-    let mut out = Vec::with_capacity(problems.len());
-    for (problem, (row, plan)) in problems.iter().zip(plans) {
-        let p = if plan.analysis == AnalysisKind::EstimatedLattice {
-            estimated
-                .next()
-                .ok_or_else(|| Error::Mismatch("a problem left unpredicted".into()))?
-        } else {
-            row.predict(problem, params, progress)?
-        };
-        out.push(super::planned(p, &plan));
-    }
-    Ok(out)
 }
 
 /// How many realizations the work budget pays for: drawing each pattern (the sampler's measured

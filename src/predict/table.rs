@@ -2,6 +2,7 @@
 //! conditions (what the sampler's facts, the randomization, the integrand and the parameters
 //! must be), its needs, and calls its computation.
 
+use super::analysis::AnalysisPlan;
 use super::analysis::{Analysis, AnalysisKind, Applies};
 use super::cells::{cell_method, cell_method_needs, CellMethod, CellSource};
 use super::route;
@@ -36,6 +37,99 @@ pub(super) static TABLE: &[&dyn Analysis] = &[
     &RescaledPolar,
     &EstimatedLattice,
 ];
+
+/// The row of the table that answers `problem`, with its reason and needs; the needs are
+/// checked against `params.budget` here, before any work.
+pub(super) fn choose(
+    problem: &Problem<'_>,
+    params: &PredictParams,
+) -> Result<(&'static dyn Analysis, AnalysisPlan)> {
+    route::check_estimator(problem)?;
+    for row in TABLE {
+        let reason = match row.applies(problem, params) {
+            Applies::Yes(reason) => reason,
+            Applies::No => continue,
+            Applies::Refuse(e) => return Err(e),
+        };
+        let needs = row.needs(problem, params);
+        params.budget.check(
+            &format!(
+                "the {} analysis at N = {} ({})",
+                row.kind(),
+                problem.n,
+                row.kind().description()
+            ),
+            needs,
+            "lower N",
+        )?;
+        let plan = AnalysisPlan {
+            analysis: row.kind(),
+            reason,
+            needs: needs.into(),
+        };
+        return Ok((*row, plan));
+    }
+    Err(Error::OutsideValidity {
+        route: "every analysis".into(),
+        reason: format!(
+            "no analysis answers the {} estimator of {} at N = {}",
+            problem.randomization.estimator(),
+            problem.integrand.label(),
+            problem.n
+        ),
+    })
+}
+
+/// Predictions for problems that share their patterns (one sampler and N, or the same point
+/// sets), each by its planned analysis, except that those whose plan is the per-pattern
+/// lattice form share their spectrum estimates ([`estimated_lattice_many`]).
+pub(super) fn predict_planned_many(
+    problems: &[Problem<'_>],
+    params: &PredictParams,
+    progress: &dyn Progress,
+) -> Result<Vec<Prediction>> {
+    let Some(first) = problems.first() else {
+        return Ok(Vec::new());
+    };
+    let same = |p: &Problem<'_>| {
+        p.n == first.n
+            && p.randomization == first.randomization
+            && match (p.patterns, first.patterns) {
+                (Patterns::Sampler(a), Patterns::Sampler(b)) => std::ptr::addr_eq(a, b),
+                (Patterns::PointSets(a), Patterns::PointSets(b)) => std::ptr::eq(a, b),
+                _ => false,
+            }
+    };
+    if !problems.iter().all(same) {
+        return Err(Error::Mismatch(
+            "problems predicted together must share their sampler, N and randomization, or their \
+             point sets"
+                .into(),
+        ));
+    }
+    let plans = problems
+        .iter()
+        .map(|p| choose(p, params))
+        .collect::<Result<Vec<_>>>()?;
+    let shared: Vec<usize> = (0..problems.len())
+        .filter(|&i| plans[i].1.analysis == AnalysisKind::EstimatedLattice)
+        .collect();
+    let refs: Vec<&Problem<'_>> = shared.iter().map(|&i| &problems[i]).collect();
+    let mut estimated =
+        route::estimated_lattice_many(&refs, first.kind(), params, progress)?.into_iter();
+    let mut out = Vec::with_capacity(problems.len());
+    for (problem, (row, plan)) in problems.iter().zip(plans) {
+        let p = if plan.analysis == AnalysisKind::EstimatedLattice {
+            estimated
+                .next()
+                .ok_or_else(|| Error::Mismatch("a problem left unpredicted".into()))?
+        } else {
+            row.predict(problem, params, progress)?
+        };
+        out.push(super::planned(p, &plan));
+    }
+    Ok(out)
+}
 
 /// `Yes(reason)` where `condition` holds.
 fn when(condition: bool, reason: impl FnOnce() -> String) -> Applies {
@@ -292,7 +386,7 @@ impl Analysis for PermutedDigits {
     fn applies(&self, problem: &Problem<'_>, params: &PredictParams) -> Applies {
         match route::halton_analysis(problem, params) {
             Err(e) => Applies::Refuse(e),
-            Ok(kind) => when(kind == Some(self.kind()), || {
+            Ok(kind) => when(kind == Some(route::HaltonMethod::Pairs), || {
                 "halton as drawn on a product of one factor per axis: each axis's energy on \
                  every support of digits, summed over the pairs of its points, exact"
                     .into()
@@ -335,7 +429,7 @@ impl Analysis for PermutedLevel {
     fn applies(&self, problem: &Problem<'_>, params: &PredictParams) -> Applies {
         match route::halton_analysis(problem, params) {
             Err(e) => Applies::Refuse(e),
-            Ok(kind) => when(kind == Some(self.kind()), || {
+            Ok(kind) => when(kind == Some(route::HaltonMethod::Level), || {
                 "halton as drawn: the integrand's and the points' energies on every support of \
                  digits through a level of cells, exact, the finer digits measured on its \
                  realizations"

@@ -337,7 +337,7 @@ fn every_size_goes_through_the_budget_with_its_reason() {
             "-n",
             "1000000000000",
         ],
-        "summed in space over N = 1000000000000 terms would need",
+        "closed-lattice analysis at N = 1000000000000 (the lattice form with a closed form, or summed in space over its peaks) would need",
     );
     refuses_with(
         &[

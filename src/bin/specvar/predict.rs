@@ -2,7 +2,8 @@
 
 use super::problem::{ProblemArgs, Source};
 use specvar::predict::{
-    predict_with, Form, FormChoice, PredictParams, Prediction, Problem, SpectrumChoice,
+    plan_analysis, predict_with, AnalysisKind, AnalysisPlan, Form, FormChoice, PredictParams,
+    Prediction, Problem, SpectrumChoice,
 };
 use specvar::sampler::CellRule;
 use specvar::Result;
@@ -53,6 +54,10 @@ pub struct Args {
     /// Seed.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
+    /// Show the plan without running it: the analysis that would answer, why, and what it
+    /// needs (seconds of one core, bytes), checked against the budget.
+    #[arg(long, conflicts_with = "pixels")]
+    pub explain: bool,
     /// JSON output.
     #[arg(long)]
     pub json: bool,
@@ -84,6 +89,9 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
         },
     }
     .with_randomization(source.randomization(args.problem.randomization));
+    if args.explain {
+        return print_plan(&plan_analysis(&problem, &params)?, args.json);
+    }
     let p = predict_with(&problem, &params, &super::bars::Bars::default())?;
     if args.json {
         outln!(
@@ -173,8 +181,23 @@ fn run_pixels(
     Ok(())
 }
 
+/// Prints the plan of a prediction.
+fn print_plan(plan: &AnalysisPlan, json: bool) -> Result<()> {
+    if json {
+        return outln!("{}", super::to_json(plan)?);
+    }
+    outln!("analysis     {}", plan.analysis)?;
+    outln!("reason       {}", plan.reason)?;
+    outln!(
+        "needs        {:.3e} s of one core, {} before any further step",
+        plan.needs.seconds,
+        specvar::budget::bytes(plan.needs.bytes)
+    )
+}
+
 #[derive(serde::Serialize)]
 struct Doc<'a> {
+    analysis: Option<AnalysisKind>,
     sampler: &'a str,
     integrand: &'a str,
     n: usize,
@@ -200,6 +223,7 @@ impl<'a> Doc<'a> {
             .find(|(form, _)| *form == Form::Lattice)
             .map(|(_, v)| v);
         Self {
+            analysis: p.analysis,
             sampler,
             integrand,
             n: p.n,
@@ -228,6 +252,9 @@ fn print_text(sampler: &str, integrand: &str, p: &Prediction) -> Result<()> {
         p.dimension
     )?;
     outln!("integrand    {integrand}")?;
+    if let Some(analysis) = p.analysis {
+        outln!("analysis     {analysis}")?;
+    }
     outln!("route        {} ({})", p.route, p.reason)?;
     let b = &p.budget;
     outln!(
