@@ -202,6 +202,8 @@ pub(crate) fn finite(value: f64, what: impl FnOnce() -> String) -> Result<f64> {
 fn readable(value: String) -> String {
     match value.parse::<f64>() {
         Ok(x) if (value.len() > 15 && value.contains('.')) || value.len() > 24 => format!("{x:e}"),
+        // A small number printed in full (`0.0000001`) is read back in the form typed.
+        Ok(x) if x != 0.0 && x.abs() < 1e-4 && value.contains('.') => format!("{x:e}"),
         _ => value,
     }
 }

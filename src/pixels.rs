@@ -4,10 +4,13 @@
 //! MSE is their mean (each pixel's estimator is unbiased, so its MSE is its variance), with the
 //! pixels' budgets combined: noise in quadrature (independent estimates), bounds added.
 
+use crate::budget::Needs;
 use crate::error::{invalid, Error, Result};
 use crate::integrand::{grid_of_array, read_grid_file, GridIntegrand, Integrand};
 use crate::npy::{read_npy, NpyArray};
-use crate::predict::{predict_with, ErrorBudget, Form, PredictParams, Prediction, Problem, Route};
+use crate::predict::{
+    plan_analysis, predict_with, ErrorBudget, Form, PredictParams, Prediction, Problem, Route,
+};
 use crate::progress::{stage, Progress, Silent};
 use crate::randomization::{Randomization, RandomizationChoice};
 use crate::rng::{realization_rng, Stream};
@@ -252,6 +255,39 @@ pub fn predict_pixels(
     if let Some(kind) = sampler.kind() {
         crate::predict::check_unbiased(kind, randomization)?;
     }
+    let count = stack.pixels.len();
+    // Every pixel's plan first, and their needs together against the budget, before any
+    // pixel's work; each pixel's adaptive work then shares what the budget leaves.
+    let name_pixel = |p: usize, e: Error| match e {
+        Error::OutsideValidity { .. } => {
+            invalid("pixel", p, format!("a pixel with a prediction route: {e}"))
+        }
+        other => other,
+    };
+    let plans = stack
+        .pixels
+        .par_iter()
+        .enumerate()
+        .map(|(p, f)| {
+            let problem =
+                Problem::new(sampler, f as &dyn Integrand, n)?.with_randomization(randomization);
+            plan_analysis(&problem, params).map_err(|e| name_pixel(p, e))
+        })
+        .collect::<Result<Vec<_>>>()?;
+    params.budget.check(
+        &format!("the plans of {count} pixels"),
+        Needs {
+            memory_bytes: plans.iter().map(|p| p.needs.bytes).fold(0.0, f64::max)
+                * rayon::current_num_threads() as f64,
+            work_seconds: plans.iter().map(|p| p.needs.seconds).sum(),
+        },
+        "fewer pixels or a lower N",
+    )?;
+    let share = params.budget.work_seconds / count.max(1) as f64;
+    let params = &PredictParams {
+        work_budget_seconds: params.work_budget_seconds.min(share),
+        ..*params
+    };
     let predictions = stage(
         progress,
         "predicting the pixels",
@@ -270,12 +306,8 @@ pub fn predict_pixels(
                     };
                     // A pixel without a route is named; other errors (a budget, a sampler)
                     // keep their kind, which callers such as a plan's search read.
-                    let prediction = predict_with(&problem, &own, &Silent).map_err(|e| match e {
-                        Error::OutsideValidity { .. } => {
-                            invalid("pixel", p, format!("a pixel with a prediction route: {e}"))
-                        }
-                        other => other,
-                    });
+                    let prediction =
+                        predict_with(&problem, &own, &Silent).map_err(|e| name_pixel(p, e));
                     progress.advance(1);
                     prediction
                 })

@@ -20,6 +20,10 @@ const MAX_PANELS: f64 = 5000.0;
 /// The widest lobe accepted, in units of the square: wider, the function is nearly flat on the
 /// square and its variance a small difference of large numbers (as for [`super::Gaussian`]).
 pub const MAX_LOBE_SIGMA: f64 = 10.0;
+/// The narrowest width of a lobe: `10^-6`, as for the isotropic Gaussian
+/// ([`super::gaussian::MIN_SIGMA`]). Its sums over cells grow like `1/σ`: 0.9 s at `10^-6`,
+/// 9 s at `10^-9` on jitter's 4 × 4 strata.
+pub const MIN_LOBE_SIGMA: f64 = super::gaussian::MIN_SIGMA;
 
 /// `a · exp(−½ (x − c)ᵀ Σ⁻¹ (x − c))` in 2D with `Σ = R(θ) diag(σ_1², σ_2²) R(θ)ᵀ`: widths
 /// `σ_1` along the direction at angle `θ` and `σ_2` across it.
@@ -62,7 +66,7 @@ impl AnisotropicGaussian {
     /// Widths `sigma_1` along the direction at `angle_degrees` and `sigma_2` across it.
     ///
     /// # Errors
-    /// Widths not positive and finite (at most `MAX_LOBE_SIGMA`), a centre outside the
+    /// Widths outside `MIN_LOBE_SIGMA` to `MAX_LOBE_SIGMA`, a centre outside the
     /// square, or a non-finite angle or height.
     pub fn new(
         sigma_1: f64,
@@ -72,11 +76,14 @@ impl AnisotropicGaussian {
         height: f64,
     ) -> Result<Self> {
         for (name, s) in [("sigma_1", sigma_1), ("sigma_2", sigma_2)] {
-            if !(s.is_finite() && s > 0.0 && s <= MAX_LOBE_SIGMA) {
+            if !(s.is_finite() && (MIN_LOBE_SIGMA..=MAX_LOBE_SIGMA).contains(&s)) {
                 return Err(invalid(
                     name,
                     s,
-                    format!("positive, at most {MAX_LOBE_SIGMA}"),
+                    format!(
+                        "from {MIN_LOBE_SIGMA:e} to {MAX_LOBE_SIGMA}: the sums over a sampler's \
+                         cells grow like 1/σ"
+                    ),
                 ));
             }
         }

@@ -368,6 +368,69 @@ fn every_size_goes_through_the_budget_with_its_reason() {
     );
 }
 
+/// Sizes the plan refuses before any work, each naming its analysis and need: patterns that
+/// used to abort on their allocation, and a Gaussian too narrow for its cells' sums.
+#[test]
+fn the_plan_refuses_what_it_cannot_afford() {
+    refuses_with(
+        &[
+            "--budget-seconds",
+            "2",
+            "predict",
+            "-s",
+            "sobol",
+            "-f",
+            "disk",
+            "-n",
+            "4294967295",
+        ],
+        "the owen-gains analysis at N = 4294967295",
+    );
+    refuses_with(
+        &[
+            "--budget-seconds",
+            "2",
+            "predict",
+            "-s",
+            "sobol-ds",
+            "-f",
+            "disk",
+            "-n",
+            "1073741824",
+        ],
+        "the walsh-fixed analysis at N = 1073741824",
+    );
+    for sigma in ["1e-300", "1e-12", "1e-7"] {
+        let integrand = format!("gaussian:sigma={sigma}");
+        refuses_with(
+            &[
+                "--budget-memory",
+                "3",
+                "predict",
+                "-s",
+                "jitter",
+                "-f",
+                &integrand,
+                "-n",
+                "16",
+            ],
+            "at least 1e-6",
+        );
+    }
+    refuses_with(
+        &[
+            "predict",
+            "-s",
+            "jitter",
+            "-f",
+            "agaussian:s1=1e-9,s2=0.02,angle=30",
+            "-n",
+            "16",
+        ],
+        "invalid sigma_1: 1e-9 (from 1e-6 to 10",
+    );
+}
+
 #[test]
 fn an_allocation_the_system_refuses_is_a_typed_error() {
     let out = Command::new("sh")

@@ -2,6 +2,7 @@
 //! (a binary per file would run one after another, each idle while its slowest test ends),
 //! and the library links once.
 
+mod analysis_plan;
 mod anisotropy;
 mod architecture;
 mod atlas;
