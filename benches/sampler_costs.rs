@@ -5,9 +5,10 @@
 //! their growth declares there ([`SamplerFacts::cost_growth`]).
 //! Run on an idle machine: `cargo bench --bench sampler_costs`.
 
+use specvar::costs::POOL_NS_PER_SHIFT;
 use specvar::integrand::{Ball, Gaussian, Integrand};
 use specvar::randomization::Randomization;
-use specvar::sampler::{SamplerKind, COST_REFERENCE_N, COST_TOLERANCE, POOL_NS_PER_SHIFT};
+use specvar::sampler::{SamplerKind, COST_REFERENCE_N, COST_TOLERANCE};
 use std::time::Instant;
 
 /// Points per pattern: the N at which the costs were declared (1024 for the optimizers, whose

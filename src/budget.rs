@@ -30,11 +30,6 @@ impl Default for Budget {
     }
 }
 
-/// The work of one integrand coefficient or autocorrelation value (a Bessel function, a few
-/// exponentials or error functions): 200 ns, above the 50–150 ns the integrands' benchmarks
-/// measure, so that estimates err on the side of refusing.
-pub const COEFFICIENT_SECONDS: f64 = 2e-7;
-
 const GIB: f64 = (1u64 << 30) as f64;
 
 /// What a computation is estimated to need.

@@ -109,6 +109,7 @@ pub mod anisotropy;
 pub mod atlas;
 pub mod budget;
 pub mod cache;
+pub mod costs;
 mod crosscheck;
 pub mod error;
 pub mod integrand;

@@ -356,9 +356,6 @@ fn check_sampler_run(
     check_budget(&run, pattern, n, integrands.len())
 }
 
-/// Estimated cost of one integrand evaluation with its shift, in seconds (a Gaussian's `exp`).
-const EVALUATION_SECONDS: f64 = 30e-9;
-
 /// Checks a run's memory (a pattern per thread, a few numbers per pattern) and work (drawing
 /// the patterns, evaluating every integrand at every point of every shifted pattern).
 fn check_budget(
@@ -372,7 +369,10 @@ fn check_budget(
     let needs = crate::budget::Needs {
         memory_bytes: threads * pattern.memory_bytes + p * integrands as f64 * 16.0,
         work_seconds: p * pattern.work_seconds
-            + p * params.shifts as f64 * n as f64 * integrands as f64 * EVALUATION_SECONDS,
+            + p * params.shifts as f64
+                * n as f64
+                * integrands as f64
+                * crate::costs::SHIFTED_EVALUATION_SECONDS,
     };
     params
         .budget
@@ -726,7 +726,9 @@ fn mean_and_variance(x: &[f64]) -> (f64, f64) {
 fn interval_of_mean(x: &[f64], params: &McParams) -> Result<((f64, f64), IntervalMethod)> {
     let n = x.len();
     let (mean, var) = mean_and_variance(x);
-    let first = x[0];
+    let Some(&first) = x.first() else {
+        return Err(invalid("patterns", 0, "at least one"));
+    };
     if x.iter().all(|&v| v == first) {
         // Every estimate equal to the integral: the variance is zero (a constant integrand,
         // or one the pattern integrates exactly).

@@ -28,14 +28,17 @@
 //! interaction term) are averaged over pairs of patterns drawn as the estimator draws them,
 //! each pair costing one pass over the 4D grid, and their standard error enters the budget.
 
+use crate::budget::{Budget, Needs};
 use crate::error::{invalid, Error, Result};
 use crate::integrand::GridIntegrand;
-use crate::montecarlo::{result_from_estimates, trial_pattern, McParams, McResult};
+use crate::montecarlo::{result_from_estimates, trial_pattern, McParams, McResult, MIN_UNITS};
 use crate::npy::{read_npy, NpyArray};
 use crate::pixels::mean_of;
 use crate::plan::{plan_by, reached, resolve, Plan, PlanParams};
 use crate::pointset::PointSet;
-use crate::predict::{predict_with, ErrorBudget, PredictParams, Prediction, Problem};
+use crate::predict::{
+    plan_analysis, predict_with, ErrorBudget, PredictParams, Prediction, Problem,
+};
 use crate::progress::Progress;
 use crate::randomization::{Randomization, RandomizationChoice};
 use crate::rng::{realization_rng, splitmix64, Stream};
@@ -293,6 +296,32 @@ impl<'a> PaddedSamplers<'a> {
         Ok(())
     }
 
+    /// What `trials` pattern pairs of `n` points need on `f`: both patterns drawn (a sampler of
+    /// one's own at a microsecond a point), one pass over the pair's cells or points each, the
+    /// memory of one pair per thread.
+    fn needs(&self, f: &PaddedGrid, n: usize, trials: usize) -> Needs {
+        let pattern = |s: &dyn Sampler| {
+            s.kind().map_or(
+                Needs {
+                    memory_bytes: 16.0 * n as f64,
+                    work_seconds: 1e-6 * n as f64,
+                },
+                |k| k.pattern_needs(n, 2),
+            )
+        };
+        let pair = pattern(self.first).and(pattern(self.second));
+        // One pass over the 4D grid, or over the points with their permutation.
+        let pass = (f.first_cells() as f64 * f.second_cells() as f64).max(n as f64);
+        let one = Needs {
+            memory_bytes: 2.0 * pair.memory_bytes + 8.0 * n as f64,
+            work_seconds: pair.work_seconds + pass * crate::costs::PASS_SECONDS,
+        };
+        Needs {
+            memory_bytes: one.memory_bytes * rayon::current_num_threads() as f64,
+            work_seconds: one.work_seconds * trials as f64,
+        }
+    }
+
     /// The two patterns of trial `t` of `seed`, randomized.
     fn patterns(&self, n: usize, seed: u64, t: usize) -> Result<(PointSet, PointSet)> {
         let params = |seed, randomization| McParams {
@@ -471,6 +500,26 @@ pub fn predict_padded(
         return Err(invalid("N", n, "at least 2 for a padded estimator"));
     }
     let (ga, gb) = (f.first_marginal()?, f.second_marginal()?);
+    // The two 2D predictions' plans and the corrections' pattern pairs, against the budget
+    // before any of them is computed.
+    let plan = |s: &dyn Sampler, g: &GridIntegrand, r: Randomization| {
+        plan_analysis(&Problem::new(s, g, n)?.with_randomization(r), params)
+    };
+    let plans = [
+        plan(samplers.first, &ga, samplers.randomizations.0)?,
+        plan(samplers.second, &gb, samplers.randomizations.1)?,
+    ];
+    let two_d = plans.iter().fold(Needs::default(), |all, p| {
+        all.and(Needs {
+            memory_bytes: p.needs.bytes,
+            work_seconds: p.needs.seconds,
+        })
+    });
+    params.budget.check(
+        &format!("the padded prediction at N = {n}"),
+        two_d.and(samplers.needs(f, n, CORRECTION_PAIRS)),
+        "lower N",
+    )?;
     let predict_2d = |s: &dyn Sampler, g: &GridIntegrand, r: Randomization| {
         predict_with(
             &Problem::new(s, g, n)?.with_randomization(r),
@@ -556,15 +605,29 @@ fn correction_terms(f: &PaddedGrid, h: &[f64], a: &PointSet, b: &PointSet) -> [f
 /// (`seed`, trial); the variance about the exact integral with its 99% interval.
 ///
 /// # Errors
-/// As [`predict_padded`]'s checks, and too few trials for an interval.
+/// As [`predict_padded`]'s checks, fewer than [`MIN_UNITS`] trials (too few for an interval),
+/// or trials whose needs exceed `budget`.
 pub fn padded_monte_carlo(
     f: &PaddedGrid,
     samplers: PaddedSamplers,
     n: usize,
     trials: usize,
     seed: u64,
+    budget: &Budget,
 ) -> Result<McResult> {
     samplers.check()?;
+    if trials < MIN_UNITS {
+        return Err(invalid(
+            "trials",
+            trials,
+            format!("at least {MIN_UNITS}, for a 99% interval from the trials"),
+        ));
+    }
+    budget.check(
+        &format!("{trials} padded trials at N = {n}"),
+        samplers.needs(f, n, trials),
+        "fewer trials or a lower N",
+    )?;
     let estimates = (0..trials)
         .into_par_iter()
         .map(|t| {

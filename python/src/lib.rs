@@ -574,7 +574,7 @@ fn predict_padded<'py>(
         .detach(|| {
             let p = predict_padded(f, samplers, n, &params, &silent)?;
             let m = mc
-                .map(|trials| padded_monte_carlo(f, samplers, n, trials, seed))
+                .map(|trials| padded_monte_carlo(f, samplers, n, trials, seed, &budget()))
                 .transpose()?;
             Ok::<_, specvar::Error>((p, m))
         })

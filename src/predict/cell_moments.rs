@@ -10,35 +10,9 @@ use crate::integrand::{
 use crate::quadrature::CompensatedSum;
 use rayon::prelude::*;
 
-/// The work of one cell's moments (a clip, a disk–rectangle area, four error functions) and of
-/// finding the cell: 250–280 ns a point measured on a truncated Gaussian at N = 262144, whose
-/// cells' table no longer fits the caches (the integrands' coefficient cost, 200 ns, held at
-/// smaller N).
-pub(crate) const CELL_SECONDS: f64 = 2.7e-7;
-/// The work of one cell's moments of a disk (or an interval), of a polygon or an edge, and of
-/// a tabulated grid, and of finding the cell. Most of a fine grid's cells lie inside or outside
-/// the shape (a comparison) or within one pixel (a lookup): measured in multi-jitter's and
-/// CMJ's occupancy estimates at N = 65536 and 262144 (user time a point, less the drawing),
-/// disks 43 ns, polygons and edges 53–86 ns, a 512 × 512 image 64 ns, declared with a margin.
-/// [`CELL_SECONDS`], a Gaussian's four error functions, held these estimates to a fifth of the
-/// patterns their work budget affords.
-const DISK_CELL_SECONDS: f64 = 6e-8;
-/// See [`DISK_CELL_SECONDS`].
-const POLYGON_CELL_SECONDS: f64 = 1e-7;
-/// See [`DISK_CELL_SECONDS`].
-const GRID_CELL_SECONDS: f64 = 9e-8;
-/// An anisotropic Gaussian's cell (its box mass by quadrature along the shorter side, twice):
-/// CMJ's occupancy estimates spent 336 and 374 ns a point at N = 65536 and 262144 (user time
-/// over points, the drawing included), where [`CELL_SECONDS`] let them run 20–34% past their
-/// work budget.
-const ANISOTROPIC_CELL_SECONDS: f64 = 3.8e-7;
-/// The work of one cell's moments from a separable integrand's rows held in the caches (a
-/// product per axis and a lookup per row), and of finding the cell: 20 ns, a bound on what was
-/// measured at N = 4096 (Latin hypercube's 200 patterns in 0.6 s, with their drawing).
-pub(crate) const SEPARABLE_CELL_SECONDS: f64 = 2e-8;
-/// The rows' size up to which [`SEPARABLE_CELL_SECONDS`] holds. Beyond, each lookup misses
+/// The rows' size up to which [`crate::costs::SEPARABLE_CELL_SECONDS`] holds. Beyond, each lookup misses
 /// the caches: 70–210 ns a point was measured with rows of 2–8 MB (N = 65536 to 262144,
-/// drawing included), so [`CELL_SECONDS`] is kept there.
+/// drawing included), so [`crate::costs::CELL_SECONDS`] is kept there.
 const SEPARABLE_ROWS_IN_CACHE: usize = 1 << 20;
 /// The work of one cell of a whole grid's moments of a 3D ball (Owen's gains read every cell
 /// of dyadic grids, coarse and slab-shaped ones among them, most of which the sphere crosses):
@@ -188,29 +162,29 @@ pub(crate) fn shifted_cell_mean_and_variance(
 
 /// The work of one cell's moments of `f` on `grid`, known before any row is computed: a few
 /// products for a separable integrand whose rows fit in the caches, else its kind's cost
-/// ([`DISK_CELL_SECONDS`] and the like; [`CELL_SECONDS`] for Gaussians and 3D balls).
+/// ([`crate::costs::DISK_CELL_SECONDS`] and the like; [`crate::costs::CELL_SECONDS`] for Gaussians and 3D balls).
 pub(crate) fn seconds_per_cell(f: &dyn Integrand, grid: &[usize]) -> f64 {
     // One cell per axis asks whether f is separable at no cost.
     let separable = f.separable_cells(&vec![1; grid.len()]).is_some();
     if separable && separable_row_bytes(grid) <= SEPARABLE_ROWS_IN_CACHE as f64 {
-        return SEPARABLE_CELL_SECONDS;
+        return crate::costs::SEPARABLE_CELL_SECONDS;
     }
     match (f.kind(), f.dimension()) {
-        (IntegrandKind::Ball, 1 | 2) => DISK_CELL_SECONDS,
-        (IntegrandKind::Polygon, _) => POLYGON_CELL_SECONDS,
-        (IntegrandKind::Grid, _) => GRID_CELL_SECONDS,
-        (IntegrandKind::AnisotropicGaussian, _) => ANISOTROPIC_CELL_SECONDS,
-        _ => CELL_SECONDS,
+        (IntegrandKind::Ball, 1 | 2) => crate::costs::DISK_CELL_SECONDS,
+        (IntegrandKind::Polygon, _) => crate::costs::POLYGON_CELL_SECONDS,
+        (IntegrandKind::Grid, _) => crate::costs::GRID_CELL_SECONDS,
+        (IntegrandKind::AnisotropicGaussian, _) => crate::costs::ANISOTROPIC_CELL_SECONDS,
+        _ => crate::costs::CELL_SECONDS,
     }
 }
 
 /// The work of one cell's moments of `f` when every cell of whole grids is read, coarse ones
-/// included (Owen's gains): [`CELL_SECONDS`], or [`BALL_GRID_CELL_SECONDS_3D`] for a 3D ball,
+/// included (Owen's gains): [`crate::costs::CELL_SECONDS`], or [`BALL_GRID_CELL_SECONDS_3D`] for a 3D ball,
 /// whose crossed cells cost ten times as much and are most of a coarse grid's.
 pub(crate) fn seconds_per_grid_cell(f: &dyn Integrand) -> f64 {
     match (f.kind(), f.dimension()) {
         (IntegrandKind::Ball, 3) => BALL_GRID_CELL_SECONDS_3D,
-        _ => CELL_SECONDS,
+        _ => crate::costs::CELL_SECONDS,
     }
 }
 
@@ -283,7 +257,7 @@ pub(crate) fn check_cells(what: &str, cells: usize, budget: &Budget) -> Result<(
         what,
         Needs {
             memory_bytes: 0.0,
-            work_seconds: cells as f64 * CELL_SECONDS,
+            work_seconds: cells as f64 * crate::costs::CELL_SECONDS,
         },
         "lower N",
     )

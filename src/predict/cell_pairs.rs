@@ -85,7 +85,7 @@ pub fn latin_hypercube_variance(f: &dyn Integrand, n: usize, budget: &Budget) ->
                 "the Latin hypercube's rows",
                 crate::budget::Needs {
                     memory_bytes: super::cell_moments::separable_row_bytes(&vec![n; d]),
-                    work_seconds: (d * n) as f64 * super::cell_moments::CELL_SECONDS,
+                    work_seconds: (d * n) as f64 * crate::costs::CELL_SECONDS,
                 },
                 "lower N",
             )?;
@@ -186,7 +186,7 @@ fn crossed_latin_hypercube(f: &dyn Integrand, n: usize, budget: &Budget) -> Resu
         "the Latin hypercube's crossed cells",
         crate::budget::Needs {
             memory_bytes: 0.0,
-            work_seconds: 10.0 * n as f64 * super::cell_moments::CELL_SECONDS,
+            work_seconds: 10.0 * n as f64 * crate::costs::CELL_SECONDS,
         },
         "lower N",
     )?;
@@ -538,7 +538,7 @@ fn separable_shuffles(
         "the multi-jittered samplers' rows",
         crate::budget::Needs {
             memory_bytes: 3.0 * super::cell_moments::separable_row_bytes(&[n, n]),
-            work_seconds: (2 * n) as f64 * super::cell_moments::CELL_SECONDS,
+            work_seconds: (2 * n) as f64 * crate::costs::CELL_SECONDS,
         },
         "lower N",
     )?;

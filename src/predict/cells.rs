@@ -20,11 +20,12 @@
 
 use super::cell_moments::{
     check_box_moments, check_cells, chunked_sum, seconds_per_cell, separable_row_bytes,
-    CellMoments, CellSum, CellTable, CELL_ROUNDING, CELL_SECONDS, EXACT_CELL_BUDGET,
+    CellMoments, CellSum, CellTable, CELL_ROUNDING, EXACT_CELL_BUDGET,
 };
 use super::term_mean::{mean_of_exact_terms, terms_within_budget, OccupancyEstimate};
 use super::{ErrorBudget, Form, FormChoice, Prediction, Route, SpectrumChoice, SpectrumOrigin};
 use crate::budget::{Budget, Needs};
+use crate::costs::CELL_SECONDS;
 use crate::error::{Error, Result};
 use crate::integrand::Integrand;
 use crate::pointset::PointSet;
@@ -364,9 +365,6 @@ pub(crate) enum NetPairs {
     /// The counts differ between patterns, each drawn at this many nanoseconds a point.
     PerPattern(f64),
 }
-
-/// Seconds a point of a pattern takes to be counted on one dyadic grid.
-const PAIR_COUNT_SECONDS: f64 = 2e-9;
 
 /// The dyadic grids of at most `4N` cells whose pair counts a pattern of `N` points is read on.
 fn dyadic_grids(n: usize) -> f64 {
@@ -906,7 +904,8 @@ fn gains_over_patterns(
     params: &super::PredictParams,
     progress: &dyn Progress,
 ) -> Result<(f64, ErrorBudget, Occupancy, usize, String)> {
-    let per_pattern = n as f64 * (cost_ns * 1e-9 + PAIR_COUNT_SECONDS * dyadic_grids(n));
+    let per_pattern =
+        n as f64 * (cost_ns * 1e-9 + crate::costs::PAIR_COUNT_SECONDS * dyadic_grids(n));
     let counts = terms_within_budget(params, per_pattern, (INITIAL_NETS, MAX_PATTERNS));
     params.budget.check(
         "Owen's gains over patterns",

@@ -34,10 +34,11 @@
 //! doubly centred `γ`.
 
 use super::cell_moments::{
-    is_marked, masses_and_constant_cells, CellMoments, CellSum, CELL_ROUNDING, CELL_SECONDS,
+    is_marked, masses_and_constant_cells, CellMoments, CellSum, CELL_ROUNDING,
 };
 use super::term_mean::{mean_of_exact_terms, terms_within_budget, OccupancyEstimate};
 use crate::budget::Needs;
+use crate::costs::CELL_SECONDS;
 use crate::error::Result;
 use crate::integrand::Integrand;
 use crate::progress::{stage, Progress};
@@ -50,8 +51,6 @@ use crate::sampler::{near_square_factors, CmjShuffles};
 const INITIAL_PATTERNS: usize = 24;
 /// Patterns it never exceeds.
 const MAX_PATTERNS: usize = 1 << 18;
-/// Seconds to draw one permutation entry (a bounded random index and a swap).
-const SHUFFLE_SECONDS: f64 = 1e-8;
 
 /// The unshifted variance of CMJ's estimator at `n` points (beyond the table of its cells),
 /// estimated from the permutations of realizations `0, 1, …` of `params.seed` with the blocks'
@@ -79,7 +78,8 @@ pub(super) fn controlled_cmj_variance(
         BlockSurrogate::new(f, n)
     });
     let (m, r) = (surrogate.m, surrogate.r);
-    let per_pattern = (m + r) as f64 * SHUFFLE_SECONDS + surrogate.varying.len() as f64 * per_cell;
+    let per_pattern =
+        (m + r) as f64 * crate::costs::SHUFFLE_SECONDS + surrogate.varying.len() as f64 * per_cell;
     let counts = terms_within_budget(params, per_pattern, (INITIAL_PATTERNS, MAX_PATTERNS));
     params.budget.check(
         "the occupancy estimate",

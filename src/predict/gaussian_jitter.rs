@@ -23,7 +23,8 @@
 //! grid's period): its bias `G(0) − I` is exact too and is stated with the variance.
 
 use super::{ErrorBudget, Form, Prediction, Route, SpectrumOrigin};
-use crate::budget::{Budget, Needs, COEFFICIENT_SECONDS};
+use crate::budget::{Budget, Needs};
+use crate::costs::COEFFICIENT_SECONDS;
 use crate::error::{invalid, Error, Result};
 use crate::integrand::{
     CoefficientTables, Integrand, SeparableCoefficients, COEFFICIENT_TABLES_BYTES,

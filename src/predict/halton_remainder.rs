@@ -23,10 +23,6 @@ use crate::sampler::{Halton, HaltonRealization, Sampler};
 /// The most axes (the level's).
 const AXES: usize = 3;
 
-/// The work of drawing one candidate point (its index by the remainder theorem, its digits on
-/// every axis, its cell).
-pub(super) const CANDIDATE_SECONDS: f64 = 8e-8;
-
 /// The candidate cells of a level and the remainder theorem's coefficients.
 pub(super) struct VaryingIndices {
     halton: Halton,

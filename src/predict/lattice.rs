@@ -8,7 +8,8 @@
 use super::low_band::{DiscFit, LowBand, FIT_DEGREE};
 use super::SpectrumSource;
 use super::{check_dimension, check_n, ErrorBudget, Form, Prediction, Route, SpectrumOrigin};
-use crate::budget::{try_filled, Budget, Needs, COEFFICIENT_SECONDS};
+use crate::budget::{try_filled, Budget, Needs};
+use crate::costs::COEFFICIENT_SECONDS;
 use crate::error::{finite, invalid, Error, Result};
 use crate::integrand::Integrand;
 use crate::progress::Progress;

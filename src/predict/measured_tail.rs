@@ -19,7 +19,8 @@
 
 use super::term_mean::{mean_to_target_noise, terms_within_budget};
 use super::{ErrorBudget, Form, PredictParams, Prediction, Route, SpectrumOrigin};
-use crate::budget::{try_filled, Needs, COEFFICIENT_SECONDS};
+use crate::budget::{try_filled, Needs};
+use crate::costs::COEFFICIENT_SECONDS;
 use crate::error::{finite, Result};
 use crate::integrand::Integrand;
 use crate::pointset::PointSet;
@@ -41,10 +42,6 @@ const MAX_PATTERNS: usize = 4096;
 /// The transform's guaranteed error `|δQ(k)|`: far below the residuals, which are the
 /// estimator's errors beyond the lattice (at least `1e-8` where this route is taken).
 const TRANSFORM_TOLERANCE: f64 = 1e-12;
-/// Seconds per lattice frequency and shift of the lattice part's sum (a complex product).
-const LATTICE_TERM_SECONDS: f64 = 2e-9;
-/// Seconds per point and shift of the integrand's value at a shifted point.
-const EVALUATION_SECONDS: f64 = 5e-8;
 /// Seconds per point of the transform (spreading).
 const TRANSFORM_SECONDS_PER_POINT: f64 = 2e-7;
 /// Seconds per cell of the transform's upsampled grid (its FFT).
@@ -206,7 +203,8 @@ impl TailPlan {
         let per_pattern = source.pattern_needs().work_seconds
             + (n as f64 * TRANSFORM_SECONDS_PER_POINT + grid * FFT_SECONDS_PER_CELL)
             + SHIFTS_PER_PATTERN as f64
-                * (n as f64 * EVALUATION_SECONDS + lattice.len() as f64 * LATTICE_TERM_SECONDS);
+                * (n as f64 * crate::costs::SHIFTED_EVALUATION_SECONDS
+                    + lattice.len() as f64 * crate::costs::LATTICE_TERM_SECONDS);
         Ok(Self {
             lattice,
             plan,

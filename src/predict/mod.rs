@@ -681,7 +681,7 @@ pub struct PredictParams {
     pub target_noise: f64,
     /// The work an estimated prediction may spend, in seconds of one core (from the samplers'
     /// measured generation costs): it bounds the realizations. The default,
-    /// [`DEFAULT_WORK_SECONDS`], answers within 10 s on two cores.
+    /// [`DEFAULT_ESTIMATE_SECONDS`], answers within 10 s on two cores.
     pub work_budget_seconds: f64,
     /// Seed of the realizations.
     pub seed: u64,
@@ -697,7 +697,7 @@ pub struct PredictParams {
 /// The default work of an estimated prediction, in seconds of one core: 16, so that on two
 /// cores it answers within 10 s with room for what the estimate does not count (the exact
 /// parts of a route, tables of cells, the estimate's own error of up to a fifth).
-pub const DEFAULT_WORK_SECONDS: f64 = 16.0;
+pub const DEFAULT_ESTIMATE_SECONDS: f64 = 16.0;
 
 impl Default for PredictParams {
     fn default() -> Self {
@@ -707,7 +707,7 @@ impl Default for PredictParams {
             reference_n: None,
             realizations: None,
             target_noise: 0.02,
-            work_budget_seconds: DEFAULT_WORK_SECONDS,
+            work_budget_seconds: DEFAULT_ESTIMATE_SECONDS,
             seed: 0,
             kmax: None,
             polar: PolarParams::default(),

@@ -600,7 +600,7 @@ pub(crate) fn scrambled_law_variance(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::predict::cell_moments::CELL_SECONDS;
+    use crate::costs::CELL_SECONDS;
     use crate::sampler::{Sampler, Sobol};
 
     /// A `(0, m, 2)`-net's gains: 0 up to `k_1 + k_2 = m`, 2 at `m + 1` with both axes refined,

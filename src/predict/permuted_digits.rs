@@ -46,9 +46,6 @@ fn base(l: usize) -> usize {
 const QUADRATURE_TOLERANCE: f64 = 1e-7;
 /// The most panels a cell's piece is cut into.
 const MAX_PANELS: usize = 16;
-/// The work of one pair of points per axis in one pair sum (its digits compared, a table
-/// read, the products of the axes' subsets): 15 ns measured in 2D at N = 16384.
-pub(crate) const PAIR_AXIS_SECONDS: f64 = 1.5e-8;
 /// Pair sums a prediction takes at least: the rule and its doubling.
 const PASSES: f64 = 2.0;
 
@@ -77,7 +74,7 @@ pub(crate) fn positions(n: usize, p: usize) -> u32 {
 
 /// The work of the pair sum for `n` points in dimension `d`, in seconds of one core.
 pub(crate) fn pair_work_seconds(n: usize, d: usize) -> f64 {
-    PASSES * (n as f64) * (n as f64) / 2.0 * d as f64 * PAIR_AXIS_SECONDS
+    PASSES * (n as f64) * (n as f64) / 2.0 * d as f64 * crate::costs::PAIR_AXIS_SECONDS
 }
 
 /// One axis's kernel: `K'(A)` for every agreement set `A` of its `m` positions (bit `ℓ − 1`

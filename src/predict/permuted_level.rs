@@ -28,7 +28,7 @@
 //! A level a few digits past the points' own leaves it a small part of the whole.
 
 use super::cell_moments::{check_box_moments, masses_and_constant_cells, CELL_ROUNDING};
-use super::halton_remainder::{draws_as, VaryingIndices, CANDIDATE_SECONDS};
+use super::halton_remainder::{draws_as, VaryingIndices};
 use super::permuted_digits::{
     agreement, digit_bits, helmert_transform, packed_digits, pair_work_seconds, positions,
     support_of,
@@ -37,6 +37,7 @@ use super::term_mean::mean_to_target_noise;
 use super::walsh::{AxisMeans, Remainder};
 use super::{ErrorBudget, Form, PredictParams, Prediction, Route, SpectrumOrigin};
 use crate::budget::Needs;
+use crate::costs::CANDIDATE_SECONDS;
 use crate::error::{Error, Result};
 use crate::integrand::Integrand;
 use crate::progress::{stage, Progress};
@@ -65,14 +66,6 @@ const TABLE_SHARE: f64 = 0.25;
 const INITIAL_REALIZATIONS: usize = 32;
 /// Realizations the finer digits never exceed.
 const MAX_REALIZATIONS: usize = 1 << 14;
-/// The work of one evaluation of the finer digits' part at a point of a varying cell (the
-/// integrand and its cell's mean), as the Walsh form's.
-const EVALUATION_SECONDS: f64 = 2.5e-7;
-/// The work of one point of a realization: its digits scrambled on every axis and its cell
-/// found (a constant cell needs no evaluation).
-const POINT_SECONDS: f64 = 1e-7;
-/// The work of one cell of the level per digit: its Helmert butterfly, in two tables.
-const BUTTERFLY_SECONDS: f64 = 4e-9;
 /// Relative rounding of one Helmert stage (a `p`-point butterfly: `p` additions, a product,
 /// a square root), per unit of `p`, in units of the machine epsilon.
 const STAGE_ROUNDING_PER_DIGIT_VALUE: f64 = 2.0;
@@ -302,7 +295,8 @@ fn pairs_are_cheaper(level: &Level, n: usize) -> bool {
 
 /// The work of the counts' energies by their table: the counts placed, transformed and summed.
 fn table_count_seconds(level: &Level, n: usize) -> f64 {
-    n as f64 * POINT_SECONDS + level.cells() as f64 * BUTTERFLY_SECONDS * level.stages() as f64
+    n as f64 * crate::costs::VARYING_POINT_SECONDS
+        + level.cells() as f64 * crate::costs::HELMERT_BUTTERFLY_SECONDS * level.stages() as f64
 }
 
 /// The work of the counts' energies by the points' pairs: each pair's agreements on every axis,
@@ -310,7 +304,7 @@ fn table_count_seconds(level: &Level, n: usize) -> f64 {
 fn pair_count_seconds(level: &Level, n: usize) -> f64 {
     let classes = (1usize << level.stages()) as f64;
     pair_work_seconds(n, level.grid.len()) / 2.0
-        + classes * BUTTERFLY_SECONDS * level.stages() as f64
+        + classes * crate::costs::HELMERT_BUTTERFLY_SECONDS * level.stages() as f64
 }
 
 /// Roundings of one stage of [`pair_count_energies`]'s transform per output: a product, a
@@ -433,9 +427,12 @@ fn work(f: &dyn Integrand, level: &Level, n: usize) -> (f64, f64) {
     let cells = level.cells() as f64;
     let means = cells
         * (super::cell_moments::seconds_per_grid_cell(f)
-            + BUTTERFLY_SECONDS * level.stages() as f64);
+            + crate::costs::HELMERT_BUTTERFLY_SECONDS * level.stages() as f64);
     let counts = table_count_seconds(level, n).min(pair_count_seconds(level, n));
-    (means + counts, n as f64 * POINT_SECONDS)
+    (
+        means + counts,
+        n as f64 * crate::costs::VARYING_POINT_SECONDS,
+    )
 }
 
 /// The memory of [`halton_level_variance`]'s tables: the cells' means, their transform, a
@@ -495,7 +492,7 @@ pub(crate) fn halton_level_variance(
         axis_means: axis_means.as_ref(),
     };
     let varying = finer.varying();
-    let evaluations = varying * n as f64 * EVALUATION_SECONDS;
+    let evaluations = varying * n as f64 * crate::costs::REMAINDER_EVALUATION_SECONDS;
     // Where the integrand is constant on most cells, a realization's points in the others are
     // found from their indices, and no other point is drawn. The candidates are at most 3^d
     // a varying cell: tested on that bound first, which also bounds their memory (12 bytes

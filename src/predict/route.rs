@@ -804,8 +804,6 @@ pub(super) fn fixed_pairs(problem: &Problem<'_>, params: &PredictParams) -> Resu
 /// be summed in space under the shift: for a disk 13 ms a pattern of 256 points, about a
 /// transform of the widest lattice an integrand that jumps asks for there.
 const PATTERN_PAIRS: usize = 1 << 16;
-/// Seconds a transform takes per cell of its oversampled grid.
-const TRANSFORM_CELL_SECONDS: f64 = 3e-8;
 
 /// The share of the variance up to which the strata's tent answers alone: beyond it (smooth
 /// integrands, whose autocorrelation falls only quadratically over a fine stratum, and 1D at
@@ -822,8 +820,8 @@ fn cheaper_pairs<'a>(
     params: &PredictParams,
 ) -> Option<&'a dyn Sampler> {
     let pairs = (problem.n as f64).powi(2) * autocorrelation_seconds(problem.integrand);
-    let transform =
-        TRANSFORM_CELL_SECONDS * (2.0 * lattice.side() as f64).powi(lattice.dimension as i32);
+    let transform = crate::costs::TRANSFORM_CELL_SECONDS
+        * (2.0 * lattice.side() as f64).powi(lattice.dimension as i32);
     pattern_pairs(problem, params).filter(|_| pairs < transform)
 }
 
@@ -1596,7 +1594,7 @@ pub(super) fn closed_lattice_needs() -> Needs {
     let len = CLOSED_LATTICE_BUDGET as f64;
     Needs {
         memory_bytes: 8.0 * len,
-        work_seconds: len * crate::budget::COEFFICIENT_SECONDS,
+        work_seconds: len * crate::costs::COEFFICIENT_SECONDS,
     }
 }
 
@@ -1626,7 +1624,7 @@ pub(super) fn estimated_lattice_needs(problem: &Problem<'_>) -> Needs {
     let transform = Needs {
         // The oversampled grid of complex values and the lattice's weights.
         memory_bytes: 16.0 * cells + 8.0 * lattice.len() as f64,
-        work_seconds: TRANSFORM_CELL_SECONDS * cells,
+        work_seconds: crate::costs::TRANSFORM_CELL_SECONDS * cells,
     };
     let (count, draw) = match (problem.patterns, problem.kind()) {
         (Patterns::PointSets(sets), _) => (sets.len(), Needs::default()),
@@ -1675,8 +1673,9 @@ fn affordable_realizations(
     params: &PredictParams,
 ) -> usize {
     let draw = n as f64 * kind.map_or(1_000.0, |k| k.cost_per_point_ns_at(n, lattice.dimension));
-    let transform =
-        TRANSFORM_CELL_SECONDS * 1e9 * (2.0 * lattice.side() as f64).powi(lattice.dimension as i32);
+    let transform = crate::costs::TRANSFORM_CELL_SECONDS
+        * 1e9
+        * (2.0 * lattice.side() as f64).powi(lattice.dimension as i32);
     let affordable = params.work_budget_seconds * 1e9 / (draw + transform);
     (affordable as usize).clamp(INITIAL_REALIZATIONS, MAX_REALIZATIONS)
 }

@@ -21,14 +21,14 @@
 //! in closed form on the shifted integrand's rows of cells), and only the mean over shifts is
 //! estimated ([`predict_shifted_shuffles`]).
 
-use super::cell_moments::{
-    check_box_moments, shifted_cell_mean_and_variance, CELL_SECONDS, SEPARABLE_CELL_SECONDS,
-};
+use super::cell_moments::{check_box_moments, shifted_cell_mean_and_variance};
 use super::cells::{cell_of, CellOrigin, Occupancy};
 use super::shifted_gains::{mean_over_shifts, shifted_prediction};
 use super::term_mean::{mean_to_target_noise, terms_within_budget};
 use super::{PredictParams, Prediction};
 use crate::budget::Needs;
+use crate::costs::CELL_SECONDS;
+use crate::costs::SEPARABLE_CELL_SECONDS;
 use crate::error::{Error, Result};
 use crate::integrand::Integrand;
 use crate::pointset::PointSet;

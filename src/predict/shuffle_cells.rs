@@ -23,10 +23,9 @@
 //! points of `E[G_p G_q]`; the within-cell term is `Σ_c V_c / N³`, as each point is uniform over
 //! its block's `N` cells (`docs/theory.md`, "Strata in space").
 
-use super::cell_moments::{
-    seconds_per_cell, CellMoments, CellSum, CellTable, CELL_ROUNDING, CELL_SECONDS,
-};
+use super::cell_moments::{seconds_per_cell, CellMoments, CellSum, CellTable, CELL_ROUNDING};
 use crate::budget::{Budget, Needs};
+use crate::costs::CELL_SECONDS;
 use crate::error::Result;
 use crate::integrand::Integrand;
 use crate::quadrature::CompensatedSum;

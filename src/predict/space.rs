@@ -9,15 +9,14 @@ use crate::quadrature::CompensatedSum;
 use crate::sampler::strata;
 use rayon::prelude::*;
 
-/// Seconds of one autocorrelation value, by the integrand's kind: about what a pair sum over
-/// 1024 points measures (disk 0.19 µs, Gaussian 0.39 µs, a triangle 0.32 µs, an axis-aligned
-/// square 0.51 µs, an edge, whose copies wrap across the faces, 1.5 µs), rounded up; the
-/// grids' and the anisotropic Gaussians' at the dearest.
+/// Seconds of one autocorrelation value, by the integrand's kind ([`crate::costs`]).
 pub(crate) fn autocorrelation_seconds(f: &dyn Integrand) -> f64 {
     match f.kind() {
-        IntegrandKind::Ball => 2e-7,
-        IntegrandKind::Gaussian => 4e-7,
-        IntegrandKind::Polygon | IntegrandKind::Grid | IntegrandKind::AnisotropicGaussian => 2e-6,
+        IntegrandKind::Ball => crate::costs::BALL_AUTOCORRELATION_SECONDS,
+        IntegrandKind::Gaussian => crate::costs::GAUSSIAN_AUTOCORRELATION_SECONDS,
+        IntegrandKind::Polygon | IntegrandKind::Grid | IntegrandKind::AnisotropicGaussian => {
+            crate::costs::CLIPPED_AUTOCORRELATION_SECONDS
+        }
     }
 }
 

@@ -24,7 +24,6 @@
 
 use super::cell_moments::{
     check_box_moments, chunked_sum, is_marked, masses_and_constant_cells, CELL_ROUNDING,
-    CELL_SECONDS,
 };
 use super::cells::{cell_coordinates, cell_of};
 use super::term_mean::mean_to_target_noise;
@@ -35,6 +34,7 @@ use super::{
     SpectrumChoice, SpectrumOrigin,
 };
 use crate::budget::{Budget, Needs};
+use crate::costs::CELL_SECONDS;
 use crate::error::{Error, Result};
 use crate::integrand::Integrand;
 use crate::pointset::PointSet;
@@ -58,13 +58,6 @@ const EXTRA_DIGITS: u32 = 4;
 const INITIAL_SHIFTS: usize = 64;
 /// Shifts the remainder never exceeds.
 const MAX_SHIFTS: usize = 1 << 16;
-/// The work of one evaluation of the remainder `g` at a shifted point: the integrand (a
-/// truncated Gaussian's exponentials are the costliest built-in) and its cell's mean, measured
-/// at 230 ns at N = 262144 (the cell table beyond the caches).
-const EVALUATION_SECONDS: f64 = 2.5e-7;
-/// The work of visiting a shifted point whose cell the integrand is constant on (its digits
-/// XORed, its cell found, one bit read): such points need no evaluation.
-const SKIP_SECONDS: f64 = 2e-8;
 /// A digitally shifted prediction: the exact part below the level, the remainder measured.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct WalshEstimate {
@@ -383,10 +376,6 @@ impl PointsByCell {
     }
 }
 
-/// The work of visiting one varying cell of a shifted pattern's index (its start in a table
-/// beyond the caches, about one memory access).
-const VISIT_SECONDS: f64 = 1e-7;
-
 /// The variance of the estimator of `patterns` (each a fixed pattern, all equally likely)
 /// under a uniform random digital shift: exact through level `walsh_level(N, d)` by the Walsh
 /// transforms, the finer digits measured by shifts (`counts.0` first, then as many as the
@@ -466,7 +455,7 @@ pub(crate) fn digital_shift_variance(
     // Only the points in cells where the integrand varies are evaluated (a disk's or an edge's
     // boundary cells, a small share at fine levels).
     let varying = remainder_of.varying();
-    let evaluations = nf * varying * EVALUATION_SECONDS;
+    let evaluations = nf * varying * crate::costs::REMAINDER_EVALUATION_SECONDS;
     let indexed = table
         .constant
         .as_deref()
@@ -478,7 +467,7 @@ pub(crate) fn digital_shift_variance(
                 memory_bytes: patterns.len() as f64 * PointsByCell::bytes(n, cells),
                 work_seconds: 0.0,
             };
-            (v.cells.len() as f64 * VISIT_SECONDS) < nf * SKIP_SECONDS
+            (v.cells.len() as f64 * crate::costs::VISIT_SECONDS) < nf * crate::costs::SKIP_SECONDS
                 && budget
                     .check("the patterns' points by cell", needs, "")
                     .is_ok()
@@ -491,9 +480,11 @@ pub(crate) fn digital_shift_variance(
             (v, index)
         });
     let per_shift = evaluations
-        + indexed.as_ref().map_or(nf * SKIP_SECONDS, |(v, _)| {
-            v.cells.len() as f64 * VISIT_SECONDS
-        });
+        + indexed
+            .as_ref()
+            .map_or(nf * crate::costs::SKIP_SECONDS, |(v, _)| {
+                v.cells.len() as f64 * crate::costs::VISIT_SECONDS
+            });
     let max_shifts = ((work_seconds / per_shift) as usize).clamp(INITIAL_SHIFTS, MAX_SHIFTS);
     // The remainder below the level, measured by shifts until its standard error is
     // `target_noise` of the whole.
@@ -531,8 +522,6 @@ const DRAWN_PATTERNS: usize = 256;
 const INITIAL_DRAWN: usize = 32;
 /// Patterns of a random sampler never exceeded.
 const MAX_DRAWN: usize = 1 << 12;
-/// The work of one cell of the level per binary digit of its transform.
-const BUTTERFLY_SECONDS: f64 = 1e-9;
 
 /// The variance of a random sampler's estimator (`n` points, its patterns drawn anew) under a
 /// uniform random digital shift: each pattern's estimator is unbiased under the shift, so the
@@ -568,9 +557,12 @@ pub(crate) fn drawn_digital_shift_variance(
     let side = 1usize << level;
     let cells = 1usize << (level as usize * d);
     let nf = n as f64;
-    let transform = cells as f64 * BUTTERFLY_SECONDS * (level as usize * d) as f64;
+    let transform =
+        cells as f64 * crate::costs::WALSH_BUTTERFLY_SECONDS * (level as usize * d) as f64;
     let draw = crate::sampler::pattern_needs(sampler, n).work_seconds;
-    let per_pattern = transform + draw + nf * (SKIP_SECONDS + EVALUATION_SECONDS);
+    let per_pattern = transform
+        + draw
+        + nf * (crate::costs::SKIP_SECONDS + crate::costs::REMAINDER_EVALUATION_SECONDS);
     params.budget.check(
         "the Walsh form over drawn patterns",
         Needs {
@@ -587,7 +579,9 @@ pub(crate) fn drawn_digital_shift_variance(
     });
     let remainder_of = table.remainder(f, &grid);
     let varying = remainder_of.varying();
-    let each = transform + draw + nf * (SKIP_SECONDS + varying * EVALUATION_SECONDS);
+    let each = transform
+        + draw
+        + nf * (crate::costs::SKIP_SECONDS + varying * crate::costs::REMAINDER_EVALUATION_SECONDS);
     let max = ((params.work_budget_seconds / each) as usize).clamp(INITIAL_DRAWN, MAX_DRAWN);
     // The largest of the patterns' `Σ|a| (b/N)²`, for the rounding bound (a maximum, so that
     // it does not depend on the order the patterns finish in).

@@ -37,12 +37,6 @@ const MAX_PANELS: usize = 64;
 /// finer one's error is then far below it (Gauss–Legendre on analytic pieces converges
 /// geometrically), and the difference is what the budget reports.
 const QUADRATURE_TOLERANCE: f64 = 1e-7;
-/// The work of one factor value and its share of a transform, per cell and node (an
-/// exponential and `p` butterflies), measured at about 25 ns at `p = 18`, with a margin.
-const CELL_NODE_SECONDS: f64 = 4e-8;
-/// The work of one element of the dual in the sum (two products of `d` table reads), per
-/// axis: about 2 ns measured in 3D at `p = 14` (tables beyond the caches), with a margin.
-const DUAL_SECONDS: f64 = 3e-9;
 /// The most work the route spends: beyond it (a 3D net's dual of `2^{2p}` elements past
 /// `p = 13`) the measured remainder of [`super::walsh`] answers within a few per cent sooner.
 const MAX_ROUTE_SECONDS: f64 = 4.0;
@@ -214,9 +208,9 @@ fn work_seconds(form: &ProductForm, nets: &[LinearNet], p: u32, panels: usize) -
         .iter()
         .map(|g| (g.breakpoints().len() + 1) * panels * NODES_PER_PANEL)
         .sum();
-    let tables = nodes as f64 * (1u64 << p) as f64 * CELL_NODE_SECONDS;
+    let tables = nodes as f64 * (1u64 << p) as f64 * crate::costs::CELL_NODE_SECONDS;
     let duals: f64 = nets.iter().map(|n| n.dual_size() as f64).sum();
-    tables + duals * d * DUAL_SECONDS
+    tables + duals * d * crate::costs::DUAL_SECONDS
 }
 
 /// The exact variance of `patterns` (each equally likely) under a uniform digital shift, when

@@ -249,9 +249,9 @@ pub fn predict_mse(
 
 /// The relative noise each pixel's estimated prediction aims at: the pixels draw independent
 /// patterns, so the image's mean averages their noise down by the square root of their count.
-const PIXEL_TARGET_NOISE: f64 = 0.2;
+const RENDER_PIXEL_TARGET_NOISE: f64 = 0.2;
 /// The work one pixel's estimated prediction may spend, in seconds of one core.
-const PIXEL_WORK_SECONDS: f64 = 0.05;
+const RENDER_PIXEL_WORK_SECONDS: f64 = 0.05;
 
 /// The image MSE predicted for `sampler` with `n` rays under `randomization` pixel by pixel:
 /// each visited pixel's visibility grid predicted as an integrand by its own default route for
@@ -287,8 +287,8 @@ pub fn predict_mse_per_pixel(
         })
         .collect();
     let params = PredictParams {
-        target_noise: PIXEL_TARGET_NOISE,
-        work_budget_seconds: PIXEL_WORK_SECONDS,
+        target_noise: RENDER_PIXEL_TARGET_NOISE,
+        work_budget_seconds: RENDER_PIXEL_WORK_SECONDS,
         ..PredictParams::default()
     };
     let per_pixel: Vec<Option<Prediction>> = pixels

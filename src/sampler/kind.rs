@@ -74,14 +74,6 @@ pub struct Pool {
 /// The fewest independent patterns a pool uses, so that its interval rests on enough units.
 pub const MIN_POOL_PATTERNS: usize = 32;
 
-/// The pool rule ([`SamplerKind::pool`]): a pattern is used under one shift per this many
-/// nanoseconds of its declared generation cost per point. A fixed rule, not a measured time, so
-/// that pools, and with them every Monte Carlo result, do not move with the machine: it was
-/// the cost of one evaluation with its shift when the rule was set. Evaluations have since
-/// become about 10 ns (`benches/sampler_costs.rs` prints the current cost beside it), so the
-/// rule reuses patterns less than the costs alone would.
-pub const POOL_NS_PER_SHIFT: f64 = 140.0;
-
 /// Generation costs per point above this (in nanoseconds) make a sampler costly: its spectrum
 /// estimates use fewer realizations, since drawing them would dwarf the transforms.
 const COSTLY_NS: f64 = 10_000.0;
@@ -401,7 +393,7 @@ impl SamplerKind {
     /// assert_eq!((ccvt.patterns, ccvt.shifts), (32, 125));
     /// ```
     pub fn pool(self, trials: usize) -> Pool {
-        let worth = (self.cost_per_point_ns() / POOL_NS_PER_SHIFT)
+        let worth = (self.cost_per_point_ns() / crate::costs::POOL_NS_PER_SHIFT)
             .round()
             .max(1.0) as usize;
         let cap = (trials / MIN_POOL_PATTERNS).max(1);

@@ -44,9 +44,7 @@ pub(crate) use halton::HaltonRealization;
 pub(crate) use halton::PRIMES as HALTON_BASES;
 pub use homogenize::{homogenize, homogenizing_shift, Homogenized};
 pub use jitter::Jitter;
-pub use kind::{
-    costly_realizations, Pool, SamplerKind, SamplerSummary, MIN_POOL_PATTERNS, POOL_NS_PER_SHIFT,
-};
+pub use kind::{costly_realizations, Pool, SamplerKind, SamplerSummary, MIN_POOL_PATTERNS};
 pub use kronecker::Kronecker;
 pub use latin::LatinHypercube;
 pub use memo::Memoized;

@@ -179,7 +179,8 @@ impl Engine {
             return self;
         }
         let tolerance = statistical_tolerance(n, realizations);
-        let direct = n as f64 * ((2 * kmax + 1) as f64).powi(d as i32) / 2.0 * DIRECT_MAC_SECONDS;
+        let direct = n as f64 * ((2 * kmax + 1) as f64).powi(d as i32) / 2.0
+            * crate::costs::DIRECT_MAC_SECONDS;
         match nufft::choice::Choice::cheapest(d, kmax, n, tolerance) {
             Ok(c) if c.seconds(d, kmax, n) < direct => Engine::Fast { tolerance },
             _ => Engine::Direct,
@@ -195,9 +196,6 @@ impl Engine {
         }
     }
 }
-
-/// Seconds per complex multiply-add of the direct engine.
-const DIRECT_MAC_SECONDS: f64 = 0.25e-9;
 
 /// The error in `P` the fast engine may add, as a fraction of one standard error of an
 /// `M`-realization mean (whose standard error is about `P / √M`, the periodogram being
@@ -548,7 +546,7 @@ pub fn transform_needs(
                 });
             (choice.scratch_bytes(d, kmax), choice.seconds(d, kmax, n))
         }
-        _ => (0.0, n as f64 * len / 2.0 * DIRECT_MAC_SECONDS),
+        _ => (0.0, n as f64 * len / 2.0 * crate::costs::DIRECT_MAC_SECONDS),
     };
     crate::budget::Needs {
         memory_bytes: threads * (len * 40.0 + scratch) + 2.0 * threads * len * 16.0,

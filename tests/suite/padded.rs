@@ -49,7 +49,15 @@ fn check(first: SamplerKind, second: SamplerKind, randomization: Option<Randomiz
         samplers.randomizations = (r, r);
     }
     let p = predict_padded(&f, samplers, n, &PredictParams::default(), &Silent).unwrap();
-    let mc = padded_monte_carlo(&f, samplers, n, TRIALS, 17).unwrap();
+    let mc = padded_monte_carlo(
+        &f,
+        samplers,
+        n,
+        TRIALS,
+        17,
+        &specvar::budget::Budget::default(),
+    )
+    .unwrap();
     let half = p.budget.half_width(Z_99);
     eprintln!(
         "{first} × {second} ({:?}) at N = {n}: predicted {:.4e} ± {:.1e} (2D {:.3e} + {:.3e}, interaction {:.3e}, white {:.3e}), measured {:.4e} [{:.4e}, {:.4e}]",
@@ -111,7 +119,15 @@ fn a_padded_plan_reaches_its_target_by_monte_carlo() {
         let samplers = PaddedSamplers::native(s.as_ref(), s.as_ref()).unwrap();
         let params = PlanParams::new(Target::RelativeRmse(0.01));
         let p = specvar::padded::plan_padded(&f, samplers, &params, &Silent).unwrap();
-        let mc = padded_monte_carlo(&f, samplers, p.n, TRIALS, 23).unwrap();
+        let mc = padded_monte_carlo(
+            &f,
+            samplers,
+            p.n,
+            TRIALS,
+            23,
+            &specvar::budget::Budget::default(),
+        )
+        .unwrap();
         let (rmse, target) = (mc.variance.sqrt(), p.target);
         eprintln!(
             "padded plan {kind}: N = {}, predicted {:.4e}, measured {rmse:.4e} [{:.4e}, {:.4e}], target {target:.4e}",
@@ -156,7 +172,17 @@ fn an_image_of_padded_pixels_plans_for_its_mean_variance() {
     let p = plan_padded_pixels(&image, samplers, &params, &Silent).unwrap();
     let measured = image
         .iter()
-        .map(|h| padded_monte_carlo(h, samplers, p.n, TRIALS, 29).unwrap())
+        .map(|h| {
+            padded_monte_carlo(
+                h,
+                samplers,
+                p.n,
+                TRIALS,
+                29,
+                &specvar::budget::Budget::default(),
+            )
+            .unwrap()
+        })
         .collect::<Vec<_>>();
     let mean_of = |v: &dyn Fn(&specvar::montecarlo::McResult) -> f64| {
         (measured.iter().map(v).sum::<f64>() / 2.0).sqrt()

@@ -75,7 +75,7 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
     let p = predict_padded(&f, samplers, n, &params, &bars)?;
     let measured = args
         .mc
-        .map(|trials| padded_monte_carlo(&f, samplers, n, trials, args.seed))
+        .map(|trials| padded_monte_carlo(&f, samplers, n, trials, args.seed, &ctx.budget))
         .transpose()?;
     if args.json {
         let doc = Doc {

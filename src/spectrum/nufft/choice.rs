@@ -23,14 +23,6 @@ pub const UPSAMPLINGS: [f64; 4] = [1.2, 1.25, 1.5, 2.0];
 // Per-operation times, fitted to single-thread transforms of the FINUFFT comparison's rows
 // (2D N = 4096, K = 320; 2D N = 65536, K = 1280; 3D N = 32768, K = 40; 1D N = 10^5, K = 5000)
 // at every upsampling: the model picks the measured fastest in each.
-/// Nanoseconds per kernel value (an `exp` and a `sqrt`).
-const KERNEL_VALUE_NS: f64 = 7.0;
-/// Nanoseconds per cell update in the spreading loop.
-const CELL_UPDATE_NS: f64 = 0.25;
-/// Nanoseconds per `n log2 n` of a complex FFT of length `n`.
-const FFT_NS: f64 = 0.55;
-/// Nanoseconds per padded cell to fold the grid and clear it.
-const GRID_CELL_NS: f64 = 0.5;
 
 /// A kernel and grid for one transform, with the error it guarantees.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -115,10 +107,14 @@ impl Choice {
             self.kernel.width as f64,
             self.kernel.grid as f64,
         );
-        let spread =
-            points as f64 * (dimension as f64 * w * KERNEL_VALUE_NS + w.powi(d) * CELL_UPDATE_NS);
-        let padded = (g + w + 1.0).powi(d) * GRID_CELL_NS;
-        let fft = fft_lines(dimension, self.kernel.grid, kmax) * FFT_NS * g * g.log2();
+        let spread = points as f64
+            * (dimension as f64 * w * crate::costs::NUFFT_KERNEL_VALUE_NS
+                + w.powi(d) * crate::costs::NUFFT_CELL_UPDATE_NS);
+        let padded = (g + w + 1.0).powi(d) * crate::costs::NUFFT_GRID_CELL_NS;
+        let fft = fft_lines(dimension, self.kernel.grid, kmax)
+            * crate::costs::NUFFT_FFT_NS
+            * g
+            * g.log2();
         (spread + padded + fft) * 1e-9
     }
 
