@@ -153,3 +153,9 @@ pub const GAUSSIAN_AUTOCORRELATION_SECONDS: f64 = 4e-7;
 /// 0.32 µs for a triangle, 0.51 µs for an axis-aligned square, 1.5 µs for an edge, whose copies
 /// wrap across the faces; the dearest, rounded up.
 pub const CLIPPED_AUTOCORRELATION_SECONDS: f64 = 2e-6;
+
+// Point-set metrics.
+
+/// One ordered pair of points' toroidal distance, compared or binned (the nearest-neighbour
+/// and pair-correlation loops).
+pub const PAIR_DISTANCE_SECONDS: f64 = 3e-9;

@@ -214,7 +214,7 @@ fn entry(kind: SamplerKind, config: &AtlasConfig, fs: &[Box<dyn Integrand>]) -> 
         effective_nyquist: effective_nyquist(&spectrum.radial),
         pcf: pair_correlation(&patterns, &PcfParams::default())?,
         discrepancies: discrepancy_means(&patterns)?,
-        distances: distance_summary(&patterns)?,
+        distances: distance_summary(&patterns, &Default::default())?,
         rows: rows(sampler.as_ref(), kind, n, alpha, config, fs)?,
         points: patterns[0].clone(),
         spectrum,

@@ -1,7 +1,7 @@
 //! Nearest-neighbour distances relative to the densest packing, and the effective Nyquist
 //! frequency of a radial spectrum.
 
-use crate::budget::{Budget, Needs};
+use crate::budget::Budget;
 use crate::error::{invalid, Result};
 use crate::pointset::{toroidal_distance_sq, PointSet};
 use crate::sampler::max_packing_radius;
@@ -23,7 +23,8 @@ pub struct Distances {
 /// The distances of `points` (1 to 3 dimensions, at least 2 points), in `O(N²)`.
 ///
 /// # Errors
-/// A dimension above 3, fewer than 2 points, or work beyond the default budget.
+/// A dimension above 3, fewer than 2 points, or work beyond the default budget
+/// ([`distances_within`] takes another).
 ///
 /// # Examples
 /// ```
@@ -36,6 +37,14 @@ pub struct Distances {
 /// # Ok::<(), specvar::Error>(())
 /// ```
 pub fn distances(points: &PointSet) -> Result<Distances> {
+    distances_within(points, &Budget::default())
+}
+
+/// [`distances`] within `budget`.
+///
+/// # Errors
+/// As [`distances`], the work checked against `budget`.
+pub fn distances_within(points: &PointSet, budget: &Budget) -> Result<Distances> {
     let (n, d) = (points.len(), points.dimension());
     if !(1..=3).contains(&d) {
         return Err(invalid("dimension", d, "1 to 3"));
@@ -43,9 +52,9 @@ pub fn distances(points: &PointSet) -> Result<Distances> {
     if n < 2 {
         return Err(invalid("point count", n, "at least 2"));
     }
-    Budget::default().check(
+    budget.check(
         "nearest-neighbour distances",
-        Needs::work((n as f64).powi(2) * 3e-9),
+        super::pair_needs(1, n, 1.0),
         "use fewer points",
     )?;
     let nearest: Vec<f64> = (0..n)

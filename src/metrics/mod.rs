@@ -6,7 +6,9 @@ mod distance;
 mod pcf;
 
 pub use discrepancy::{squared_discrepancy, DiscrepancyKind, MAX_DISCREPANCY_POINTS};
-pub use distance::{distances, effective_nyquist, hexagonal_nyquist, Distances, NYQUIST_THRESHOLD};
+pub use distance::{
+    distances, distances_within, effective_nyquist, hexagonal_nyquist, Distances, NYQUIST_THRESHOLD,
+};
 pub use pcf::{pair_correlation, Pcf, PcfParams};
 
 /// How far in `ν` a summary of a pattern's spectrum reads it (the effective Nyquist
@@ -19,6 +21,7 @@ pub fn summary_kmax(n: usize, d: usize) -> usize {
     crate::spectrum::kmax_at_nu(n, d, SUMMARY_NU).max(4)
 }
 
+use crate::budget::{Budget, Needs};
 use crate::error::Result;
 use crate::pointset::PointSet;
 
@@ -64,13 +67,32 @@ pub fn discrepancy_means(patterns: &[PointSet]) -> Result<Vec<(DiscrepancyKind, 
         .collect()
 }
 
+/// The work of visiting `share` of the `N²` ordered pairs of `n` points in each of `patterns`
+/// sets, at [`crate::costs::PAIR_DISTANCE_SECONDS`] a pair.
+pub(crate) fn pair_needs(patterns: usize, n: usize, share: f64) -> Needs {
+    Needs::work(patterns as f64 * (n as f64).powi(2) * share * crate::costs::PAIR_DISTANCE_SECONDS)
+}
+
+/// What a summary of `patterns` sets of `n` points in `d` dimensions needs beyond drawing them
+/// (their distances and pair correlation, `O(N²)` each, and the sets held at once), to check
+/// before they are drawn.
+pub fn summary_needs(patterns: usize, n: usize, d: usize) -> Needs {
+    let held = Needs::memory(patterns as f64 * n as f64 * d as f64 * 8.0);
+    held.and(pair_needs(patterns, n, 1.0))
+        .and(pair_needs(patterns, n, 0.5))
+}
+
 /// The smallest nearest-neighbour distance over `patterns` and the mean of their mean
-/// nearest-neighbour distances, relative to the densest packing's (see [`distances`]).
+/// nearest-neighbour distances, relative to the densest packing's (see [`distances`]), within
+/// `budget`.
 ///
 /// # Errors
-/// As [`distances`].
-pub fn distance_summary(patterns: &[PointSet]) -> Result<Distances> {
-    let found = patterns.iter().map(distances).collect::<Result<Vec<_>>>()?;
+/// As [`distances_within`].
+pub fn distance_summary(patterns: &[PointSet], budget: &Budget) -> Result<Distances> {
+    let found = patterns
+        .iter()
+        .map(|p| distances_within(p, budget))
+        .collect::<Result<Vec<_>>>()?;
     Ok(Distances {
         min_distance: found
             .iter()

@@ -1,7 +1,7 @@
 //! The pair correlation function: the density of pairs at each distance, relative to white
 //! noise's.
 
-use crate::budget::{Budget, Needs};
+use crate::budget::Budget;
 use crate::error::{invalid, Result};
 use crate::pointset::{toroidal_distance_sq, PointSet};
 use crate::quadrature::GaussLegendre;
@@ -19,6 +19,8 @@ pub struct PcfParams {
     pub radii: usize,
     /// The Gaussian kernel's standard deviation, in spacings.
     pub sigma: f64,
+    /// What the pair sums may spend, checked before they start.
+    pub budget: Budget,
 }
 
 impl Default for PcfParams {
@@ -27,6 +29,7 @@ impl Default for PcfParams {
             r_max: 3.0,
             radii: 150,
             sigma: 0.05,
+            budget: Budget::default(),
         }
     }
 }
@@ -176,10 +179,9 @@ fn check(patterns: &[PointSet], n: usize, d: usize, params: &PcfParams) -> Resul
     if params.radii == 0 || params.radii > 100_000 {
         return Err(invalid("radii", params.radii, "1 to 100000"));
     }
-    let pairs = patterns.len() as f64 * (n as f64).powi(2) / 2.0;
-    Budget::default().check(
+    params.budget.check(
         "the pair correlation function",
-        Needs::work(pairs * 3e-9),
+        super::pair_needs(patterns.len(), n, 0.5),
         "use fewer points or patterns",
     )
 }

@@ -410,6 +410,64 @@ impl CellSource<'_> {
 /// do), 6e-8 of the unit away at most.
 const FACE_SLACK: f64 = 1e-5;
 
+/// Errors where `sets` cannot be independent draws with points independent across cells: two
+/// identical sets, or a set of more than one point whose points all sit at one offset within
+/// their cells of `grid`.
+fn check_sets_drawn(sets: &[PointSet], rule: CellRule, grid: &[usize]) -> Result<()> {
+    if rule == CellRule::None {
+        return Ok(());
+    }
+    let refuse = |what: String| {
+        Err(crate::error::invalid(
+            "cells",
+            rule,
+            format!(
+                "point sets drawn independently, with independent points in their cells; {what}"
+            ),
+        ))
+    };
+    let mut seen = std::collections::HashMap::new();
+    for (i, set) in sets.iter().enumerate() {
+        let bits: Vec<u64> = set.points().flatten().map(|x| x.to_bits()).collect();
+        if let Some(j) = seen.insert(bits, i) {
+            return refuse(format!(
+                "sets {j} and {i} are identical, so their estimator has no variance of its own \
+                 (measure it with `specvar mc --input`)"
+            ));
+        }
+    }
+    for (i, set) in sets.iter().enumerate() {
+        if set.len() > 1 && rule != CellRule::Whole && one_offset(set, grid) {
+            return refuse(format!(
+                "the points of set {i} all sit at one offset within their cells (a shifted or \
+                 fixed grid), not independently"
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Whether every point of `set` lies at the same offset within its cell of `grid`, to a
+/// millionth of a cell.
+fn one_offset(set: &PointSet, grid: &[usize]) -> bool {
+    let offset = |x: &[f64]| -> Vec<f64> {
+        x.iter()
+            .zip(grid)
+            .map(|(&v, &m)| (v * m as f64).fract())
+            .collect()
+    };
+    let mut points = set.points();
+    let Some(first) = points.next().map(offset) else {
+        return false;
+    };
+    points.all(|x| {
+        offset(x).iter().zip(&first).all(|(a, b)| {
+            let gap = (a - b).abs();
+            gap.min(1.0 - gap) < 1e-6
+        })
+    })
+}
+
 /// The points' counts in the cells of `grid` (the coordinates `axes` of each point), a point
 /// on a cell's face moved across it where that fills an empty cell from a crowded one.
 fn settled_counts<'a>(
@@ -452,9 +510,13 @@ fn settled_counts<'a>(
     count
 }
 
-/// Errors unless every set has the occupancy `rule` implies on `grid`: one point per stratum
-/// (strata), one per row of every axis (rows), at most one per row of every axis (dyadic).
+/// Errors unless every set has the occupancy `rule` implies on `grid` (one point per stratum
+/// for strata, one per row of every axis for rows, at most one per row of every axis for
+/// dyadic) and the sets look drawn as the rule says: no two sets identical (the cell form
+/// averages over independent draws), and within a set the points not all at one offset in
+/// their cells (a shifted grid fills every stratum, but its points move together).
 pub(crate) fn check_sets_occupy(sets: &[PointSet], rule: CellRule, grid: &[usize]) -> Result<()> {
+    check_sets_drawn(sets, rule, grid)?;
     let all: Vec<usize> = (0..grid.len()).collect();
     for (i, set) in sets.iter().enumerate() {
         let bad = |what: String| {

@@ -368,6 +368,70 @@ fn every_size_goes_through_the_budget_with_its_reason() {
     );
 }
 
+/// Point sets whose declared cells do not hold are refused with the first violation found:
+/// copies of one grid, a shifted grid, jittered sets declared as rows, random sets as dyadic.
+#[test]
+fn declared_cells_are_checked() {
+    let dir = std::env::temp_dir().join(format!("specvar-cells-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let sample = |name: &str, args: &[&str]| {
+        let path = dir.join(name);
+        let out = Command::new(env!("CARGO_BIN_EXE_specvar"))
+            .args(["sample", "-n", "256", "-o"])
+            .arg(&path)
+            .args(args)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        path.display().to_string()
+    };
+    let grid = sample("grid.txt", &["-s", "regular"]);
+    let one = std::fs::read_to_string(&grid).unwrap();
+    let copies = dir.join("copies.txt");
+    std::fs::write(&copies, vec![one.trim_end(); 32].join("\n#\n")).unwrap();
+    let copies = copies.display().to_string();
+    let shifted = sample(
+        "shifted.txt",
+        &[
+            "-s",
+            "regular",
+            "--realizations",
+            "4",
+            "--randomization",
+            "shift",
+        ],
+    );
+    let jitter = sample("jitter.txt", &["-s", "jitter", "--realizations", "4"]);
+    let random = sample("random.txt", &["-s", "random", "--realizations", "4"]);
+    for (file, cells, expected) in [
+        (&copies, "strata", "sets 0 and 1 are identical"),
+        (
+            &shifted,
+            "strata",
+            "set 0 all sit at one offset within their cells",
+        ),
+        (&jitter, "rows", "points in row"),
+        (&random, "dyadic", "points in row"),
+    ] {
+        refuses_with(
+            &["predict", "--input", file, "-f", "disk", "--cells", cells],
+            expected,
+        );
+    }
+    // Jittered sets declared as strata are what the declaration says.
+    run_bounded(
+        &[
+            "predict", "--input", &jitter, "-f", "disk", "--cells", "strata",
+        ],
+        &[0],
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// Sizes the plan refuses before any work, each naming its analysis and need: patterns that
 /// used to abort on their allocation, and a Gaussian too narrow for its cells' sums.
 #[test]

@@ -135,6 +135,7 @@ fn pair_correlation_refuses_what_it_cannot_measure() {
         sigma: 0.1,
         r_max: 1.0,
         radii: 10,
+        ..PcfParams::default()
     };
     assert!(
         pair_correlation(&[p, q], &bad).is_err(),

@@ -58,6 +58,7 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
     let pcf_params = PcfParams {
         sigma: args.pcf_sigma,
         r_max: args.pcf_rmax,
+        budget: ctx.budget,
         ..PcfParams::default()
     };
     let pcf = pair_correlation(&patterns, &pcf_params)?;
@@ -112,7 +113,23 @@ fn patterns(args: &Args, ctx: &super::Context) -> Result<(String, Vec<PointSet>)
             allowed: "at least 1".into(),
         });
     }
-    let sampler = ctx.sampler(args.patterns.sampler, args.patterns.dimension)?;
+    // The summary's pair loops and the patterns' drawing against the budget before any
+    // pattern is drawn.
+    let (kind, n, d) = (
+        args.patterns.sampler,
+        args.patterns.n,
+        args.patterns.dimension,
+    );
+    let count = args.patterns.realizations;
+    let draw = kind.pattern_needs(n, d);
+    ctx.budget.check(
+        &format!("the metrics of {count} patterns of {kind} at N = {n}"),
+        specvar::metrics::summary_needs(count, n, d).and(specvar::budget::Needs::work(
+            draw.work_seconds * count as f64,
+        )),
+        "lower N or fewer realizations",
+    )?;
+    let sampler = ctx.sampler(kind, d)?;
     let sets = specvar::sampler::draw_realizations(
         sampler.as_ref(),
         args.patterns.n,
@@ -127,7 +144,7 @@ fn patterns(args: &Args, ctx: &super::Context) -> Result<(String, Vec<PointSet>)
 fn summarize(label: &str, patterns: &[PointSet], ctx: &super::Context) -> Result<Summary> {
     let (n, d) = (patterns[0].len(), patterns[0].dimension());
     let discrepancies = discrepancy_means(patterns)?;
-    let near = distance_summary(patterns)?;
+    let near = distance_summary(patterns, &ctx.budget)?;
     let params = SpectrumParams {
         kmax: specvar::metrics::summary_kmax(n, d),
         budget: ctx.budget,
