@@ -493,6 +493,19 @@ fn the_plan_refuses_what_it_cannot_afford() {
         ],
         "invalid sigma_1: 1e-9 (from 1e-6 to 10",
     );
+    // The summary's pair loops, against the budget given, before any pattern is drawn.
+    refuses_with(
+        &[
+            "--budget-seconds",
+            "2",
+            "metrics",
+            "-s",
+            "lhs",
+            "-n",
+            "10000000",
+        ],
+        "above the budget of about 2.00 s of work",
+    );
 }
 
 #[test]
