@@ -110,8 +110,9 @@ pub struct AtlasRow {
     pub predicted: Option<Prediction>,
     /// Why there is no prediction.
     pub unpredicted: Option<String>,
-    /// Monte Carlo.
-    pub measured: McResult,
+    /// Monte Carlo (`None` for a fixed pattern used as drawn: every trial is the same
+    /// pattern, with a bias and no variance to measure).
+    pub measured: Option<McResult>,
     /// The gap beyond the prediction's bounds, in combined standard errors.
     pub z: Option<f64>,
     /// The estimator: how each pattern was randomized.
@@ -212,7 +213,7 @@ fn entry(kind: SamplerKind, config: &AtlasConfig, fs: &[Box<dyn Integrand>]) -> 
         sampler: kind,
         n,
         effective_nyquist: effective_nyquist(&spectrum.radial),
-        pcf: pair_correlation(&patterns, &PcfParams::default())?,
+        pcf: pair_correlation(&patterns, &PcfParams::default().within_torus(n, 2))?,
         discrepancies: discrepancy_means(&patterns)?,
         distances: distance_summary(&patterns, &Default::default())?,
         rows: rows(sampler.as_ref(), kind, n, alpha, config, fs)?,
@@ -295,7 +296,17 @@ fn rows(
         budget: config.budget,
         ..PredictParams::default()
     };
-    let measured = empirical_variances(sampler, &f_refs, n, &mc, &Silent)?;
+    // A fixed rule used as drawn integrates every trial with the same pattern: its estimator
+    // has a bias (`specvar bias`) and no variance, so there is nothing to measure.
+    let fixed = kind.is_deterministic() && randomization == Randomization::None;
+    let measured: Vec<Option<McResult>> = if fixed {
+        vec![None; f_refs.len()]
+    } else {
+        empirical_variances(sampler, &f_refs, n, &mc, &Silent)?
+            .into_iter()
+            .map(Some)
+            .collect()
+    };
     let problems = f_refs
         .iter()
         .map(|f| Problem::new(sampler, *f, n).map(|p| p.with_randomization(randomization)))
@@ -312,7 +323,10 @@ fn rows(
         .zip(predictions)
         .map(|((f, measured), predicted)| AtlasRow {
             integrand: f.label(),
-            z: predicted.as_ref().map(|p| p.z_beyond_bounds(&measured)),
+            z: predicted
+                .as_ref()
+                .zip(measured.as_ref())
+                .map(|(p, m)| p.z_beyond_bounds(m)),
             randomization,
             rate: alpha
                 .filter(|_| randomization == Randomization::Shift)

@@ -214,13 +214,11 @@ pub fn atlas_markdown(atlas: &Atlas) -> String {
         for r in &e.rows {
             let _ = write!(
                 md,
-                " {} | {:.4e} [{:.3e}, {:.3e}] | {}{} |",
+                " {} | {} | {}{} |",
                 r.predicted
                     .as_ref()
                     .map_or("no route".into(), |p| format!("{:.4e}", p.variance)),
-                r.measured.variance,
-                r.measured.ci_low,
-                r.measured.ci_high,
+                measured_text(r.measured.as_ref()),
                 r.z.map_or("—".into(), |z| format!("{z:+.2}")),
                 if r.agrees() == Some(false) {
                     " **miss**"
@@ -285,14 +283,20 @@ fn entry_markdown(e: &AtlasEntry) -> String {
         };
         let _ = writeln!(
             md,
-            "- {} ({}): {predicted}; Monte Carlo {:.4e} [{:.4e}, {:.4e}]; rate {}",
+            "- {} ({}): {predicted}; Monte Carlo {}; rate {}",
             r.integrand,
             r.randomization.estimator(),
-            r.measured.variance,
-            r.measured.ci_low,
-            r.measured.ci_high,
+            measured_text(r.measured.as_ref()),
             rate_text(r.rate)
         );
     }
     md
+}
+
+/// A Monte Carlo variance with its 99% interval, or why there is none.
+fn measured_text(m: Option<&crate::montecarlo::McResult>) -> String {
+    m.map_or(
+        "— (a fixed pattern as drawn: a bias, no variance)".into(),
+        |m| format!("{:.4e} [{:.3e}, {:.3e}]", m.variance, m.ci_low, m.ci_high),
+    )
 }

@@ -23,6 +23,19 @@ pub struct PcfParams {
     pub budget: Budget,
 }
 
+impl PcfParams {
+    /// These parameters with `r_max` cut to what the torus holds at `n` points in `d`
+    /// dimensions (`r_max + 8σ` at most half the torus, in spacings): the default 3 spacings
+    /// need at least 58 points in 2D.
+    pub fn within_torus(self, n: usize, d: usize) -> Self {
+        let half = 0.5 * (n as f64).powf(1.0 / d as f64) - 8.0 * self.sigma;
+        Self {
+            r_max: self.r_max.min(half),
+            ..self
+        }
+    }
+}
+
 impl Default for PcfParams {
     fn default() -> Self {
         Self {

@@ -84,3 +84,41 @@ fn atlas_as_used_predicts_each_sampler_under_its_own_randomization() {
     let md = atlas_markdown(&atlas);
     assert!(md.contains("as-used estimator"), "{md}");
 }
+
+/// The atlas at the smallest documented N (its pair correlation cut to what 16 points' torus
+/// holds), and with every pattern used as drawn: the fixed rules say they have no route and no
+/// variance to measure, where the atlas used to fail on its Monte Carlo.
+#[test]
+fn atlas_at_its_edges_answers() {
+    use specvar::randomization::{Randomization, RandomizationChoice};
+    let small = AtlasConfig {
+        samplers: vec![SamplerKind::Random],
+        n: 16,
+        realizations: 4,
+        alpha_n: 256,
+        trials: 2000,
+        ..AtlasConfig::quick(5)
+    };
+    let atlas = compute_atlas(&small, &Silent).unwrap();
+    let pcf = &atlas.entries[0].pcf;
+    assert!(*pcf.radius_in_spacings.last().unwrap() <= 1.6 + 1e-12);
+    let drawn = AtlasConfig {
+        samplers: vec![SamplerKind::Random, SamplerKind::Korobov],
+        n: 64,
+        realizations: 4,
+        alpha_n: 256,
+        trials: 2000,
+        randomization: RandomizationChoice::Given(Randomization::None),
+        ..AtlasConfig::quick(5)
+    };
+    let atlas = compute_atlas(&drawn, &Silent).unwrap();
+    for r in &atlas.entries[1].rows {
+        assert!(r.predicted.is_none() && r.measured.is_none(), "{r:?}");
+        assert!(r.unpredicted.as_deref().unwrap().contains("fixed pattern"));
+    }
+    assert!(atlas.entries[0]
+        .rows
+        .iter()
+        .all(|r| r.agrees() == Some(true)));
+    assert!(atlas_markdown(&atlas).contains("a bias, no variance"));
+}

@@ -69,9 +69,21 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
         atlas.entries.len(),
         args.out.display(),
         start.elapsed().as_secs_f64(),
-        match rows.len() - predicted {
-            0 => String::new(),
-            k => format!(" ({k} measured without a route)"),
+        match (
+            rows.iter()
+                .filter(|r| r.predicted.is_none() && r.measured.is_some())
+                .count(),
+            rows.iter().filter(|r| r.measured.is_none()).count(),
+        ) {
+            (0, 0) => String::new(),
+            (k, 0) => format!(" ({k} measured without a route)"),
+            (0, fixed) => format!(
+                " ({fixed} of fixed patterns as drawn, biased, neither predicted nor measured)"
+            ),
+            (k, fixed) => format!(
+                " ({k} measured without a route; {fixed} of fixed patterns as drawn, biased, \
+                 neither predicted nor measured)"
+            ),
         }
     )?;
     Ok(())
