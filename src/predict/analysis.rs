@@ -241,3 +241,91 @@ impl From<Needs> for PlanNeeds {
         }
     }
 }
+
+/// The table from (sampler, randomization, integrand kind) to the analysis that answers it in
+/// 2D at the count nearest `n`, with default parameters, as markdown: the plan alone, no work.
+/// A cell names the analysis, or `refused` where no analysis answers that estimator.
+///
+/// # Examples
+/// ```
+/// let table = specvar::predict::analysis_markdown_table(256);
+/// assert!(table.contains("| jitter | none (native) | fixed-strata |"));
+/// ```
+pub fn analysis_markdown_table(n: usize) -> String {
+    use crate::integrand::Polygon;
+    use crate::integrand::{AnisotropicGaussian, Ball, Gaussian, GridIntegrand, Integrand};
+    use crate::randomization::Randomization;
+    use crate::sampler::SamplerKind;
+    // One integrand of each kind, the Gaussian and the grid crossing no face, the polygon a
+    // triangle inside the square.
+    let built: Result<Vec<(&str, Box<dyn Integrand>)>> = (|| {
+        Ok(vec![
+            (
+                "disk",
+                Box::new(Ball::new(0.25, vec![0.5, 0.5], 1.0)?) as Box<dyn Integrand>,
+            ),
+            (
+                "gaussian",
+                Box::new(Gaussian::new(0.1, vec![0.5, 0.5], 1.0)?),
+            ),
+            (
+                "polygon",
+                Box::new(Polygon::new(
+                    vec![[0.12, 0.18], [0.83, 0.31], [0.41, 0.88]],
+                    1.0,
+                )?),
+            ),
+            (
+                "grid",
+                Box::new(GridIntegrand::new(4, 4, (0..16).map(f64::from).collect())?),
+            ),
+            (
+                "agaussian",
+                Box::new(AnisotropicGaussian::new(0.05, 0.15, 30.0, [0.5, 0.5], 1.0)?),
+            ),
+        ])
+    })();
+    let Ok(integrands) = built else {
+        return String::new();
+    };
+    let mut md = String::from("| sampler | randomization |");
+    for (name, _) in &integrands {
+        md.push_str(&format!(" {name} |"));
+    }
+    md.push_str("\n|---|---|");
+    md.push_str(&"---|".repeat(integrands.len()));
+    md.push('\n');
+    for kind in SamplerKind::in_dimension(2) {
+        let Ok(sampler) = kind.build(2) else { continue };
+        let count = kind.nearest_count(n, 2);
+        for r in Randomization::ALL {
+            let native = if r == kind.native_randomization() {
+                " (native)"
+            } else {
+                ""
+            };
+            md.push_str(&format!("| {kind} | {r}{native} |"));
+            for (_, f) in &integrands {
+                let plan = Problem::new(sampler.as_ref(), f.as_ref(), count).and_then(|p| {
+                    super::plan_analysis(&p.with_randomization(r), &Default::default())
+                });
+                let cell = plan.map_or("refused".to_string(), |p| p.analysis.to_string());
+                md.push_str(&format!(" {cell} |"));
+            }
+            md.push('\n');
+        }
+    }
+    md
+}
+
+/// Every analysis with what it computes, then [`analysis_markdown_table`] at `n`, as markdown:
+/// the theory notes' reference (`specvar samplers --analyses`).
+pub fn analyses_markdown(n: usize) -> String {
+    let mut md = String::from("| analysis | what it computes |\n|---|---|\n");
+    for kind in AnalysisKind::ALL {
+        md.push_str(&format!("| `{kind}` | {} |\n", kind.description()));
+    }
+    md.push('\n');
+    md.push_str(&analysis_markdown_table(n));
+    md
+}

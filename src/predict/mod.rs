@@ -53,7 +53,9 @@ mod walsh;
 mod walsh_net;
 mod walsh_transform;
 
-pub use analysis::{AnalysisKind, AnalysisPlan, PlanNeeds};
+pub use analysis::{
+    analyses_markdown, analysis_markdown_table, AnalysisKind, AnalysisPlan, PlanNeeds,
+};
 pub use bias::{bias_of_pattern, regular_grid_bias, sampler_bias, BiasMethod, SpectralBias};
 pub use cell_moments::CellSum;
 pub use cell_pairs::{

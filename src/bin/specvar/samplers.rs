@@ -11,11 +11,19 @@ pub struct Args {
     /// Print the facts as a Markdown table (the README's list).
     #[arg(long)]
     pub markdown: bool,
+    /// Print, as Markdown, every analysis and the one that answers each sampler, randomization
+    /// and kind of integrand at N = 256 (the theory notes' table).
+    #[arg(long, conflicts_with_all = ["json", "markdown"])]
+    pub analyses: bool,
 }
 
 /// Prints every sampler with its dimensions, N rule and facts.
 pub fn run(args: &Args) -> specvar::Result<()> {
     let rows: Vec<SamplerSummary> = SamplerKind::ALL.iter().map(|k| k.summary()).collect();
+    if args.analyses {
+        out!("{}", specvar::predict::analyses_markdown(256))?;
+        return Ok(());
+    }
     if args.markdown {
         out!("{}", SamplerKind::markdown_table())?;
         return Ok(());
