@@ -127,6 +127,36 @@ impl AnalysisKind {
 }
 
 impl AnalysisKind {
+    /// Whether the analysis sizes some of its tables as it builds them (a table of cells whose
+    /// size depends on which cells the integrand's boundary crosses, a lattice that gives way
+    /// to another form when too large), each checked against the budget before it is
+    /// allocated: its plan's needs are then what it spends before those tables.
+    pub fn sizes_tables_as_built(self) -> bool {
+        match self {
+            AnalysisKind::JitterAliasing
+            | AnalysisKind::FixedStrata
+            | AnalysisKind::RooksPairs
+            | AnalysisKind::OwenGains
+            | AnalysisKind::OwenGainsOverPatterns
+            | AnalysisKind::EstimatedOccupancy
+            | AnalysisKind::WalshFixed
+            | AnalysisKind::WalshDrawn
+            | AnalysisKind::PermutedDigits
+            | AnalysisKind::PermutedLevel
+            | AnalysisKind::AliasedPairs
+            | AnalysisKind::OwenGainsOverShifts
+            | AnalysisKind::RooksOverShifts
+            | AnalysisKind::StrataOverShifts
+            | AnalysisKind::GaussianJitterShifted
+            | AnalysisKind::ClosedLattice => true,
+            AnalysisKind::MeasuredTail
+            | AnalysisKind::FixedPairs
+            | AnalysisKind::ClosedPolar
+            | AnalysisKind::RescaledPolar
+            | AnalysisKind::EstimatedLattice => false,
+        }
+    }
+
     /// What it computes, in a phrase.
     pub fn description(self) -> &'static str {
         match self {
@@ -231,13 +261,18 @@ pub struct PlanNeeds {
     pub seconds: f64,
     /// Bytes held at once.
     pub bytes: f64,
+    /// Whether tables sized as they are built come on top, each checked against the budget
+    /// before it is allocated ([`AnalysisKind::sizes_tables_as_built`]).
+    pub tables_checked_as_built: bool,
 }
 
-impl From<Needs> for PlanNeeds {
-    fn from(n: Needs) -> Self {
+impl PlanNeeds {
+    /// `needs` of `analysis`.
+    pub(crate) fn of(analysis: AnalysisKind, needs: Needs) -> Self {
         Self {
-            seconds: n.work_seconds,
-            bytes: n.memory_bytes,
+            seconds: needs.work_seconds,
+            bytes: needs.memory_bytes,
+            tables_checked_as_built: analysis.sizes_tables_as_built(),
         }
     }
 }

@@ -2,8 +2,8 @@
 //! conditions (what the sampler's facts, the randomization, the integrand and the parameters
 //! must be), its needs, and calls its computation.
 
-use super::analysis::AnalysisPlan;
 use super::analysis::{Analysis, AnalysisKind, Applies};
+use super::analysis::{AnalysisPlan, PlanNeeds};
 use super::cells::{cell_method, cell_method_needs, CellMethod, CellSource};
 use super::route;
 use super::{FormChoice, Patterns, PredictParams, Prediction, Problem, SpectrumChoice};
@@ -65,7 +65,7 @@ pub(super) fn choose(
         let plan = AnalysisPlan {
             analysis: row.kind(),
             reason,
-            needs: needs.into(),
+            needs: PlanNeeds::of(row.kind(), needs),
         };
         return Ok((*row, plan));
     }

@@ -189,9 +189,14 @@ fn print_plan(plan: &AnalysisPlan, json: bool) -> Result<()> {
     outln!("analysis     {}", plan.analysis)?;
     outln!("reason       {}", plan.reason)?;
     outln!(
-        "needs        {:.3e} s of one core, {} before any further step",
+        "needs        {:.3e} s of one core, {} before any further step{}",
         plan.needs.seconds,
-        specvar::budget::bytes(plan.needs.bytes)
+        specvar::budget::bytes(plan.needs.bytes),
+        if plan.needs.tables_checked_as_built {
+            "; its tables are sized as they are built, each checked against the budget first"
+        } else {
+            ""
+        }
     )
 }
 
