@@ -42,7 +42,7 @@ use crate::predict::{
 use crate::progress::Progress;
 use crate::randomization::{Randomization, RandomizationChoice};
 use crate::rng::{realization_rng, splitmix64, Stream};
-use crate::sampler::{CountRule, Sampler, SamplerKind};
+use crate::sampler::{sampler_native_randomization, CountRule, Sampler, SamplerKind};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::path::Path;
@@ -243,12 +243,7 @@ impl<'a> PaddedSamplers<'a> {
         second: &'a dyn Sampler,
         choice: RandomizationChoice,
     ) -> Result<Self> {
-        let resolve = |s: &dyn Sampler| {
-            choice.resolve(
-                s.kind()
-                    .map_or(Randomization::Shift, |k| k.native_randomization()),
-            )
-        };
+        let resolve = |s: &dyn Sampler| choice.resolve(sampler_native_randomization(s));
         let samplers = Self {
             first,
             second,

@@ -14,7 +14,7 @@ use crate::predict::{
 use crate::progress::{stage, Progress, Silent};
 use crate::randomization::{Randomization, RandomizationChoice};
 use crate::rng::{realization_rng, Stream};
-use crate::sampler::{native_randomization, Sampler};
+use crate::sampler::{sampler_native_randomization, Sampler};
 use rand::Rng;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -251,7 +251,7 @@ pub fn predict_pixels(
     params: &PredictParams,
     progress: &dyn Progress,
 ) -> Result<ImagePrediction> {
-    let randomization = randomization.resolve(native_randomization(sampler.kind()));
+    let randomization = randomization.resolve(sampler_native_randomization(sampler));
     if let Some(kind) = sampler.kind() {
         crate::predict::check_unbiased(kind, randomization)?;
     }

@@ -212,7 +212,7 @@ fn sample<'py>(
     let randomization = randomization
         .parse::<RandomizationChoice>()
         .or_value_error()?
-        .resolve(native_randomization(s.kind()));
+        .resolve(specvar::sampler::sampler_native_randomization(s.as_ref()));
     let end = start.checked_add(realizations as u64).ok_or_else(|| {
         PyValueError::new_err("start + realizations overflows a 64-bit realization index")
     })?;

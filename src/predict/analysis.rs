@@ -330,6 +330,7 @@ pub fn analysis_markdown_table(n: usize) -> String {
     md.push_str("\n|---|---|");
     md.push_str(&"---|".repeat(integrands.len()));
     md.push('\n');
+    // Every sampler of the crate in 2D, in the order `specvar samplers` lists them.
     for kind in SamplerKind::in_dimension(2) {
         let Ok(sampler) = kind.build(2) else { continue };
         let count = kind.nearest_count(n, 2);

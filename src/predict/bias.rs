@@ -214,7 +214,7 @@ pub fn sampler_bias(
         work_seconds: lattice * n as f64 * 0.5e-9,
     });
     budget.check("the bias's spectral sum", needs, "lower --kmax or N")?;
-    if kind == SamplerKind::Regular {
+    if kind.closed_form(n, d) == Some(crate::spectrum::ClosedForm::RegularGrid) {
         return Ok((regular_grid_bias(f, n)?, BiasMethod::ReplicaSum));
     }
     let points = kind.build(d)?.sample(n, seed, 0)?;

@@ -556,11 +556,11 @@ pub(crate) fn shifted_shuffles_variance(
     n: usize,
     t: &[f64],
 ) -> Option<CellSum> {
-    use crate::sampler::SamplerKind;
-    let shuffles = match kind {
-        SamplerKind::MultiJitter => Shuffles::Independent,
+    use crate::sampler::CellLaw;
+    let shuffles = match kind.facts().cell_law {
+        CellLaw::IndependentShuffles => Shuffles::Independent,
         // In 2D an orthogonal array with its offsets is CMJ on p × p cells.
-        SamplerKind::Cmj | SamplerKind::OrthogonalArray => Shuffles::Correlated,
+        CellLaw::CorrelatedShuffles | CellLaw::OrthogonalArray => Shuffles::Correlated,
         _ => return None,
     };
     if f.dimension() != 2 {

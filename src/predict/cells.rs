@@ -32,7 +32,7 @@ use crate::pointset::PointSet;
 use crate::progress::{stage, Progress};
 use crate::quadrature::CompensatedSum;
 use crate::randomization::Randomization;
-use crate::sampler::{CellRule, Sampler, SamplerKind};
+use crate::sampler::{CellLaw, CellRule, Sampler, SamplerKind};
 use crate::spectrum::PatternSource;
 use serde::Serialize;
 use std::fmt;
@@ -394,6 +394,15 @@ impl CellSource<'_> {
         }
     }
 
+    /// How the points occupy the cells: a sampler's law, none for given sets (their occupancy
+    /// is read from the sets).
+    fn law(&self) -> CellLaw {
+        match self {
+            CellSource::Sampler(_, kind) => kind.facts().cell_law,
+            CellSource::Sets(..) => CellLaw::NoCells,
+        }
+    }
+
     fn name(&self) -> String {
         match self {
             CellSource::Sampler(_, kind) => kind.to_string(),
@@ -553,8 +562,8 @@ pub(crate) fn check_sets_occupy(sets: &[PointSet], rule: CellRule, grid: &[usize
 pub(crate) enum CellMethod {
     /// Fixed occupancy (strata, or independent points): the per-stratum form.
     Fixed,
-    /// An N-rooks sampler's pairs of occupied cells in closed form.
-    Rooks(SamplerKind),
+    /// An N-rooks sampler's pairs of occupied cells in closed form, by its law.
+    Rooks(CellLaw),
     /// A scrambled net's pairs of points by Owen's gains, read from one net.
     Gains(NetPairs),
     /// Owen's gains averaged over patterns whose pair counts differ (drawn at this many
@@ -588,17 +597,8 @@ pub(crate) fn cell_method(
         check_sets_occupy(sets, rule, &grid)?;
     }
     // Latin hypercube and the multi-jittered samplers have their pairs of cells in closed form.
-    let pairs = match source {
-        CellSource::Sampler(
-            _,
-            kind @ (SamplerKind::LatinHypercube
-            | SamplerKind::MultiJitter
-            | SamplerKind::Cmj
-            | SamplerKind::OrthogonalArray),
-        ) => Some(kind),
-        _ => None,
-    }
-    .filter(|&kind| {
+    let law = source.law();
+    let pairs = law.is_rooks().then_some(law).filter(|&law| {
         // A separable integrand's sums factor by axis, and a disk's or a polygon's Latin
         // hypercube needs only the cells its boundary crosses: exact at any N. Multi-jitter
         // reads boxes besides, within the work an estimate would spend. Otherwise the table of
@@ -606,11 +606,9 @@ pub(crate) fn cell_method(
         let tabulated = n
             .checked_pow(d as u32)
             .is_some_and(|c| c <= EXACT_CELL_BUDGET);
-        match kind {
-            SamplerKind::LatinHypercube => {
-                super::cell_pairs::latin_hypercube_at_any_n(f) || tabulated
-            }
-            SamplerKind::MultiJitter => {
+        match law {
+            CellLaw::Permutations => super::cell_pairs::latin_hypercube_at_any_n(f) || tabulated,
+            CellLaw::IndependentShuffles => {
                 let boxes = super::shuffle_cells::multi_jitter_box_needs(f, n)
                     .is_some_and(|needs| needs.work_seconds <= params.work_budget_seconds);
                 super::cell_pairs::shuffles_at_any_n(f) || boxes || (d == 2 && tabulated)
@@ -623,14 +621,14 @@ pub(crate) fn cell_method(
     // pattern. So has PMJ02, whose law nested uniform scrambling leaves unchanged: from one
     // pattern at a power of two (every such prefix is a (0,m,2)-net, whose pair counts the net
     // property fixes), from the mean over patterns between two.
-    let scrambled = match source {
-        CellSource::Sampler(_, SamplerKind::Sobol) => Some(NetPairs::OneNet),
-        CellSource::Sampler(_, SamplerKind::Pmj02) if n.is_power_of_two() => {
+    let scrambled = match (source, law) {
+        (CellSource::Sampler(..), CellLaw::OwenScrambledNet) => Some(NetPairs::OneNet),
+        (CellSource::Sampler(..), CellLaw::ProgressiveNet) if n.is_power_of_two() => {
             Some(NetPairs::EveryNet)
         }
-        CellSource::Sampler(_, SamplerKind::Pmj02) => Some(NetPairs::PerPattern(
-            SamplerKind::Pmj02.cost_per_point_ns_at(n, 2),
-        )),
+        (CellSource::Sampler(_, kind), CellLaw::ProgressiveNet) => {
+            Some(NetPairs::PerPattern(kind.cost_per_point_ns_at(n, 2)))
+        }
         _ => None,
     }
     .filter(|_| params.spectrum != SpectrumChoice::Estimated);
@@ -643,7 +641,7 @@ pub(crate) fn cell_method(
         (true, _, _) if rule.is_fixed() => CellMethod::Fixed,
         (_, Some(NetPairs::PerPattern(cost_ns)), _) => CellMethod::GainsOverPatterns(cost_ns),
         (true, Some(net), _) => CellMethod::Gains(net),
-        (true, None, Some(kind)) => CellMethod::Rooks(kind),
+        (true, None, Some(law)) => CellMethod::Rooks(law),
         _ => CellMethod::Estimated,
     };
     Ok((method, grid))
@@ -659,7 +657,8 @@ pub(crate) fn cell_method_needs(
 ) -> Needs {
     let pattern = |kind: SamplerKind| kind.pattern_needs(n, d);
     match (method, source) {
-        (CellMethod::Gains(NetPairs::EveryNet), _) => pattern(SamplerKind::Sobol),
+        // Any (0,m,2)-net's pair counts are read from a scrambled Sobol' net, the quickest drawn.
+        (CellMethod::Gains(NetPairs::EveryNet), _) => sobol_net_needs(n, d),
         (CellMethod::Gains(_), CellSource::Sampler(_, kind)) => pattern(kind),
         (CellMethod::GainsOverPatterns(_) | CellMethod::Estimated, CellSource::Sampler(_, k)) => {
             let one = pattern(k);
@@ -670,6 +669,15 @@ pub(crate) fn cell_method_needs(
         }
         _ => Needs::default(),
     }
+}
+
+/// What drawing one scrambled Sobol' net of `n` points needs (any `(0,m,2)`-net's pair counts
+/// are read from one).
+fn sobol_net_needs(n: usize, d: usize) -> Needs {
+    crate::sampler::Sobol::new(d)
+        .ok()
+        .and_then(|s| s.kind())
+        .map_or(Needs::default(), |k| k.pattern_needs(n, d))
 }
 
 /// The unshifted estimator's prediction for `source` by `method` on `grid` ([`cell_method`]).
@@ -745,18 +753,18 @@ pub(crate) fn predict_cells(
                 why,
             )
         }
-        (CellMethod::Rooks(kind), _) => {
-            let s = match kind {
-                SamplerKind::MultiJitter => {
+        (CellMethod::Rooks(law), _) => {
+            let s = match law {
+                CellLaw::IndependentShuffles => {
                     super::cell_pairs::multi_jitter_variance(f, n, &params.budget)?
                 }
-                SamplerKind::Cmj | SamplerKind::OrthogonalArray => {
+                CellLaw::CorrelatedShuffles | CellLaw::OrthogonalArray => {
                     super::cell_pairs::correlated_multi_jitter_variance(f, n, &params.budget)?
                 }
                 _ => super::cell_pairs::latin_hypercube_variance(f, n, &params.budget)?,
             };
-            let alias = match source {
-                CellSource::Sampler(_, SamplerKind::OrthogonalArray) => {
+            let alias = match law {
+                CellLaw::OrthogonalArray => {
                     " (in 2D Bose's array with its offsets is correlated multi-jitter on p × p \
                  cells: relabelling the strata leaves one uniform permutation of the \
                  sub-columns and one of the sub-rows)"
@@ -764,7 +772,7 @@ pub(crate) fn predict_cells(
                 _ => "",
             };
             let bounded = if super::cell_pairs::bounded_cell_sums(f)
-                && matches!(kind, SamplerKind::LatinHypercube | SamplerKind::MultiJitter)
+                && matches!(law, CellLaw::Permutations | CellLaw::IndependentShuffles)
             {
                 "; where the cells are not tabulated, the smooth integrand's variance within them \
              bounded by Poincaré's inequality, its bound in the budget"
@@ -887,11 +895,9 @@ fn estimate_occupancy(
     let cells: usize = grid.iter().product();
     // CMJ (beyond its table, or estimated on request): its permutations alone, with a control
     // variate. In 2D an orthogonal array with its offsets has CMJ's law on its p × p cells.
-    let cmj_law = match source {
-        CellSource::Sampler(_, SamplerKind::Cmj) => Some(CONTROLLED_NOTE),
-        CellSource::Sampler(_, SamplerKind::OrthogonalArray) if grid.len() == 2 => {
-            Some(ARRAY_CONTROLLED_NOTE)
-        }
+    let cmj_law = match source.law() {
+        CellLaw::CorrelatedShuffles => Some(CONTROLLED_NOTE),
+        CellLaw::OrthogonalArray if grid.len() == 2 => Some(ARRAY_CONTROLLED_NOTE),
         _ => None,
     };
     if let Some(note) = cmj_law {

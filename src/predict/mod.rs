@@ -430,9 +430,7 @@ impl<'a> Problem<'a> {
             patterns: Patterns::Sampler(sampler),
             integrand,
             n,
-            randomization: sampler
-                .kind()
-                .map_or(Randomization::Shift, |k| k.native_randomization()),
+            randomization: crate::sampler::sampler_native_randomization(sampler),
             cells: None,
         })
     }
@@ -795,6 +793,8 @@ pub fn plan_analysis(problem: &Problem<'_>, params: &PredictParams) -> Result<An
 /// # Ok::<(), specvar::Error>(())
 /// ```
 pub fn check_unbiased(kind: SamplerKind, randomization: Randomization) -> Result<()> {
+    // The one sampler whose points' density is not uniform as drawn: no other fact sets it
+    // apart (its randomness is stratified, as jitter's, and its closed form is of its width).
     if kind == SamplerKind::GaussianJitter && randomization == Randomization::None {
         return Err(Error::OutsideValidity {
             route: "a squared error from the variance".into(),

@@ -43,7 +43,7 @@ use crate::integrand::Integrand;
 use crate::progress::{stage, Progress};
 use crate::quadrature::CompensatedSum;
 use crate::randomization::Randomization;
-use crate::sampler::{Halton, Sampler, SamplerKind, HALTON_BASES};
+use crate::sampler::{Halton, Sampler, HALTON_BASES};
 use crate::spectrum::written_zeros;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -502,8 +502,10 @@ pub(crate) fn halton_level_variance(
     let fewer_varying = cheaper(3f64.powi(d as i32) * varying * level.cells() as f64 * per_cell);
     let halton = Halton::new(d)?;
     let indexed = match (sampler.kind(), constant.as_deref()) {
-        (Some(SamplerKind::Halton), Some(bits))
-            if fewer_varying && draws_as(&halton, sampler, n, params.seed) =>
+        (Some(kind), Some(bits))
+            if kind.facts().randomness == crate::sampler::Randomness::PermutedDigits
+                && fewer_varying
+                && draws_as(&halton, sampler, n, params.seed) =>
         {
             Some(VaryingIndices::new(
                 halton,

@@ -16,7 +16,7 @@ use crate::error::{Error, Result};
 use crate::integrand::Integrand;
 use crate::progress::{stage, Progress};
 use crate::randomization::Randomization;
-use crate::sampler::{perfect_root, strata, CellRule, Sampler, SamplerKind};
+use crate::sampler::{perfect_root, strata, CellLaw, CellRule, Randomness, Sampler, SamplerKind};
 use crate::spectrum::{estimate, ClosedForm, Engine, Lattice, PatternSource, SpectrumParams};
 
 /// The default reference N for a rescaled spectrum: 4096 in 1D and 2D, 32768 in 3D.
@@ -166,17 +166,21 @@ pub(crate) fn check_estimator(problem: &Problem<'_>) -> Result<()> {
                 ),
             })
         }
-        Some(SamplerKind::Halton) if r == Randomization::None => Err(Error::OutsideValidity {
-            route: "a spectral route".into(),
-            reason: format!(
-                "halton used as drawn is predicted in 1 to 3 axes, and in {} axes only on \
+        Some(k)
+            if k.facts().randomness == Randomness::PermutedDigits && r == Randomization::None =>
+        {
+            Err(Error::OutsideValidity {
+                route: "a spectral route".into(),
+                reason: format!(
+                    "halton used as drawn is predicted in 1 to 3 axes, and in {} axes only on \
                  integrands that are a product of one factor per axis (Gaussians, axis-aligned \
                  boxes), which {} is not; measure it with `specvar mc --randomization none`, or \
                  predict with --randomization shift",
-                problem.integrand.dimension(),
-                problem.integrand.label()
-            ),
-        }),
+                    problem.integrand.dimension(),
+                    problem.integrand.label()
+                ),
+            })
+        }
         None if matches!(problem.patterns, Patterns::PointSets(_)) => Err(Error::OutsideValidity {
             route: "a spectral route".into(),
             reason: format!(
@@ -232,12 +236,12 @@ pub(super) fn gaussian_jitter_as_drawn(
     let Patterns::Sampler(sampler) = problem.patterns else {
         return None;
     };
-    if problem.randomization != Randomization::None
-        || problem.kind() != Some(SamplerKind::GaussianJitter)
-    {
+    let form @ ClosedForm::GaussianJitter { .. } = sampler.closed_form(problem.n)? else {
+        return None;
+    };
+    if problem.randomization != Randomization::None {
         return None;
     }
-    let form = sampler.closed_form(problem.n)?;
     let strata = crate::sampler::strata(problem.n, problem.integrand.dimension())?;
     Some((form, strata))
 }
@@ -254,7 +258,9 @@ fn halton_as_drawn(problem: &Problem<'_>) -> Option<crate::integrand::ProductFor
 fn halton_drawn(problem: &Problem<'_>) -> bool {
     problem.randomization == Randomization::None
         && matches!(problem.patterns, Patterns::Sampler(_))
-        && problem.kind() == Some(SamplerKind::Halton)
+        && problem
+            .kind()
+            .is_some_and(|k| k.facts().randomness == Randomness::PermutedDigits)
 }
 
 /// Halton used as drawn in 1 to 3 axes, on any integrand: through a level of digit cells, the
@@ -314,10 +320,9 @@ pub(super) fn halton_analysis(
 pub(crate) fn scrambling_absorbs_shift(problem: &Problem<'_>) -> bool {
     problem.randomization == Randomization::DigitalShift
         && matches!(problem.patterns, Patterns::Sampler(_))
-        && matches!(
-            problem.kind(),
-            Some(SamplerKind::Sobol | SamplerKind::Pmj02)
-        )
+        && problem
+            .kind()
+            .is_some_and(|k| k.facts().cell_law.is_scrambled_net())
 }
 
 /// Owen-scrambled Sobol' (and PMJ02 at a power of two) under a random shift, on an integrand
@@ -332,9 +337,13 @@ pub(super) fn shifted_scrambled_net<'a>(
         Patterns::Sampler(sampler)
             if cell_form_allowed(params)
                 && problem.randomization == Randomization::Shift
-                && (problem.kind() == Some(SamplerKind::Sobol)
-                    // Every 2^m prefix of PMJ02 is a (0,m,2)-net, whose gains every pattern has.
-                    || (problem.kind() == Some(SamplerKind::Pmj02) && problem.n.is_power_of_two()))
+                && problem.kind().is_some_and(|k| match k.facts().cell_law {
+                    CellLaw::OwenScrambledNet => true,
+                    // Every 2^m prefix of a progressive net is a (0,m,2)-net, whose gains every
+                    // pattern has.
+                    CellLaw::ProgressiveNet => problem.n.is_power_of_two(),
+                    _ => false,
+                })
                 && d <= 3
                 && super::cell_moments::check_box_moments(problem.integrand).is_ok() =>
         {
@@ -366,7 +375,7 @@ pub(super) fn shifted_strata<'a>(
     let facts = kind.facts();
     let eligible = cell_form_allowed(params)
         && problem.randomization == Randomization::Shift
-        && kind != SamplerKind::Sobol
+        && facts.cell_law != CellLaw::OwenScrambledNet
         && !kind.is_deterministic()
         && !facts.randomness.is_stationary()
         && sampler.closed_form(problem.n).is_none()
@@ -1019,10 +1028,11 @@ fn jitter_strata_beyond_table(problem: &Problem<'_>, params: &PredictParams) -> 
     let (f, n) = (problem.integrand, problem.n);
     let d = f.dimension();
     f.smooth_decay()?;
-    let grid = (problem.kind() == Some(SamplerKind::Jitter)
+    let kind = problem.kind()?;
+    let grid = (kind.closed_form(n, d) == Some(ClosedForm::Jitter)
         && problem.randomization == Randomization::None
         && params.form == FormChoice::Auto)
-        .then(|| SamplerKind::Jitter.facts().cells.grid(n, d))
+        .then(|| kind.facts().cells.grid(n, d))
         .flatten()?;
     let beyond_table = grid
         .iter()

@@ -26,7 +26,7 @@ use crate::error::Result;
 use crate::integrand::Integrand;
 use crate::progress::Progress;
 use crate::randomization::{toroidal_shift, Randomization};
-use crate::sampler::{CellRule, Sampler, SamplerKind};
+use crate::sampler::{CellLaw, CellRule, Sampler};
 
 /// Shifts the average starts with: enough for the spread that decides how many more it needs.
 const INITIAL_SHIFTS: usize = 16;
@@ -51,9 +51,13 @@ pub(crate) fn predict_shifted_net(
     let d = f.dimension();
     // PMJ02 comes here at a power of two only, where every pattern is a (0,m,2)-net with the
     // pair counts of every such net: Sobol''s is drawn in a fraction of its time.
-    let pattern = match sampler.kind() {
-        Some(SamplerKind::Pmj02) => crate::sampler::Sobol::new(d)?.sample(n, params.seed, 0)?,
-        _ => sampler.sample(n, params.seed, 0)?,
+    let progressive = sampler
+        .kind()
+        .is_some_and(|k| k.facts().cell_law == CellLaw::ProgressiveNet);
+    let pattern = if progressive {
+        crate::sampler::Sobol::new(d)?.sample(n, params.seed, 0)?
+    } else {
+        sampler.sample(n, params.seed, 0)?
     };
     let cell_seconds = seconds_per_grid_cell(f);
     let net = ScrambledNet::new(&pattern, d, cell_seconds, &params.budget)?;
@@ -66,12 +70,11 @@ pub(crate) fn predict_shifted_net(
         |t| net.variance(f, t),
         progress,
     )?;
-    let whose = match sampler.kind() {
-        Some(SamplerKind::Pmj02) => {
-            " (every prefix of 2^m points is a (0,m,2)-net, whose pair counts the net property \
-             fixes, and its law is unchanged by scrambling)"
-        }
-        _ => "",
+    let whose = if progressive {
+        " (every prefix of 2^m points is a (0,m,2)-net, whose pair counts the net property \
+         fixes, and its law is unchanged by scrambling)"
+    } else {
+        ""
     };
     let reason = format!(
         "{}, randomly shifted{whose}: each shift of the integrand has its exact variance under \

@@ -15,7 +15,8 @@ use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
 use super::facts::{
-    CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling, Symmetry,
+    CellLaw, CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling,
+    Symmetry,
 };
 use super::{check_supported, uniform, PoissonDisk, Sampler, SamplerKind};
 use crate::error::{invalid, Result};
@@ -39,6 +40,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     randomness: Randomness::Relaxed,
     native_randomization: Randomization::None,
     cells: CellRule::None,
+    cell_law: CellLaw::NoCells,
     closed_form: ClosedFormRule::None,
     known_alpha: Some(2.0),
     scaling: Scaling::Invariant,

@@ -1,7 +1,8 @@
 //! Correlated multi-jittered sampling (Kensler 2013).
 
 use super::facts::{
-    CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling, Symmetry,
+    CellLaw, CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling,
+    Symmetry,
 };
 use super::{check_supported, in_cell, random_permutation, uniform, Sampler, SamplerKind};
 use crate::error::Result;
@@ -19,6 +20,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     randomness: Randomness::Stratified,
     native_randomization: Randomization::None,
     cells: CellRule::Rows,
+    cell_law: CellLaw::CorrelatedShuffles,
     closed_form: ClosedFormRule::None,
     known_alpha: None,
     scaling: Scaling::Never,

@@ -34,6 +34,9 @@ pub struct SamplerFacts {
     /// The grid of cells in which its points, used as drawn, are independent and uniform
     /// once their cells are known: the form of its unshifted estimator.
     pub cells: CellRule,
+    /// How its points occupy those cells beyond the rule: what the cell form of its unshifted
+    /// estimator reads (the pairs of occupied cells, or a net's pair counts).
+    pub cell_law: CellLaw,
     /// Its exact expected spectrum, where one is known.
     pub closed_form: ClosedFormRule,
     /// The low-frequency exponent `α` of `P̆_S(ν) ≈ c ν^α` as `ν → 0`, where it is known.
@@ -221,6 +224,54 @@ pub(crate) fn is_prime(p: usize) -> bool {
         && (2..)
             .take_while(|q| q * q <= p)
             .all(|q| !p.is_multiple_of(q))
+}
+
+/// How a sampler's points occupy its cells ([`SamplerFacts::cells`]), as far as the cell form of
+/// its unshifted estimator needs to know.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CellLaw {
+    /// No cells in which its points are independent (or none the cell form reads).
+    NoCells,
+    /// A fixed number of points in every cell: jitter's strata, independent points' one cell.
+    Fixed,
+    /// N-rooks by independent uniform permutations of every axis's rows (Latin hypercube).
+    Permutations,
+    /// Strata and rows, each column's sub-rows and each row's sub-columns shuffled
+    /// independently (multi-jitter, Chiu et al. 1994).
+    IndependentShuffles,
+    /// Strata and rows, one shuffle shared by every column and one by every row (correlated
+    /// multi-jitter, Kensler 2013).
+    CorrelatedShuffles,
+    /// An orthogonal array of strength 2 with multi-jittered offsets: in 2D, correlated
+    /// multi-jitter's law on `p × p` cells (relabelling the strata leaves one uniform
+    /// permutation of the sub-columns and one of the sub-rows).
+    OrthogonalArray,
+    /// One base-2 net under nested uniform scrambling: every pattern has the net's pair counts
+    /// on dyadic grids, and a digital shift leaves the law as it is (Owen-scrambled Sobol').
+    OwenScrambledNet,
+    /// A progressive sequence whose every `2^m` prefix is a `(0,m,2)`-net and whose law nested
+    /// uniform scrambling and digital shifts leave unchanged (PMJ02): at a power of two its pair
+    /// counts are any such net's; between two they differ from pattern to pattern.
+    ProgressiveNet,
+}
+
+impl CellLaw {
+    /// Whether the law is a scrambled base-2 net's, which a digital shift leaves unchanged.
+    pub fn is_scrambled_net(self) -> bool {
+        matches!(self, CellLaw::OwenScrambledNet | CellLaw::ProgressiveNet)
+    }
+
+    /// Whether its pairs of occupied cells are N-rooks permutations in closed form.
+    pub fn is_rooks(self) -> bool {
+        matches!(
+            self,
+            CellLaw::Permutations
+                | CellLaw::IndependentShuffles
+                | CellLaw::CorrelatedShuffles
+                | CellLaw::OrthogonalArray
+        )
+    }
 }
 
 /// What is random in a pattern as drawn, before any randomization is added.

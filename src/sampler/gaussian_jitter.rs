@@ -1,7 +1,8 @@
 //! Gaussian jitter: grid centres moved by Gaussian offsets (Subr and Kautz 2013).
 
 use super::facts::{
-    CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling, Symmetry,
+    CellLaw, CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling,
+    Symmetry,
 };
 use super::regular::{check_strata, for_each_cell};
 use super::ClosedForm;
@@ -23,6 +24,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     randomness: Randomness::Stratified,
     native_randomization: Randomization::None,
     cells: CellRule::None,
+    cell_law: CellLaw::NoCells,
     closed_form: ClosedFormRule::OfSampler,
     known_alpha: Some(2.0),
     scaling: Scaling::Never,

@@ -16,7 +16,8 @@
 //! step), so a pattern is the same bits for any thread count.
 
 use super::facts::{
-    CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling, Symmetry,
+    CellLaw, CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling,
+    Symmetry,
 };
 use super::{check_positive, check_supported, uniform, Sampler, SamplerKind};
 use crate::error::{invalid, Result};
@@ -37,6 +38,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     randomness: Randomness::Relaxed,
     native_randomization: Randomization::None,
     cells: CellRule::None,
+    cell_law: CellLaw::NoCells,
     closed_form: ClosedFormRule::None,
     known_alpha: Some(0.0),
     scaling: Scaling::Invariant,

@@ -1,7 +1,8 @@
 //! Halton sequence with random digit permutations.
 
 use super::facts::{
-    CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling, Symmetry,
+    CellLaw, CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling,
+    Symmetry,
 };
 use super::{check_supported, random_permutation, Sampler, SamplerKind, ONE_MINUS_EPS};
 use crate::error::Result;
@@ -19,6 +20,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     randomness: Randomness::PermutedDigits,
     native_randomization: Randomization::None,
     cells: CellRule::None,
+    cell_law: CellLaw::NoCells,
     closed_form: ClosedFormRule::None,
     known_alpha: None,
     scaling: Scaling::Never,

@@ -1,7 +1,8 @@
 //! Jittered (stratified) sampling.
 
 use super::facts::{
-    CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling, Symmetry,
+    CellLaw, CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling,
+    Symmetry,
 };
 use super::regular::{check_strata, for_each_cell};
 use super::ClosedForm;
@@ -21,6 +22,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     randomness: Randomness::Stratified,
     native_randomization: Randomization::None,
     cells: CellRule::Strata,
+    cell_law: CellLaw::Fixed,
     closed_form: ClosedFormRule::WithStrata(ClosedForm::Jitter),
     known_alpha: Some(2.0),
     scaling: Scaling::PerfectPowers,

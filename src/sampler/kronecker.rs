@@ -1,7 +1,8 @@
 //! The Kronecker sequence of Roberts' generalized golden ratio (the R_d sequence).
 
 use super::facts::{
-    CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling, Symmetry,
+    CellLaw, CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling,
+    Symmetry,
 };
 use super::ClosedForm;
 use super::{check_supported, Sampler, SamplerKind};
@@ -20,6 +21,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     randomness: Randomness::Deterministic,
     native_randomization: Randomization::Shift,
     cells: CellRule::None,
+    cell_law: CellLaw::NoCells,
     closed_form: ClosedFormRule::OfSampler,
     known_alpha: None,
     scaling: Scaling::Never,

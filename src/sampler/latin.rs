@@ -1,7 +1,8 @@
 //! Latin hypercube (N-rooks) sampling.
 
 use super::facts::{
-    CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling, Symmetry,
+    CellLaw, CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling,
+    Symmetry,
 };
 use super::ClosedForm;
 use super::{check_supported, in_cell, random_permutation, uniform, Sampler, SamplerKind};
@@ -20,6 +21,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     randomness: Randomness::Stratified,
     native_randomization: Randomization::None,
     cells: CellRule::Rows,
+    cell_law: CellLaw::Permutations,
     closed_form: ClosedFormRule::Always(ClosedForm::LatinHypercube),
     known_alpha: None,
     scaling: Scaling::Never,

@@ -32,7 +32,7 @@ pub use ccvt::{Ccvt, CcvtParams, CcvtStats};
 pub use closed_form::{fejer, sinc, ClosedForm, ClosedLattice, TailDeviation};
 pub use cmj::CorrelatedMultiJitter;
 pub use facts::{
-    CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling,
+    CellLaw, CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling,
     Symmetry, COST_REFERENCE_N, COST_TOLERANCE,
 };
 pub use gaussian_jitter::{
@@ -171,10 +171,28 @@ pub fn draw_realizations(
 }
 
 /// The randomization patterns are used with in practice: a built-in sampler's native one
-/// ([`SamplerKind::native_randomization`]); for point sets of unknown origin (given sets, a
-/// sampler of one's own) none, since they are used as given.
+/// ([`SamplerKind::native_randomization`]); for given point sets none, since they are used as
+/// given (`None` here stands for point sets).
 pub fn native_randomization(kind: Option<SamplerKind>) -> Randomization {
     kind.map_or(Randomization::None, SamplerKind::native_randomization)
+}
+
+/// The randomization `sampler`'s patterns are used with by default: a built-in sampler's
+/// native one; for a sampler of one's own, whose law the crate does not know, the random
+/// toroidal shift, the one estimator predicted for any law (as [`crate::predict::Problem::new`],
+/// padded pairs and the renders take it).
+///
+/// # Examples
+/// ```
+/// use specvar::randomization::Randomization;
+/// use specvar::sampler::{sampler_native_randomization, Jitter};
+/// assert_eq!(sampler_native_randomization(&Jitter::new(2)?), Randomization::None);
+/// # Ok::<(), specvar::Error>(())
+/// ```
+pub fn sampler_native_randomization(sampler: &dyn Sampler) -> Randomization {
+    sampler
+        .kind()
+        .map_or(Randomization::Shift, SamplerKind::native_randomization)
 }
 
 /// Errors unless `d` lies in the dimensions `facts` declares.

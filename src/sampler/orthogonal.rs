@@ -3,7 +3,8 @@
 //! `orthogonal` sampler of renderers draws them.
 
 use super::facts::{
-    CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling, Symmetry,
+    CellLaw, CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling,
+    Symmetry,
 };
 use super::{
     check_positive, check_supported, in_cell, perfect_root, random_permutation, uniform, Sampler,
@@ -26,6 +27,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     randomness: Randomness::Stratified,
     native_randomization: Randomization::None,
     cells: CellRule::Rows,
+    cell_law: CellLaw::OrthogonalArray,
     closed_form: ClosedFormRule::None,
     known_alpha: None,
     scaling: Scaling::Never,

@@ -1,7 +1,8 @@
 //! Progressive multi-jittered (0,2) sequences (Christensen, Kensler and Kilpatrick 2018).
 
 use super::facts::{
-    CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling, Symmetry,
+    CellLaw, CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling,
+    Symmetry,
 };
 use super::{check_supported, uniform, uniform_index, Sampler, SamplerKind};
 use crate::error::{Error, Result};
@@ -20,6 +21,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     randomness: Randomness::ScrambledNet,
     native_randomization: Randomization::None,
     cells: CellRule::Dyadic,
+    cell_law: CellLaw::ProgressiveNet,
     closed_form: ClosedFormRule::None,
     known_alpha: None,
     scaling: Scaling::Never,

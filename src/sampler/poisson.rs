@@ -8,7 +8,8 @@
 //! In 2D this is `r_max = √(2 / (√3 N))` (Lagae and Dutré 2008).
 
 use super::facts::{
-    CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling, Symmetry,
+    CellLaw, CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling,
+    Symmetry,
 };
 use super::{check_supported, uniform, uniform_index, Sampler, SamplerKind};
 use crate::error::{invalid, Error, Result};
@@ -28,6 +29,7 @@ pub(crate) const DART_FACTS: SamplerFacts = SamplerFacts {
     randomness: Randomness::Relaxed,
     native_randomization: Randomization::None,
     cells: CellRule::None,
+    cell_law: CellLaw::NoCells,
     closed_form: ClosedFormRule::None,
     known_alpha: Some(0.0),
     scaling: Scaling::Invariant,
@@ -50,6 +52,7 @@ pub(crate) const BRIDSON_FACTS: SamplerFacts = SamplerFacts {
     randomness: Randomness::Relaxed,
     native_randomization: Randomization::None,
     cells: CellRule::None,
+    cell_law: CellLaw::NoCells,
     closed_form: ClosedFormRule::None,
     known_alpha: Some(0.0),
     scaling: Scaling::Invariant,

@@ -1,7 +1,8 @@
 //! White noise.
 
 use super::facts::{
-    CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling, Symmetry,
+    CellLaw, CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling,
+    Symmetry,
 };
 use super::ClosedForm;
 use super::{check_supported, uniform, Sampler, SamplerKind};
@@ -20,6 +21,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     randomness: Randomness::Independent,
     native_randomization: Randomization::None,
     cells: CellRule::Whole,
+    cell_law: CellLaw::Fixed,
     closed_form: ClosedFormRule::Always(ClosedForm::WhiteNoise),
     known_alpha: Some(0.0),
     scaling: Scaling::Invariant,

@@ -1,7 +1,8 @@
 //! Rank-1 lattices in 2D: Korobov's with the best spectral test, and Fibonacci's.
 
 use super::facts::{
-    CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling, Symmetry,
+    CellLaw, CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling,
+    Symmetry,
 };
 use super::fibonacci::{fibonacci_below, fibonacci_numbers};
 use super::ClosedForm;
@@ -20,6 +21,7 @@ pub(crate) const KOROBOV_FACTS: SamplerFacts = SamplerFacts {
     randomness: Randomness::Deterministic,
     native_randomization: Randomization::Shift,
     cells: CellRule::None,
+    cell_law: CellLaw::NoCells,
     closed_form: ClosedFormRule::OfSampler,
     known_alpha: None,
     scaling: Scaling::Never,
@@ -42,6 +44,7 @@ pub(crate) const FIBONACCI_FACTS: SamplerFacts = SamplerFacts {
     randomness: Randomness::Deterministic,
     native_randomization: Randomization::Shift,
     cells: CellRule::None,
+    cell_law: CellLaw::NoCells,
     closed_form: ClosedFormRule::OfSampler,
     known_alpha: None,
     scaling: Scaling::Never,

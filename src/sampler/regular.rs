@@ -1,7 +1,8 @@
 //! The cell-centred regular grid.
 
 use super::facts::{
-    CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling, Symmetry,
+    CellLaw, CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling,
+    Symmetry,
 };
 use super::ClosedForm;
 use super::{check_supported, cmj::near_square_factors, perfect_root, Sampler, SamplerKind};
@@ -19,6 +20,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     randomness: Randomness::Deterministic,
     native_randomization: Randomization::Shift,
     cells: CellRule::None,
+    cell_law: CellLaw::NoCells,
     closed_form: ClosedFormRule::WithStrata(ClosedForm::RegularGrid),
     known_alpha: None,
     scaling: Scaling::Never,

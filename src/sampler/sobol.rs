@@ -1,7 +1,8 @@
 //! Sobol sequence with Owen (nested uniform) scrambling.
 
 use super::facts::{
-    CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling, Symmetry,
+    CellLaw, CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling,
+    Symmetry,
 };
 use super::{check_supported, Sampler, SamplerKind};
 use crate::error::Result;
@@ -19,6 +20,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     randomness: Randomness::ScrambledNet,
     native_randomization: Randomization::None,
     cells: CellRule::Dyadic,
+    cell_law: CellLaw::OwenScrambledNet,
     closed_form: ClosedFormRule::None,
     known_alpha: None,
     scaling: Scaling::Never,

@@ -1,7 +1,8 @@
 //! The Sobol' net unscrambled, used under a random digital shift.
 
 use super::facts::{
-    CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling, Symmetry,
+    CellLaw, CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling,
+    Symmetry,
 };
 use super::sobol::{direction_numbers, flip_masks, BITS};
 use super::{check_supported, Sampler, SamplerKind};
@@ -19,6 +20,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     randomness: Randomness::Deterministic,
     native_randomization: Randomization::DigitalShift,
     cells: CellRule::None,
+    cell_law: CellLaw::NoCells,
     closed_form: ClosedFormRule::None,
     known_alpha: None,
     scaling: Scaling::Never,

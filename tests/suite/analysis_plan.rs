@@ -128,3 +128,46 @@ fn the_command_line_shows_the_plan() {
     let prediction = run(&[]);
     assert_eq!(prediction["analysis"], plan["analysis"]);
 }
+
+/// A sampler of one's own: its law unknown, its native estimator is the shifted one, for one
+/// problem and for an image's pixels alike (the pixels used to refuse what a problem took).
+#[test]
+fn a_sampler_of_ones_own_is_shifted_everywhere() {
+    #[derive(Debug)]
+    struct Own(Jitter);
+    impl Sampler for Own {
+        fn name(&self) -> &'static str {
+            "own"
+        }
+        fn dimension(&self) -> usize {
+            2
+        }
+        fn sample(
+            &self,
+            n: usize,
+            seed: u64,
+            r: u64,
+        ) -> specvar::Result<specvar::pointset::PointSet> {
+            self.0.sample(n, seed, r)
+        }
+    }
+    let own = Own(Jitter::new(2).unwrap());
+    let pixel = GridIntegrand::new(4, 4, (0..16).map(|i| i as f64 / 15.0).collect()).unwrap();
+    let problem = Problem::new(&own, &pixel, 64).unwrap();
+    assert_eq!(problem.randomization, Randomization::Shift);
+    let stack = PixelStack::new(1, vec![pixel.clone()]).unwrap();
+    let params = PredictParams {
+        target_noise: 0.2,
+        ..pixel_params(&PredictParams::default())
+    };
+    let image = predict_pixels(
+        &stack,
+        &own,
+        64,
+        RandomizationChoice::Native,
+        &params,
+        &Silent,
+    )
+    .unwrap();
+    assert_eq!(image.randomization, Randomization::Shift);
+}
