@@ -122,6 +122,16 @@ pub fn variance_against_orientation(
             format!("1 to {MAX_ANGLES} angles"),
         ));
     }
+    if config.trials < crate::montecarlo::MIN_UNITS {
+        return Err(invalid(
+            "trials",
+            config.trials,
+            format!(
+                "at least {}, for a 99% interval from the trials",
+                crate::montecarlo::MIN_UNITS
+            ),
+        ));
+    }
     let edges = config
         .angles
         .iter()

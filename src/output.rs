@@ -124,6 +124,14 @@ struct Staging {
 
 impl Staging {
     fn create(dir: &Path) -> Result<Self> {
+        if dir.exists() && !dir.is_dir() {
+            return Err(Error::io(
+                dir,
+                std::io::Error::other(
+                    "a file, not a directory: --out names the directory the output goes in",
+                ),
+            ));
+        }
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
         if !dir.is_dir() {
             return Err(Error::io(

@@ -877,3 +877,94 @@ fn numeric_options_at_their_extremes_are_answered_or_refused() {
         }
     });
 }
+
+/// What the user typed is named back: shifts beyond the trials, too few trials, the samplers of
+/// a pilot, a dimension --pixels cannot take, a file given for a directory; a sampler named
+/// twice is planned once.
+#[test]
+fn refusals_name_what_was_typed() {
+    refuses_with(
+        &[
+            "mc",
+            "-s",
+            "jitter",
+            "-f",
+            "disk",
+            "-n",
+            "16",
+            "--shifts",
+            "1000000000000",
+        ],
+        "invalid shifts: 1000000000000 (at most --trials (10000)",
+    );
+    refuses_with(
+        &["anisotropy", "-s", "lhs", "--trials", "0"],
+        "invalid trials: 0 (at least 20",
+    );
+    refuses_with(
+        &[
+            "plan",
+            "--rmse",
+            "0.01",
+            "--pilot",
+            "pilot.npy",
+            "--pilot-n",
+            "16",
+        ],
+        "invalid samplers: none given",
+    );
+    refuses_with(
+        &[
+            "predict",
+            "-s",
+            "jitter",
+            "-n",
+            "16",
+            "--pixels",
+            "pixels.npy",
+            "-d",
+            "3",
+        ],
+        "invalid dimension: 3 (2 with --pixels",
+    );
+    let file = std::env::temp_dir().join(format!("specvar-out-file-{}", std::process::id()));
+    std::fs::write(&file, "mine").unwrap();
+    let out = file.display().to_string();
+    refuses_with(
+        &["atlas", "--quick", "--out", &out],
+        "a file, not a directory",
+    );
+    assert_eq!(std::fs::read_to_string(&file).unwrap(), "mine");
+    std::fs::remove_file(&file).unwrap();
+    let plan = run_bounded(
+        &[
+            "plan",
+            "-f",
+            "disk",
+            "--rmse",
+            "0.01",
+            "--samplers",
+            "random,random",
+        ],
+        &[0],
+    );
+    assert!(plan.is_empty(), "{plan}");
+    let stdout = Command::new(env!("CARGO_BIN_EXE_specvar"))
+        .args([
+            "plan",
+            "-f",
+            "disk",
+            "--rmse",
+            "0.01",
+            "--samplers",
+            "random,random",
+        ])
+        .output()
+        .unwrap()
+        .stdout;
+    let rows = String::from_utf8_lossy(&stdout)
+        .lines()
+        .filter(|l| l.starts_with("random "))
+        .count();
+    assert_eq!(rows, 1);
+}

@@ -37,6 +37,16 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
         true => Randomization::None,
         false => source.randomization(args.problem.randomization),
     };
+    if let Some(shifts) = args.shifts.filter(|&s| s > args.trials) {
+        return Err(specvar::Error::InvalidParameter {
+            name: "shifts",
+            value: shifts.to_string(),
+            allowed: format!(
+                "at most --trials ({}): every pattern's shifts are trials of the run",
+                args.trials
+            ),
+        });
+    }
     let result = match &source {
         Source::Sampler(kind, sampler) => {
             let params = McParams {

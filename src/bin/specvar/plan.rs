@@ -78,10 +78,13 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
         },
         ..base
     };
-    let kinds = match &args.samplers {
+    let mut kinds = match &args.samplers {
         Some(kinds) => kinds.clone(),
         None => default_samplers(args.dimension),
     };
+    // A sampler named twice is planned once.
+    let mut seen = std::collections::HashSet::new();
+    kinds.retain(|k| seen.insert(*k));
     let samplers = kinds
         .iter()
         .map(|&k| ctx.sampler(k, args.dimension))
@@ -93,7 +96,14 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
             let [sampler] = refs.as_slice() else {
                 return Err(specvar::Error::InvalidParameter {
                     name: "samplers",
-                    value: refs.len().to_string(),
+                    value: match &args.samplers {
+                        Some(_) => kinds
+                            .iter()
+                            .map(|k| k.to_string())
+                            .collect::<Vec<_>>()
+                            .join(","),
+                        None => format!("none given (the default is {} samplers)", kinds.len()),
+                    },
                     allowed: "one sampler with --pilot (--samplers NAME): the one its renders \
                               were made with"
                         .into(),

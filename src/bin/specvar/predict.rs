@@ -126,6 +126,13 @@ fn run_pixels(
             allowed: "with --sampler and -n".into(),
         });
     };
+    if args.problem.dimension != 2 {
+        return Err(specvar::Error::InvalidParameter {
+            name: "dimension",
+            value: args.problem.dimension.to_string(),
+            allowed: "2 with --pixels: every pixel is a 2D grid (padded predicts 4D pixels)".into(),
+        });
+    }
     let stack = PixelStack::read(path)?;
     let sampler = ctx.sampler(kind, 2)?;
     sampler.check_count(n)?;
