@@ -22,62 +22,41 @@
 //! The bias of a fixed pattern is [`bias_of_pattern`] and [`regular_grid_bias`].
 
 mod analysis;
-mod bias;
-mod cell_moments;
-mod cell_pairs;
-mod cells;
-mod cmj_control;
-mod dual_lattice;
-mod dyadic_levels;
-mod gaussian_jitter;
-mod halton_remainder;
-mod jitter_tent;
-mod lattice;
-mod linear_net;
-mod low_band;
-mod measured_tail;
-mod owen_gains;
-mod pair;
-mod permuted_digits;
-mod permuted_level;
-mod polar;
-mod radial_table;
+mod digits;
+mod fourier;
 mod route;
-mod shifted_cells;
-mod shifted_gains;
-mod shuffle_cells;
-mod space;
+mod strata;
 mod table;
 mod term_mean;
 mod walsh;
-mod walsh_net;
-mod walsh_transform;
 
 pub use analysis::{
     analyses_markdown, analysis_markdown_table, AnalysisKind, AnalysisPlan, PlanNeeds,
 };
-pub use bias::{bias_of_pattern, regular_grid_bias, sampler_bias, BiasMethod, SpectralBias};
-pub use cell_moments::CellSum;
-pub use cell_pairs::{
-    correlated_multi_jitter_variance, latin_hypercube_variance, multi_jitter_variance,
+pub use digits::permuted_digits::PermutedDigitsOrigin;
+pub use digits::permuted_level::PermutedLevelOrigin;
+pub use fourier::bias::{
+    bias_of_pattern, regular_grid_bias, sampler_bias, BiasMethod, SpectralBias,
 };
-pub use cells::{fixed_strata_variance, occupancy_variance, CellOrigin, Occupancy};
-pub use gaussian_jitter::gaussian_jitter_bias;
-pub use jitter_tent::jitter_shift_variance;
-pub use lattice::{
+pub use fourier::gaussian_jitter::gaussian_jitter_bias;
+pub use fourier::jitter_tent::jitter_shift_variance;
+pub use fourier::lattice::{
     predict_from_power, predict_lattice, predict_on_patterns, LatticePower, PatternPlan,
 };
-pub use low_band::{DiscFit, LowBand};
-pub use pair::{pair_correlation_variance, PcfVariance};
-pub use permuted_digits::PermutedDigitsOrigin;
-pub use permuted_level::PermutedLevelOrigin;
-pub use polar::{predict_polar, PolarParams};
-pub use route::{default_kmax, default_reference_n, polar_validity};
-pub use space::{
+pub use fourier::low_band::{DiscFit, LowBand};
+pub use fourier::pair::{pair_correlation_variance, PcfVariance};
+pub use fourier::polar::{predict_polar, PolarParams};
+pub use fourier::space::{
     kronecker_variance, pattern_shift_variance, rank1_lattice_variance, regular_grid_variance,
 };
+pub use route::{default_kmax, default_reference_n, polar_validity};
+pub use strata::cell_moments::CellSum;
+pub use strata::cell_pairs::{
+    correlated_multi_jitter_variance, latin_hypercube_variance, multi_jitter_variance,
+};
+pub use strata::cells::{fixed_strata_variance, occupancy_variance, CellOrigin, Occupancy};
 pub use term_mean::OccupancyEstimate;
-pub use walsh::{WalshNetOrigin, WalshOrigin};
+pub use walsh::forms::{WalshNetOrigin, WalshOrigin};
 
 use crate::error::{finite, invalid, Error, Result};
 use crate::integrand::Integrand;
@@ -550,7 +529,7 @@ impl<'a> Problem<'a> {
                 ),
             )
         })?;
-        cells::check_sets_occupy(sets, rule, &grid)?;
+        strata::cells::check_sets_occupy(sets, rule, &grid)?;
         Ok(Self {
             cells: Some(rule),
             randomization: Randomization::None,

@@ -1,9 +1,9 @@
 //! Which route [`super::predict`] takes, and why: every decision of substance about a prediction
 //! (closed form or estimate, form, reference N, lattice extent, realizations) is made here.
 
-use super::lattice::{white_noise, LatticePower, PatternEstimate, PatternPlan};
-use super::low_band::LowBand;
-use super::space::{
+use super::fourier::lattice::{white_noise, LatticePower, PatternEstimate, PatternPlan};
+use super::fourier::low_band::LowBand;
+use super::fourier::space::{
     autocorrelation_seconds, kronecker_variance, rank1_lattice_variance, regular_grid_variance,
     sets_shift_variance,
 };
@@ -264,9 +264,10 @@ fn halton_drawn(problem: &Problem<'_>) -> bool {
 }
 
 /// Halton used as drawn in 1 to 3 axes, on any integrand: through a level of digit cells, the
-/// finer digits measured ([`super::permuted_level`]).
+/// finer digits measured ([`super::digits::permuted_level`]).
 fn halton_through_level(problem: &Problem<'_>) -> bool {
-    halton_drawn(problem) && problem.integrand.dimension() <= super::permuted_level::MAX_LEVEL_AXES
+    halton_drawn(problem)
+        && problem.integrand.dimension() <= super::digits::permuted_level::MAX_LEVEL_AXES
 }
 
 /// How Halton as drawn is predicted.
@@ -304,7 +305,8 @@ pub(super) fn halton_analysis(
         });
     }
     let (n, d) = (problem.n, problem.integrand.dimension());
-    let pairs_fit = super::permuted_digits::pair_work_seconds(n, d) <= params.work_budget_seconds;
+    let pairs_fit =
+        super::digits::permuted_digits::pair_work_seconds(n, d) <= params.work_budget_seconds;
     let level = halton_through_level(problem);
     Ok(match halton_as_drawn(problem) {
         Some(_) if pairs_fit || !level => Some(HaltonMethod::Pairs),
@@ -345,7 +347,7 @@ pub(super) fn shifted_scrambled_net<'a>(
                     _ => false,
                 })
                 && d <= 3
-                && super::cell_moments::check_box_moments(problem.integrand).is_ok() =>
+                && super::strata::cell_moments::check_box_moments(problem.integrand).is_ok() =>
         {
             Some(sampler)
         }
@@ -380,7 +382,7 @@ pub(super) fn shifted_strata<'a>(
         && !facts.randomness.is_stationary()
         && sampler.closed_form(problem.n).is_none()
         && d <= 3
-        && super::cell_moments::check_box_moments(problem.integrand).is_ok();
+        && super::strata::cell_moments::check_box_moments(problem.integrand).is_ok();
     let grid = facts.cells.grid(problem.n, d).filter(|_| eligible)?;
     Some((sampler, kind, grid))
 }
@@ -425,7 +427,7 @@ pub(super) fn shifted_strata_measured(
         seed: params.seed,
     };
     let kmax = initial_kmax(n, d, 6.0, ESTIMATED_LATTICE_BUDGET);
-    let p = super::measured_tail::predict_measured_tail(
+    let p = super::fourier::measured_tail::predict_measured_tail(
         problem.integrand,
         source,
         kmax,
@@ -474,16 +476,28 @@ pub(super) fn gaussian_jitter_shifted(
     strata: &[usize],
     params: &PredictParams,
 ) -> Result<Prediction> {
-    let parseval =
-        || super::gaussian_jitter::predict_gaussian_jitter_shifted(f, form, strata, &params.budget);
-    let in_space =
-        || super::jitter_tent::predict_gaussian_jitter_in_space(f, form, strata, &params.budget);
+    let parseval = || {
+        super::fourier::gaussian_jitter::predict_gaussian_jitter_shifted(
+            f,
+            form,
+            strata,
+            &params.budget,
+        )
+    };
+    let in_space = || {
+        super::fourier::jitter_tent::predict_gaussian_jitter_in_space(
+            f,
+            form,
+            strata,
+            &params.budget,
+        )
+    };
     let d = strata.len();
     if !weighs_in_space(f, d) {
         return parseval();
     }
-    if super::gaussian_jitter::shifted_frequency_seconds(f, form, strata)
-        > super::jitter_tent::typical_weight_seconds(f)
+    if super::fourier::gaussian_jitter::shifted_frequency_seconds(f, form, strata)
+        > super::fourier::jitter_tent::typical_weight_seconds(f)
     {
         let space = match in_space() {
             Err(Error::TooLarge { .. }) => None,
@@ -609,7 +623,7 @@ fn jitter_tent(problem: &Problem<'_>, params: &PredictParams) -> Result<Option<P
     }
     // The tent's work is bounded for the coarsest strata; a budget below that bound leaves
     // the other routes to answer.
-    let tent = match super::jitter_tent::predict_jitter_tent(f, &strata, &params.budget) {
+    let tent = match super::fourier::jitter_tent::predict_jitter_tent(f, &strata, &params.budget) {
         Err(Error::TooLarge { .. }) => return Ok(None),
         other => other?,
     };
@@ -899,14 +913,14 @@ fn patterns_in_space(
         0.0,
         |i| {
             let pattern = sampler.sample(n, params.seed, i as u64)?;
-            let (variance, rounding) = super::space::pattern_shift_variance(f, &pattern)?
+            let (variance, rounding) = super::fourier::space::pattern_shift_variance(f, &pattern)?
                 .ok_or_else(|| {
                     Error::Mismatch(format!(
                         "{} has no autocorrelation in closed form",
                         f.label()
                     ))
                 })?;
-            Ok(super::cell_moments::CellSum { variance, rounding })
+            Ok(super::strata::cell_moments::CellSum { variance, rounding })
         },
         progress,
     )?;
@@ -1037,10 +1051,11 @@ fn jitter_strata_beyond_table(problem: &Problem<'_>, params: &PredictParams) -> 
     let beyond_table = grid
         .iter()
         .try_fold(1usize, |a, &m| a.checked_mul(m))
-        .is_none_or(|c| c > super::cell_moments::EXACT_CELL_BUDGET);
+        .is_none_or(|c| c > super::strata::cell_moments::EXACT_CELL_BUDGET);
     // One cell per axis asks at no cost whether the integrand's own sums are exact (they then
     // answer through the cell form at any N).
-    let exact_sums = f.cell_sums(&vec![1; d]).is_some() && !super::cell_pairs::bounded_cell_sums(f);
+    let exact_sums =
+        f.cell_sums(&vec![1; d]).is_some() && !super::strata::cell_pairs::bounded_cell_sums(f);
     (beyond_table && !exact_sums).then_some(grid)
 }
 
@@ -1053,7 +1068,7 @@ pub(super) fn jitter_aliasing_applies(problem: &Problem<'_>, params: &PredictPar
 /// over a grid's cells of its own (an anisotropic Gaussian): the shifted estimator's variance,
 /// which its closed form gives at any N, with the distance between the two estimators bounded
 /// as the model term. That distance is `|‖Πf‖² − E_t ‖Πf_t‖²| / N` for the periodized `f_P`
-/// ([`super::dual_lattice::strata_aliasing`]), and `f` differs from `f_P` by its images `E`,
+/// ([`super::fourier::dual_lattice::strata_aliasing`]), and `f` differs from `f_P` by its images `E`,
 /// which move either estimator's standard deviation by at most `E`; `None` where the bound is
 /// above [`CLOSED_TAIL_SHARE`] of the value, or for another problem.
 pub(super) fn jitter_by_aliasing(
@@ -1075,7 +1090,8 @@ pub(super) fn jitter_by_aliasing(
     let mut p = super::predict_planned(&shifted, params, progress)?;
     let images = decay.images;
     let spread = 2.0 * p.variance.sqrt() * images + images * images;
-    let model = super::dual_lattice::strata_aliasing(&decay, &grid) / n as f64 + 2.0 * spread;
+    let model =
+        super::fourier::dual_lattice::strata_aliasing(&decay, &grid) / n as f64 + 2.0 * spread;
     if model > CLOSED_TAIL_SHARE * p.variance {
         return Ok(None);
     }
@@ -1106,9 +1122,9 @@ fn over_dual_lattice(
     let d = f.dimension();
     let dual = match closed {
         ClosedForm::RegularGrid => crate::sampler::strata(n, d)
-            .and_then(|cells| super::dual_lattice::grid_dual_variance(f, &cells)),
+            .and_then(|cells| super::fourier::dual_lattice::grid_dual_variance(f, &cells)),
         ClosedForm::Rank1Lattice { generator } => {
-            super::dual_lattice::rank1_dual_variance(f, n, generator)
+            super::fourier::dual_lattice::rank1_dual_variance(f, n, generator)
         }
         _ => None,
     }?;
@@ -1477,7 +1493,7 @@ struct MeasuredTail<'a> {
 /// (the lattice form with the white-tail bound) as its alternative; `None` where the
 /// measurement would exceed the budget or its 99% budget is not the narrower (the white-tail
 /// form is then widened as before), and, for a stationary sampler, untried where its least
-/// half-width ([`least_half_width`](super::measured_tail::least_half_width)) is already the
+/// half-width ([`least_half_width`](super::fourier::measured_tail::least_half_width)) is already the
 /// wider.
 fn with_measured_tail(
     f: &dyn Integrand,
@@ -1491,7 +1507,8 @@ fn with_measured_tail(
     // parts alone, the raw lattice form's, would leave it the wider.
     if kind.is_some_and(|k| k.facts().randomness.is_stationary()) {
         let raw = raw_lattice_noise(white);
-        let least = super::measured_tail::least_half_width(tail.source, tail.kmax, params, raw);
+        let least =
+            super::fourier::measured_tail::least_half_width(tail.source, tail.kmax, params, raw);
         match least {
             Err(Error::TooLarge { .. }) => return Ok(None),
             Ok(Some(least)) if least >= width(white) => return Ok(None),
@@ -1500,8 +1517,13 @@ fn with_measured_tail(
             }
         }
     }
-    let measured =
-        super::measured_tail::predict_measured_tail(f, tail.source, tail.kmax, params, progress);
+    let measured = super::fourier::measured_tail::predict_measured_tail(
+        f,
+        tail.source,
+        tail.kmax,
+        params,
+        progress,
+    );
     let mut p = match measured {
         Err(Error::TooLarge { .. }) => return Ok(None),
         other => other?,
@@ -1518,7 +1540,7 @@ fn with_measured_tail(
          lattice); noise from the patterns' spread",
         tail.why,
         100.0 * white.budget.truncation / white.variance,
-        super::measured_tail::SHIFTS_PER_PATTERN,
+        super::fourier::measured_tail::SHIFTS_PER_PATTERN,
     );
     if width(&p) >= width(white) {
         return Ok(None);

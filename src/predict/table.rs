@@ -4,8 +4,8 @@
 
 use super::analysis::{Analysis, AnalysisKind, Applies};
 use super::analysis::{AnalysisPlan, PlanNeeds};
-use super::cells::{cell_method, cell_method_needs, CellMethod, CellSource};
 use super::route;
+use super::strata::cells::{cell_method, cell_method_needs, CellMethod, CellSource};
 use super::{FormChoice, Patterns, PredictParams, Prediction, Problem, SpectrumChoice};
 use crate::budget::Needs;
 use crate::error::{invalid, Error, Result};
@@ -203,7 +203,7 @@ impl Analysis for JitterAliasing {
         let source = cell_source(problem)
             .ok_or_else(|| Error::Mismatch("a cell form without cells".into()))?;
         let method = cell_method(problem.integrand, source, problem.n, params)?;
-        super::cells::predict_cells(
+        super::strata::cells::predict_cells(
             problem.integrand,
             source,
             method,
@@ -287,7 +287,7 @@ impl Analysis for StrataInSpace {
         let source = cell_source(problem)
             .ok_or_else(|| Error::Mismatch("a cell form without cells".into()))?;
         let method = cell_method(problem.integrand, source, problem.n, params)?;
-        super::cells::predict_cells(
+        super::strata::cells::predict_cells(
             problem.integrand,
             source,
             method,
@@ -334,7 +334,7 @@ impl Analysis for WalshFixed {
         params: &PredictParams,
         progress: &dyn Progress,
     ) -> Result<Prediction> {
-        super::walsh::predict_walsh(problem, params, progress)
+        super::walsh::forms::predict_walsh(problem, params, progress)
     }
 }
 
@@ -371,7 +371,7 @@ impl Analysis for WalshDrawn {
                 "patterns drawn anew without a sampler".into(),
             ));
         };
-        super::walsh::predict_walsh_drawn(problem, sampler, params, progress)
+        super::walsh::forms::predict_walsh_drawn(problem, sampler, params, progress)
     }
 }
 
@@ -396,7 +396,8 @@ impl Analysis for PermutedDigits {
 
     fn needs(&self, problem: &Problem<'_>, _: &PredictParams) -> Needs {
         let (n, d) = (problem.n, problem.dimension());
-        Needs::work(super::permuted_digits::pair_work_seconds(n, d)).and(one_pattern(problem))
+        Needs::work(super::digits::permuted_digits::pair_work_seconds(n, d))
+            .and(one_pattern(problem))
     }
 
     fn predict(
@@ -409,7 +410,7 @@ impl Analysis for PermutedDigits {
             .integrand
             .product_form()
             .ok_or_else(|| Error::Mismatch("permuted digits without a product form".into()))?;
-        super::permuted_digits::predict_halton_as_drawn(
+        super::digits::permuted_digits::predict_halton_as_drawn(
             &form,
             problem.n,
             params.work_budget_seconds,
@@ -451,7 +452,7 @@ impl Analysis for PermutedLevel {
         let Patterns::Sampler(sampler) = problem.patterns else {
             return Err(Error::Mismatch("halton's level without its sampler".into()));
         };
-        super::permuted_level::predict_halton_level(
+        super::digits::permuted_level::predict_halton_level(
             problem.integrand,
             sampler,
             problem.n,
@@ -490,7 +491,7 @@ impl Analysis for AliasedPairs {
     ) -> Result<Prediction> {
         let (form, strata) = route::gaussian_jitter_as_drawn(problem)
             .ok_or_else(|| Error::Mismatch("aliased pairs without Gaussian jitter".into()))?;
-        super::gaussian_jitter::predict_gaussian_jitter_as_drawn(
+        super::fourier::gaussian_jitter::predict_gaussian_jitter_as_drawn(
             problem.integrand,
             form,
             &strata,
@@ -532,7 +533,7 @@ impl Analysis for OwenGainsOverShifts {
     ) -> Result<Prediction> {
         let sampler = route::shifted_scrambled_net(problem, params)
             .ok_or_else(|| Error::Mismatch("a shifted net without its sampler".into()))?;
-        super::shifted_gains::predict_shifted_net(
+        super::digits::shifted_gains::predict_shifted_net(
             problem.integrand,
             sampler,
             problem.n,
@@ -552,7 +553,7 @@ impl Analysis for RooksOverShifts {
 
     fn applies(&self, problem: &Problem<'_>, params: &PredictParams) -> Applies {
         let rooks = route::shifted_strata(problem, params).is_some_and(|(_, kind, _)| {
-            super::shifted_cells::shuffles_over_shifts(problem.integrand, kind)
+            super::strata::shifted_cells::shuffles_over_shifts(problem.integrand, kind)
         });
         when(rooks, || {
             format!(
@@ -576,7 +577,7 @@ impl Analysis for RooksOverShifts {
     ) -> Result<Prediction> {
         let (_, kind, _) = route::shifted_strata(problem, params)
             .ok_or_else(|| Error::Mismatch("shifted rooks without a sampler".into()))?;
-        super::shifted_cells::predict_shifted_shuffles(
+        super::strata::shifted_cells::predict_shifted_shuffles(
             problem.integrand,
             kind,
             problem.n,
@@ -668,7 +669,7 @@ impl Analysis for StrataOverShifts {
     ) -> Result<Prediction> {
         let (sampler, kind, grid) = route::shifted_strata(problem, params)
             .ok_or_else(|| Error::Mismatch("shifted strata without a sampler".into()))?;
-        super::shifted_cells::predict_shifted_cells(
+        super::strata::shifted_cells::predict_shifted_cells(
             problem.integrand,
             (sampler, kind),
             &grid,

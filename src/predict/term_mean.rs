@@ -2,7 +2,7 @@
 //! their spread says its standard error is a target share of the value: how every estimated
 //! route of the prediction averages, with its noise from the terms themselves.
 
-use super::cell_moments::CellSum;
+use super::strata::cell_moments::CellSum;
 use crate::error::Result;
 use crate::progress::{stage, Progress};
 use rayon::prelude::*;

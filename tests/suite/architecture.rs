@@ -101,6 +101,10 @@ fn the_files_of_each_module_import_one_way() {
     for dir in [
         "spectrum/nufft",
         "predict",
+        "predict/fourier",
+        "predict/strata",
+        "predict/digits",
+        "predict/walsh",
         "sampler",
         "integrand",
         "report",

@@ -22,22 +22,22 @@
 //! shifts"). When every pattern is a linear net and the integrand a product of one factor per
 //! axis, [`super::walsh_net`] sums every level exactly instead, and no remainder is measured.
 
-use super::cell_moments::{
-    check_box_moments, chunked_sum, is_marked, masses_and_constant_cells, CELL_ROUNDING,
-};
-use super::cells::{cell_coordinates, cell_of};
-use super::term_mean::mean_to_target_noise;
 use super::walsh_net::{linear_net_variance, NetVariance};
 use super::walsh_transform::walsh_hadamard;
-use super::{
-    ErrorBudget, Form, FormChoice, Patterns, PredictParams, Prediction, Problem, Route,
-    SpectrumChoice, SpectrumOrigin,
-};
 use crate::budget::{Budget, Needs};
 use crate::costs::CELL_SECONDS;
 use crate::error::{Error, Result};
 use crate::integrand::Integrand;
 use crate::pointset::PointSet;
+use crate::predict::strata::cell_moments::{
+    check_box_moments, chunked_sum, is_marked, masses_and_constant_cells, CELL_ROUNDING,
+};
+use crate::predict::strata::cells::{cell_coordinates, cell_of};
+use crate::predict::term_mean::mean_to_target_noise;
+use crate::predict::{
+    ErrorBudget, Form, FormChoice, Patterns, PredictParams, Prediction, Problem, Route,
+    SpectrumChoice, SpectrumOrigin,
+};
 use crate::progress::{stage, Progress};
 use crate::quadrature::CompensatedSum;
 use crate::randomization::{digital_shift, xor_digits, Randomization, DIGITAL_SHIFT_BITS};
@@ -151,20 +151,20 @@ fn coefficient_error(means: &[f64], level: u32, d: usize) -> f64 {
 /// cell)`, which is zero on the cells where `f` is constant (`constant`, a bit per cell: a
 /// shape's cells wholly inside or outside it, most of a fine grid's, read without `f` or the
 /// means, whose table is beyond the caches).
-pub(super) struct Remainder<'a> {
-    pub(super) f: &'a dyn Integrand,
-    pub(super) means: &'a [f64],
-    pub(super) grid: &'a [usize],
-    pub(super) constant: Option<&'a [u64]>,
+pub(crate) struct Remainder<'a> {
+    pub(crate) f: &'a dyn Integrand,
+    pub(crate) means: &'a [f64],
+    pub(crate) grid: &'a [usize],
+    pub(crate) constant: Option<&'a [u64]>,
     /// The means as products of per-axis rows, read in place of the table where they are
     /// its entries to the bit.
-    pub(super) axis_means: Option<&'a AxisMeans>,
+    pub(crate) axis_means: Option<&'a AxisMeans>,
 }
 
 /// A separable integrand's cell means as products of its per-axis cell masses,
 /// `(a Π_l μ_l(c_l)) |C|^{-1}`, in the order the table forms them: a table beyond the caches
 /// costs a miss a point read at random, and its rows stay in the caches.
-pub(super) struct AxisMeans {
+pub(crate) struct AxisMeans {
     height: f64,
     rows: Vec<Vec<f64>>,
     cells: f64,
@@ -173,7 +173,7 @@ pub(super) struct AxisMeans {
 impl AxisMeans {
     /// The rows of `f` on `grid` where every product is `means`' entry to the bit (checked
     /// cell by cell, so that reading them changes no value); `None` otherwise.
-    pub(super) fn matching(f: &dyn Integrand, grid: &[usize], means: &[f64]) -> Option<Self> {
+    pub(crate) fn matching(f: &dyn Integrand, grid: &[usize], means: &[f64]) -> Option<Self> {
         let rows = f.separable_cells(grid)?;
         let cells: usize = grid.iter().product();
         let axis_means = Self {
@@ -261,7 +261,7 @@ impl Remainder<'_> {
     }
 
     /// `((1/N) Σ_j g(x_j))²` for the pattern as it is.
-    pub(super) fn as_drawn(&self, pattern: &PointSet) -> f64 {
+    pub(crate) fn as_drawn(&self, pattern: &PointSet) -> f64 {
         let d = pattern.dimension();
         let mut y = [0.0; MAX_AXES];
         self.squared_mean(
@@ -276,7 +276,7 @@ impl Remainder<'_> {
 
     /// `((1/N) Σ g(y))²` over the `n` points `ys` (their first `d` coordinates), skipping
     /// those in constant cells.
-    pub(super) fn squared_mean(
+    pub(crate) fn squared_mean(
         &self,
         n: usize,
         ys: impl Iterator<Item = [f64; MAX_AXES]>,
@@ -300,7 +300,7 @@ impl Remainder<'_> {
 
     /// The share of the cells where the integrand varies (1 without a set of constant cells):
     /// only points there are evaluated.
-    pub(super) fn varying(&self) -> f64 {
+    pub(crate) fn varying(&self) -> f64 {
         self.constant.map_or(1.0, |bits| {
             1.0 - bits.iter().map(|w| w.count_ones() as f64).sum::<f64>() / self.means.len() as f64
         })

@@ -12,11 +12,11 @@
 //! what remains of the hole a blue-noise pattern digs near 0 (for jitter it is exactly the
 //! `1/(N−1)` of the strata's partition of unity).
 
-use super::ErrorBudget;
 use crate::error::{invalid, Result};
 use crate::integrand::Integrand;
 use crate::metrics::Mean;
 use crate::pointset::{toroidal_delta, PointSet};
+use crate::predict::ErrorBudget;
 use crate::quadrature::GaussLegendre;
 use rayon::prelude::*;
 use serde::Serialize;

@@ -18,10 +18,10 @@
 //! directions), which are smooth along every ray and bisected across them.
 
 use super::gaussian_jitter::{replica_energy, ReplicaAxis};
-use super::{ErrorBudget, Form, Prediction, Route, SpectrumOrigin};
 use crate::budget::{Budget, Needs};
 use crate::error::{invalid, Error, Result};
 use crate::integrand::Integrand;
+use crate::predict::{ErrorBudget, Form, Prediction, Route, SpectrumOrigin};
 use crate::quadrature::{adaptive, adaptive_from_two_starts, EmbeddedRules, PanelResult};
 use crate::randomization::Randomization;
 use crate::sampler::ClosedForm;
@@ -311,7 +311,7 @@ pub(crate) fn predict_jitter_tent(
             route: "the strata's tent in space".into(),
             reason: format!("{} has no closed-form autocorrelation", f.label()),
         })?;
-    let grid = super::grid_label(strata);
+    let grid = crate::predict::grid_label(strata);
     let reason = format!(
         "jitter under a random shift ({grid} strata): its closed-form spectrum 1 − Π sinc² \
          summed exactly in space, (1/N) ∫ (a_f(0) − a_f(r)) Λ(r) dr over the strata's tent Λ \
@@ -379,7 +379,7 @@ pub(crate) fn predict_gaussian_jitter_in_space(
         .collect();
     let replicas = replica_energy(f, &axes)?;
     let count = replicas.terms - 1;
-    let grid = super::grid_label(strata);
+    let grid = crate::predict::grid_label(strata);
     let reason = format!(
         "gjitter under a random shift ({grid} strata, offsets of {width} strata): its \
          closed-form spectrum 1 − φ² + N φ² [k ∈ m Z^d] summed exactly in space, the white part \
@@ -433,13 +433,14 @@ mod tests {
                 let strata = [m, m];
                 let space =
                     predict_gaussian_jitter_in_space(f.as_ref(), form, &strata, &budget).unwrap();
-                let parseval = super::super::gaussian_jitter::predict_gaussian_jitter_shifted(
-                    f.as_ref(),
-                    form,
-                    &strata,
-                    &budget,
-                )
-                .unwrap();
+                let parseval =
+                    crate::predict::fourier::gaussian_jitter::predict_gaussian_jitter_shifted(
+                        f.as_ref(),
+                        form,
+                        &strata,
+                        &budget,
+                    )
+                    .unwrap();
                 let allowed = space.budget.half_width(crate::montecarlo::Z_99)
                     + parseval.budget.half_width(crate::montecarlo::Z_99);
                 assert!(

@@ -655,7 +655,12 @@ mod tests {
         // Each cell's moments from its boxes (wrapped across the faces), not from the
         // integrand's rows.
         let moments = |x: usize, y: usize| {
-            crate::predict::cell_moments::shifted_cell_mean_and_variance(f, &[n, n], y * n + x, &t)
+            crate::predict::strata::cell_moments::shifted_cell_mean_and_variance(
+                f,
+                &[n, n],
+                y * n + x,
+                &t,
+            )
         };
         let integral = f.integral();
         let mut total = CompensatedSum::default();
@@ -822,7 +827,9 @@ mod tests {
     /// independent shuffles.
     #[test]
     fn independent_boxes_and_table_are_their_enumeration() {
-        use crate::predict::shuffle_cells::{multi_jitter_from_boxes, multi_jitter_from_table};
+        use crate::predict::strata::shuffle_cells::{
+            multi_jitter_from_boxes, multi_jitter_from_table,
+        };
         for f in shapes() {
             for n in [6, 7, 8, 9] {
                 let truth = enumerated(f.as_ref(), n, &independent_choices(n), [0.0, 0.0]);
@@ -840,7 +847,7 @@ mod tests {
     /// and on a separable Gaussian CMJ's table with its rows (N = 97 is a single column).
     #[test]
     fn the_routes_agree_beyond_enumeration() {
-        use crate::predict::shuffle_cells::{
+        use crate::predict::strata::shuffle_cells::{
             correlated_from_table, multi_jitter_from_boxes, multi_jitter_from_table,
         };
         for f in shapes() {

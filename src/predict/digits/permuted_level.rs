@@ -27,19 +27,21 @@
 //! measured on the sampler's own realizations; its standard error is the prediction's noise.
 //! A level a few digits past the points' own leaves it a small part of the whole.
 
-use super::cell_moments::{check_box_moments, masses_and_constant_cells, CELL_ROUNDING};
 use super::halton_remainder::{draws_as, VaryingIndices};
 use super::permuted_digits::{
     agreement, digit_bits, helmert_transform, packed_digits, pair_work_seconds, positions,
     support_of,
 };
-use super::term_mean::mean_to_target_noise;
-use super::walsh::{AxisMeans, Remainder};
-use super::{ErrorBudget, Form, PredictParams, Prediction, Route, SpectrumOrigin};
 use crate::budget::Needs;
 use crate::costs::CANDIDATE_SECONDS;
 use crate::error::{Error, Result};
 use crate::integrand::Integrand;
+use crate::predict::strata::cell_moments::{
+    check_box_moments, masses_and_constant_cells, CELL_ROUNDING,
+};
+use crate::predict::term_mean::mean_to_target_noise;
+use crate::predict::walsh::forms::{AxisMeans, Remainder};
+use crate::predict::{ErrorBudget, Form, PredictParams, Prediction, Route, SpectrumOrigin};
 use crate::progress::{stage, Progress};
 use crate::quadrature::CompensatedSum;
 use crate::randomization::Randomization;
@@ -426,7 +428,7 @@ pub(crate) struct LevelEstimate {
 fn work(f: &dyn Integrand, level: &Level, n: usize) -> (f64, f64) {
     let cells = level.cells() as f64;
     let means = cells
-        * (super::cell_moments::seconds_per_grid_cell(f)
+        * (crate::predict::strata::cell_moments::seconds_per_grid_cell(f)
             + crate::costs::HELMERT_BUTTERFLY_SECONDS * level.stages() as f64);
     let counts = table_count_seconds(level, n).min(pair_count_seconds(level, n));
     (
@@ -756,7 +758,8 @@ mod tests {
             let f = parse_integrand(text).unwrap().build(d).unwrap();
             let form = f.product_form().unwrap();
             for n in [16, 100, 300] {
-                let pairs = super::super::permuted_digits::halton_as_drawn_variance(&form, n);
+                let pairs =
+                    crate::predict::digits::permuted_digits::halton_as_drawn_variance(&form, n);
                 let level = halton_level_variance(
                     f.as_ref(),
                     halton.as_ref(),

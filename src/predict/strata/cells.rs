@@ -22,13 +22,15 @@ use super::cell_moments::{
     check_box_moments, check_cells, chunked_sum, seconds_per_cell, separable_row_bytes,
     CellMoments, CellSum, CellTable, CELL_ROUNDING, EXACT_CELL_BUDGET,
 };
-use super::term_mean::{mean_of_exact_terms, terms_within_budget, OccupancyEstimate};
-use super::{ErrorBudget, Form, FormChoice, Prediction, Route, SpectrumChoice, SpectrumOrigin};
 use crate::budget::{Budget, Needs};
 use crate::costs::CELL_SECONDS;
 use crate::error::{Error, Result};
 use crate::integrand::Integrand;
 use crate::pointset::PointSet;
+use crate::predict::term_mean::{mean_of_exact_terms, terms_within_budget, OccupancyEstimate};
+use crate::predict::{
+    ErrorBudget, Form, FormChoice, Prediction, Route, SpectrumChoice, SpectrumOrigin,
+};
 use crate::progress::{stage, Progress};
 use crate::quadrature::CompensatedSum;
 use crate::randomization::Randomization;
@@ -242,7 +244,7 @@ pub fn fixed_strata_variance(
 /// What one pattern contributes, whose mean over patterns is the unshifted variance: with a
 /// table, `(M − I)²` (the within-cell term is added once, exactly); without, also the pattern's
 /// own within-cell term `(1/N²) Σ_j V_{c_j}`.
-pub(super) fn pattern_term(
+pub(crate) fn pattern_term(
     moments: &CellMoments,
     pattern: &PointSet,
     grid: &[usize],
@@ -584,7 +586,7 @@ pub(crate) fn cell_method(
     f: &dyn Integrand,
     source: CellSource<'_>,
     n: usize,
-    params: &super::PredictParams,
+    params: &crate::predict::PredictParams,
 ) -> Result<(CellMethod, Vec<usize>)> {
     let d = f.dimension();
     let (rule, name) = (source.rule(), source.name());
@@ -686,13 +688,13 @@ pub(crate) fn predict_cells(
     source: CellSource<'_>,
     (method, grid): (CellMethod, Vec<usize>),
     n: usize,
-    params: &super::PredictParams,
+    params: &crate::predict::PredictParams,
     progress: &dyn Progress,
 ) -> Result<Prediction> {
     let d = f.dimension();
     let (rule, name) = (source.rule(), source.name());
     let cells: usize = grid.iter().product();
-    let strata = super::grid_label(&grid);
+    let strata = crate::predict::grid_label(&grid);
     let sampler = match source {
         CellSource::Sampler(sampler, _) => Some(sampler),
         CellSource::Sets(..) => None,
@@ -728,7 +730,11 @@ pub(crate) fn predict_cells(
                 NetPairs::EveryNet => crate::sampler::Sobol::new(d)?.sample(n, params.seed, 0)?,
                 _ => sampler.sample(n, params.seed, 0)?,
             };
-            let (s, read) = super::owen_gains::scrambled_net_variance(f, &pattern, &params.budget)?;
+            let (s, read) = crate::predict::digits::owen_gains::scrambled_net_variance(
+                f,
+                &pattern,
+                &params.budget,
+            )?;
             let whose = match pairs {
                 NetPairs::EveryNet => format!(
                 "{name}, as drawn: every prefix of 2^m points is a (0,m,2)-net, whose pair counts \
@@ -849,7 +855,7 @@ pub(crate) fn predict_cells(
 
 /// Errors for the choices that belong to the shifted estimator's routes: the polar form, a
 /// closed spectrum where the cell form is estimated, a lattice extent.
-fn check_choices(params: &super::PredictParams, name: &str, exact: bool) -> Result<()> {
+fn check_choices(params: &crate::predict::PredictParams, name: &str, exact: bool) -> Result<()> {
     if let Some(kmax) = params.kmax {
         return Err(crate::error::invalid(
             "kmax",
@@ -889,7 +895,7 @@ fn estimate_occupancy(
     source: CellSource<'_>,
     grid: &[usize],
     n: usize,
-    params: &super::PredictParams,
+    params: &crate::predict::PredictParams,
     progress: &dyn Progress,
 ) -> Result<(OccupancyEstimate, &'static str)> {
     let cells: usize = grid.iter().product();
@@ -962,14 +968,14 @@ const ARRAY_CONTROLLED_NOTE: &str = " (the patterns are CMJ's on the p × p cell
     exact (a control variate)";
 
 /// PMJ02 as drawn between two powers of two: the mean over patterns of each one's scrambled
-/// variance by Owen's gains ([`super::owen_gains::scrambled_law_variance`]), each pattern drawn
+/// variance by Owen's gains ([`crate::predict::digits::owen_gains::scrambled_law_variance`]), each pattern drawn
 /// at `cost_ns` a point; the cell form's variance, budget, occupancy, cells read and reason.
 fn gains_over_patterns(
     f: &dyn Integrand,
     (sampler, name): (&dyn Sampler, &str),
     n: usize,
     cost_ns: f64,
-    params: &super::PredictParams,
+    params: &crate::predict::PredictParams,
     progress: &dyn Progress,
 ) -> Result<(f64, ErrorBudget, Occupancy, usize, String)> {
     let per_pattern =
@@ -983,7 +989,7 @@ fn gains_over_patterns(
         },
         "lower N or the realizations",
     )?;
-    let law = super::owen_gains::scrambled_law_variance(
+    let law = crate::predict::digits::owen_gains::scrambled_law_variance(
         f,
         |i| sampler.sample(n, params.seed, i as u64),
         counts,

@@ -28,15 +28,15 @@
 //! 2 for `k_1 + k_2 = m + 1` (both axes refined) and 1 beyond (`docs/theory.md`, "Scrambled
 //! nets by levels").
 
-use super::cell_moments::{
-    cell_masses, chunked_sum, seconds_per_grid_cell, CellSum, CELL_ROUNDING,
-};
 use super::dyadic_levels::{closed_downwards, Levels, SeparableLevels, MAX_AXES};
-use super::term_mean::{mean_of_exact_terms, OccupancyEstimate};
 use crate::budget::{Budget, Needs};
 use crate::error::{Error, Result};
 use crate::integrand::Integrand;
 use crate::pointset::PointSet;
+use crate::predict::strata::cell_moments::{
+    cell_masses, chunked_sum, seconds_per_grid_cell, CellSum, CELL_ROUNDING,
+};
+use crate::predict::term_mean::{mean_of_exact_terms, OccupancyEstimate};
 use crate::progress::Progress;
 use crate::quadrature::CompensatedSum;
 use rayon::prelude::*;

@@ -24,12 +24,12 @@
 //! Gauss–Legendre rule on panels between the factor's breakpoints, doubled until two answers
 //! agree (`docs/theory.md`, "Halton as drawn").
 
-use super::walsh_net::cell_rule;
-use super::{ErrorBudget, Form, Prediction, Route, SpectrumOrigin};
 use crate::budget::{Budget, Needs};
 use crate::error::{Error, Result};
 use crate::integrand::{AxisFactor, ProductForm};
 use crate::pointset::MAX_DIMENSION;
+use crate::predict::walsh::walsh_net::cell_rule;
+use crate::predict::{ErrorBudget, Form, Prediction, Route, SpectrumOrigin};
 use crate::quadrature::CompensatedSum;
 use crate::randomization::Randomization;
 use crate::sampler::HALTON_BASES;
@@ -114,7 +114,7 @@ fn support_energies(g: &AxisFactor, p: usize, m: u32, panels: usize) -> (Vec<f64
 
 /// The positions (bit `ℓ − 1` for position `ℓ`, the most significant digit of `c` being
 /// position 1) where the index `c` of a coefficient has a non-zero digit.
-pub(super) fn support_of(mut c: usize, p: usize, m: u32) -> usize {
+pub(crate) fn support_of(mut c: usize, p: usize, m: u32) -> usize {
     let mut mask = 0;
     for k in 0..m {
         if !c.is_multiple_of(p) {
@@ -131,7 +131,7 @@ pub(super) fn support_of(mut c: usize, p: usize, m: u32) -> usize {
 /// Each stage runs over whole rows of `stride` values at once (the `p` members of a butterfly
 /// are `stride` apart), so its loops run over contiguous lanes; every lane takes the same
 /// operations in the same order as a butterfly taken alone.
-pub(super) fn helmert_transform(values: &mut [f64], p: usize, m: u32) {
+pub(crate) fn helmert_transform(values: &mut [f64], p: usize, m: u32) {
     let norms: Vec<f64> = (0..p)
         .map(|k| {
             if k == 0 {
@@ -252,13 +252,13 @@ fn axis_kernel(g: &AxisFactor, p: usize, m: u32, panels: usize) -> AxisKernel {
 
 /// Bits per digit of base `p` in a packed index: `⌈log2 p⌉`, so that `m` digits of an index
 /// below `2^64` fit in 64 bits.
-pub(super) fn digit_bits(p: usize) -> u32 {
+pub(crate) fn digit_bits(p: usize) -> u32 {
     usize::BITS - (p - 1).leading_zeros()
 }
 
 /// Every index's base-`p` digits over `m` positions, packed [`digit_bits`] bits apiece (least
 /// significant digit lowest), so that comparing two indices needs no division.
-pub(super) fn packed_digits(n: usize, p: usize, m: u32) -> Vec<u64> {
+pub(crate) fn packed_digits(n: usize, p: usize, m: u32) -> Vec<u64> {
     let bits = digit_bits(p);
     (0..n)
         .map(|mut i| {
@@ -274,7 +274,7 @@ pub(super) fn packed_digits(n: usize, p: usize, m: u32) -> Vec<u64> {
 
 /// The agreement set of two packed indices over `m` positions of `bits` bits (bit `ℓ − 1` for
 /// the `ℓ`-th least significant digit).
-pub(super) fn agreement(a: u64, b: u64, m: u32, bits: u32) -> usize {
+pub(crate) fn agreement(a: u64, b: u64, m: u32, bits: u32) -> usize {
     let differ = a ^ b;
     if bits == 1 {
         return (!differ & ((1u64 << m) - 1)) as usize;

@@ -22,13 +22,13 @@
 //! "Gaussian jitter as drawn"). The estimator is biased (`Σ_j ρ(x − c_j)` ripples at the
 //! grid's period): its bias `G(0) − I` is exact too and is stated with the variance.
 
-use super::{ErrorBudget, Form, Prediction, Route, SpectrumOrigin};
 use crate::budget::{Budget, Needs};
 use crate::costs::COEFFICIENT_SECONDS;
 use crate::error::{invalid, Error, Result};
 use crate::integrand::{
     CoefficientTables, Integrand, SeparableCoefficients, COEFFICIENT_TABLES_BYTES,
 };
+use crate::predict::{ErrorBudget, Form, Prediction, Route, SpectrumOrigin};
 use crate::quadrature::CompensatedSum;
 use crate::randomization::Randomization;
 use crate::sampler::ClosedForm;
@@ -164,7 +164,8 @@ fn moments(f: &dyn Integrand, strata: &[usize], width: f64, budget: &Budget) -> 
                         std::cmp::Ordering::Greater => 0.0,
                     }
                 };
-                let (aliased, _) = super::cell_moments::chunked_sum(classes, |p| (term(p), 0.0));
+                let (aliased, _) =
+                    crate::predict::strata::cell_moments::chunked_sum(classes, |p| (term(p), 0.0));
                 (aliased, folded_class(&coefficients, &axes, 0).re)
             }
         };
@@ -278,7 +279,7 @@ fn shifted_moments(
                 }
                 (coefficients.at(&k[..axes.len()]).norm_sqr() * weight, 0.0)
             };
-            super::cell_moments::chunked_sum(count, term).0
+            crate::predict::strata::cell_moments::chunked_sum(count, term).0
         }
     };
     let replicas = replica_energy(f, &axes.iter().map(Axis::replicas).collect::<Vec<_>>())?;
@@ -587,7 +588,7 @@ pub(crate) fn predict_gaussian_jitter_shifted(
         "gjitter, randomly shifted: its closed-form spectrum 1 − φ² + N φ² [k ∈ m Z^d] summed \
          exactly, the white part by Parseval ((∫f² − Σ_k |f̂|² φ²)/N) and the grid's replicas \
          one by one, so no energy beyond a lattice is counted as white ({} grid)",
-        super::grid_label(strata)
+        crate::predict::grid_label(strata)
     );
     Ok(exact_prediction(
         m,
@@ -617,7 +618,7 @@ pub(crate) fn predict_gaussian_jitter_as_drawn(
          centre in the {} grid, so the variance is exact as a sum over the frequency pairs \
          the strata alias together (bias E μ − I = {:.6e}, exact; it is not part of the \
          variance)",
-        super::grid_label(strata),
+        crate::predict::grid_label(strata),
         m.bias
     );
     Ok(exact_prediction(

@@ -36,17 +36,17 @@
 use super::cell_moments::{
     is_marked, masses_and_constant_cells, CellMoments, CellSum, CELL_ROUNDING,
 };
-use super::term_mean::{mean_of_exact_terms, terms_within_budget, OccupancyEstimate};
 use crate::budget::Needs;
 use crate::costs::CELL_SECONDS;
 use crate::error::Result;
 use crate::integrand::Integrand;
+use crate::predict::term_mean::{mean_of_exact_terms, terms_within_budget, OccupancyEstimate};
 use crate::progress::{stage, Progress};
 use crate::quadrature::CompensatedSum;
 use crate::sampler::{near_square_factors, CmjShuffles};
 
 /// Patterns the estimate starts with: a few more than a 99% interval rests on
-/// ([`super::term_mean::MIN_TERMS`]); where the control variate leaves little spread (a smooth
+/// ([`crate::predict::term_mean::MIN_TERMS`]); where the control variate leaves little spread (a smooth
 /// integrand) they are already enough, and where it does not, their spread says how many more.
 const INITIAL_PATTERNS: usize = 24;
 /// Patterns it never exceeds.
@@ -59,10 +59,10 @@ const MAX_PATTERNS: usize = 1 << 18;
 ///
 /// # Errors
 /// A work budget that cannot afford the quadrants' masses or the first patterns.
-pub(super) fn controlled_cmj_variance(
+pub(crate) fn controlled_cmj_variance(
     f: &dyn Integrand,
     n: usize,
-    params: &super::PredictParams,
+    params: &crate::predict::PredictParams,
     progress: &dyn Progress,
 ) -> Result<OccupancyEstimate> {
     let per_cell = CELL_SECONDS;
@@ -264,7 +264,7 @@ fn spread(values: &[f64]) -> f64 {
 mod tests {
     use super::*;
     use crate::integrand::{parse_integrand, Integrand};
-    use crate::predict::cells::pattern_term;
+    use crate::predict::strata::cells::pattern_term;
     use crate::progress::Silent;
     use crate::sampler::{CorrelatedMultiJitter, Sampler};
 

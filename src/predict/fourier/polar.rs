@@ -8,11 +8,11 @@
 //! on panels of half an oscillation period: no oscillatory tail is ever integrated.
 
 use super::radial_table::RadialTable;
-use super::{
-    check_dimension, check_n, ErrorBudget, Form, Prediction, Route, SpectrumOrigin, SpectrumSource,
-};
 use crate::error::{invalid, Error, Result};
 use crate::integrand::{sphere_measure, Integrand};
+use crate::predict::{
+    check_dimension, check_n, ErrorBudget, Form, Prediction, Route, SpectrumOrigin, SpectrumSource,
+};
 use crate::quadrature::{integrate_panels, panel_breakpoints, CompensatedSum, GaussLegendre};
 use crate::spectrum::{ClosedForm, RadialSpectrum};
 

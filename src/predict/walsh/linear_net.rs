@@ -8,8 +8,8 @@
 //! the Walsh frequencies (read through their first `p` digits per axis) at which the pattern's
 //! Walsh sum `(1/N) Σ_j wal_κ(x_j)` is 1 in magnitude; it is 0 at every other one.
 
-use super::cells::cell_of;
 use crate::pointset::PointSet;
+use crate::predict::strata::cells::cell_of;
 use crate::quadrature::CompensatedSum;
 use rayon::prelude::*;
 

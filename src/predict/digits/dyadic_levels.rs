@@ -21,16 +21,16 @@
 use crate::integrand::Integrand;
 
 /// The most axes a level has.
-pub(super) const MAX_AXES: usize = 3;
+pub(crate) const MAX_AXES: usize = 3;
 
 /// The levels of a dyadic grid: `2^{a_l}` cells on axis `l`.
-pub(super) type Levels = [u8; MAX_AXES];
+pub(crate) type Levels = [u8; MAX_AXES];
 
 /// A value and a bound on its error.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub(super) struct Bounded {
-    pub(super) value: f64,
-    pub(super) error: f64,
+pub(crate) struct Bounded {
+    pub(crate) value: f64,
+    pub(crate) error: f64,
 }
 
 impl Bounded {
@@ -39,7 +39,7 @@ impl Bounded {
     }
 
     /// The sum, with its own rounding.
-    pub(super) fn plus(self, other: Self) -> Self {
+    pub(crate) fn plus(self, other: Self) -> Self {
         let value = self.value + other.value;
         Self {
             value,
@@ -48,7 +48,7 @@ impl Bounded {
     }
 
     /// The product, with its own rounding.
-    pub(super) fn times(self, other: Self) -> Self {
+    pub(crate) fn times(self, other: Self) -> Self {
         let value = self.value * other.value;
         Self {
             value,
@@ -60,7 +60,7 @@ impl Bounded {
     }
 
     /// The product by an exact factor, with its own rounding.
-    pub(super) fn scaled(self, factor: f64) -> Self {
+    pub(crate) fn scaled(self, factor: f64) -> Self {
         self.times(Self::exact(factor))
     }
 }
@@ -138,7 +138,7 @@ impl AxisLevels {
 
 /// `σ²_k` of a separable integrand at every level up to its finest levels, and beyond any set
 /// of levels closed downwards.
-pub(super) struct SeparableLevels {
+pub(crate) struct SeparableLevels {
     height_squared: f64,
     axes: Vec<AxisLevels>,
 }
@@ -146,7 +146,7 @@ pub(super) struct SeparableLevels {
 impl SeparableLevels {
     /// The levels of `f` shifted by `t` on the torus (`f(x + t mod 1)`), read on the grid with
     /// `2^{finest_l}` cells on axis `l`; `None` where `f` is not separable.
-    pub(super) fn new(f: &dyn Integrand, finest: &[u8], t: &[f64]) -> Option<Self> {
+    pub(crate) fn new(f: &dyn Integrand, finest: &[u8], t: &[f64]) -> Option<Self> {
         let grid: Vec<usize> = finest.iter().map(|&a| 1usize << a).collect();
         let details = f.separable_details(&grid, t)?;
         Some(Self {
@@ -156,7 +156,7 @@ impl SeparableLevels {
     }
 
     /// `σ²_k = h² Π_l δ_l(k_l)`; `None` beyond the finest levels.
-    pub(super) fn level(&self, k: &Levels) -> Option<Bounded> {
+    pub(crate) fn level(&self, k: &Levels) -> Option<Bounded> {
         self.axes
             .iter()
             .zip(k)
@@ -167,7 +167,7 @@ impl SeparableLevels {
 
     /// `Σ_{k ∉ D} σ²_k` for a set `D` of levels closed downwards and holding the coarsest;
     /// `None` if a level of `D` is beyond the finest levels.
-    pub(super) fn beyond(&self, downset: &[Levels]) -> Option<Bounded> {
+    pub(crate) fn beyond(&self, downset: &[Levels]) -> Option<Bounded> {
         let exceeds = |k: &Levels| {
             self.axes
                 .iter()
@@ -214,7 +214,7 @@ impl SeparableLevels {
 }
 
 /// Every level at or below one of `levels` (on each axis), and the coarsest.
-pub(super) fn closed_downwards(levels: &[Levels], d: usize) -> Vec<Levels> {
+pub(crate) fn closed_downwards(levels: &[Levels], d: usize) -> Vec<Levels> {
     let mut seen = std::collections::HashSet::new();
     let mut stack: Vec<Levels> = levels.to_vec();
     stack.push([0; MAX_AXES]);

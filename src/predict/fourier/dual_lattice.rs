@@ -173,9 +173,10 @@ mod tests {
         let f = AnisotropicGaussian::new(0.05, 0.03, 30.0, [0.5, 0.5], 1.0).unwrap();
         for (n, a) in [(16usize, 5u64), (32, 11), (64, 19)] {
             let dual = rank1_dual_variance(&f, n, a).unwrap();
-            let (space, rounding) = super::super::space::rank1_lattice_variance(&f, n, a)
-                .unwrap()
-                .unwrap();
+            let (space, rounding) =
+                crate::predict::fourier::space::rank1_lattice_variance(&f, n, a)
+                    .unwrap()
+                    .unwrap();
             assert!(
                 (dual.variance - space).abs() <= width(&dual) + rounding,
                 "N = {n}: dual {:e} ± {:e} against space {space:e} ± {rounding:e}",

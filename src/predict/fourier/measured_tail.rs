@@ -17,13 +17,13 @@
 //! stratified (Halton, nets) have spectra far below white along the axes, where the energy of
 //! an integrand that jumps across the cube's faces lies (`docs/theory.md`, "A measured tail").
 
-use super::term_mean::{mean_to_target_noise, terms_within_budget};
-use super::{ErrorBudget, Form, PredictParams, Prediction, Route, SpectrumOrigin};
 use crate::budget::{try_filled, Needs};
 use crate::costs::COEFFICIENT_SECONDS;
 use crate::error::{finite, Result};
 use crate::integrand::Integrand;
 use crate::pointset::PointSet;
+use crate::predict::term_mean::{mean_to_target_noise, terms_within_budget};
+use crate::predict::{ErrorBudget, Form, PredictParams, Prediction, Route, SpectrumOrigin};
 use crate::progress::Progress;
 use crate::quadrature::CompensatedSum;
 use crate::randomization::{toroidal_shift, Randomization};
@@ -375,7 +375,7 @@ mod tests {
         ] {
             let f = parse_integrand(text).unwrap().build(2).unwrap();
             let sets = std::slice::from_ref(&set);
-            let (exact, _) = super::super::space::sets_shift_variance(f.as_ref(), sets)
+            let (exact, _) = crate::predict::fourier::space::sets_shift_variance(f.as_ref(), sets)
                 .unwrap()
                 .unwrap();
             let params = PredictParams {
@@ -406,7 +406,7 @@ mod tests {
     /// disk's edge at `K = 16`); on a lattice wider than the route's own there is none.
     #[test]
     fn the_least_half_width_is_below_the_reached_one() {
-        use crate::predict::lattice::{predict_on_patterns, LatticePower, PatternPlan};
+        use crate::predict::fourier::lattice::{predict_on_patterns, LatticePower, PatternPlan};
         use crate::spectrum::SpectrumParams;
         let poisson = crate::sampler::PoissonDisk::new(2).unwrap();
         let sets: Vec<PointSet> = (0..48)

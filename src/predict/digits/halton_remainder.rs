@@ -15,16 +15,16 @@
 //! where its own cell varies. The points kept are exactly those the direct sum evaluates, and
 //! they are summed in the same order.
 
-use super::cell_moments::is_marked;
-use super::cells::{cell_coordinates, cell_of};
-use super::walsh::Remainder;
+use crate::predict::strata::cell_moments::is_marked;
+use crate::predict::strata::cells::{cell_coordinates, cell_of};
+use crate::predict::walsh::forms::Remainder;
 use crate::sampler::{Halton, HaltonRealization, Sampler};
 
 /// The most axes (the level's).
 const AXES: usize = 3;
 
 /// The candidate cells of a level and the remainder theorem's coefficients.
-pub(super) struct VaryingIndices {
+pub(crate) struct VaryingIndices {
     halton: Halton,
     /// Per axis, the digits of the level.
     digits: Vec<u32>,
@@ -40,7 +40,7 @@ pub(super) struct VaryingIndices {
 impl VaryingIndices {
     /// The candidates of the level `grid` (`bases[a]^digits[a]` cells on axis `a`, coprime
     /// bases) whose constant cells are marked in `constant`.
-    pub(super) fn new(halton: Halton, grid: &[usize], digits: &[u32], constant: &[u64]) -> Self {
+    pub(crate) fn new(halton: Halton, grid: &[usize], digits: &[u32], constant: &[u64]) -> Self {
         let d = grid.len();
         let cells: usize = grid.iter().product();
         let mut marked = vec![0u64; cells.div_ceil(64)];
@@ -70,13 +70,13 @@ impl VaryingIndices {
     }
 
     /// The points drawn a realization for `n` indices: the candidates' indices below `n`.
-    pub(super) fn draws(&self, n: usize) -> f64 {
+    pub(crate) fn draws(&self, n: usize) -> f64 {
         self.candidates.len() as f64 * (n as f64 / self.modulus as f64).ceil()
     }
 
     /// `((1/N) Σ_j g(x_j))²` on realization `unit` of `seed` of `n` points, the same bits as
     /// [`Remainder::as_drawn`] on that realization's pattern.
-    pub(super) fn as_drawn(
+    pub(crate) fn as_drawn(
         &self,
         remainder: &Remainder<'_>,
         n: usize,
@@ -124,7 +124,7 @@ impl VaryingIndices {
 
 /// Whether `sampler` draws `halton`'s realizations (a sampler that says it is Halton but moves
 /// its points would not): the first points of realization 0 of `seed`, to the bit.
-pub(super) fn draws_as(halton: &Halton, sampler: &dyn Sampler, n: usize, seed: u64) -> bool {
+pub(crate) fn draws_as(halton: &Halton, sampler: &dyn Sampler, n: usize, seed: u64) -> bool {
     let k = n.min(8);
     let realization = halton.realization(seed, 0);
     let mut y = [0.0; AXES];
@@ -176,7 +176,7 @@ fn for_each_neighbour(cell: &[usize], grid: &[usize], mut visit: impl FnMut(usiz
 mod tests {
     use super::*;
     use crate::integrand::{Ball, Integrand, Polygon};
-    use crate::predict::cell_moments::masses_and_constant_cells;
+    use crate::predict::strata::cell_moments::masses_and_constant_cells;
     use crate::sampler::Sampler;
 
     /// The points found from the varying cells' indices are summed as the whole realization's

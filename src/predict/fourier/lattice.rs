@@ -6,12 +6,14 @@
 //! white is bounded: `|truncation| ≤ (δ_axis E_axis + δ_off E_rest) / N`.
 
 use super::low_band::{DiscFit, LowBand, FIT_DEGREE};
-use super::SpectrumSource;
-use super::{check_dimension, check_n, ErrorBudget, Form, Prediction, Route, SpectrumOrigin};
 use crate::budget::{try_filled, Budget, Needs};
 use crate::costs::COEFFICIENT_SECONDS;
 use crate::error::{finite, invalid, Error, Result};
 use crate::integrand::Integrand;
+use crate::predict::SpectrumSource;
+use crate::predict::{
+    check_dimension, check_n, ErrorBudget, Form, Prediction, Route, SpectrumOrigin,
+};
 use crate::progress::Progress;
 use crate::quadrature::CompensatedSum;
 use crate::spectrum::{
@@ -245,7 +247,7 @@ pub fn predict_lattice(
 
 /// The lattice-form variance from an integrand's power on the lattice (see [`LatticePower`]):
 /// `(Σ_{k≠0} |f̂(k)|² P_S(k) + beyond) / N`. With a closed form the tail bound is exact (none
-/// exists for the regular grid's replicas, so it is refused: use [`super::predict`]); with an
+/// exists for the regular grid's replicas, so it is refused: use [`crate::predict::predict`]); with an
 /// estimated mean spectrum the noise is propagated per frequency and the tail deviation is
 /// measured at the lattice's edge.
 ///

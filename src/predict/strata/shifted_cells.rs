@@ -23,15 +23,15 @@
 
 use super::cell_moments::{check_box_moments, shifted_cell_mean_and_variance};
 use super::cells::{cell_of, CellOrigin, Occupancy};
-use super::shifted_gains::{mean_over_shifts, shifted_prediction};
-use super::term_mean::{mean_to_target_noise, terms_within_budget};
-use super::{PredictParams, Prediction};
 use crate::budget::Needs;
 use crate::costs::CELL_SECONDS;
 use crate::costs::SEPARABLE_CELL_SECONDS;
 use crate::error::{Error, Result};
 use crate::integrand::Integrand;
 use crate::pointset::PointSet;
+use crate::predict::digits::shifted_gains::{mean_over_shifts, shifted_prediction};
+use crate::predict::term_mean::{mean_to_target_noise, terms_within_budget};
+use crate::predict::{PredictParams, Prediction};
 use crate::progress::Progress;
 use crate::quadrature::CompensatedSum;
 use crate::randomization::toroidal_shift;
@@ -103,7 +103,7 @@ pub(crate) fn predict_shifted_cells(
         },
         progress,
     )?;
-    let strata = super::grid_label(grid);
+    let strata = crate::predict::grid_label(grid);
     let reason = format!(
         "{}, randomly shifted: its points are independent and uniform in the cells of the \
          {strata} grid once their cells are known, so each pattern under each shift has its \

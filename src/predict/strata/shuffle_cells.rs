@@ -1,6 +1,6 @@
 //! The multi-jittered samplers' unshifted estimator on an integrand that is not a product of
 //! functions of one coordinate, exactly: the sums over pairs of occupied cells that
-//! [`super::multi_jitter_variance`] and [`super::correlated_multi_jitter_variance`] read.
+//! [`crate::predict::multi_jitter_variance`] and [`crate::predict::correlated_multi_jitter_variance`] read.
 //!
 //! Both samplers place point `(i, j)` (column `i` of `m`, row `j` of `r`, `N = m r`) in one of
 //! the `N` fine cells of its block: fine x `i r + s`, fine y `j m + t`. Write `G = F − I` on the
@@ -36,7 +36,7 @@ use rayon::prelude::*;
 /// and the fine rows) and the integrand's sums over three grids (about ten cells a point
 /// visited on each, as for Latin hypercube's crossed cells); `None` unless `f` is 2D with its
 /// own sums over a grid's cells.
-pub(super) fn multi_jitter_box_needs(f: &dyn Integrand, n: usize) -> Option<Needs> {
+pub(crate) fn multi_jitter_box_needs(f: &dyn Integrand, n: usize) -> Option<Needs> {
     (f.dimension() == 2 && f.cell_sums(&[1, 1]).is_some()).then(|| {
         let nf = n as f64;
         Needs::work(3.0 * nf * seconds_per_cell(f, &[n, n]) + 30.0 * nf * CELL_SECONDS)
@@ -53,7 +53,7 @@ pub(super) fn multi_jitter_box_needs(f: &dyn Integrand, n: usize) -> Option<Need
 ///
 /// # Errors
 /// Work beyond the budget.
-pub(super) fn multi_jitter_from_boxes(
+pub(crate) fn multi_jitter_from_boxes(
     f: &dyn Integrand,
     n: usize,
     budget: &Budget,
@@ -158,7 +158,7 @@ fn one_line_pairs(
 
 /// Multi-jitter's variance, unshifted, from the table of the `N × N` cells (the caller checks
 /// their count against the budget): the blocks' means and profiles summed from the cells.
-pub(super) fn multi_jitter_from_table(f: &dyn Integrand, n: usize) -> CellSum {
+pub(crate) fn multi_jitter_from_table(f: &dyn Integrand, n: usize) -> CellSum {
     let (m, r) = near_square_factors(n);
     let table = CellTable::new(&CellMoments::new(f, &[n, n]), n);
     let g = |x: usize, y: usize| table.deviation[y * n + x];
@@ -332,7 +332,7 @@ impl std::iter::Sum for SelfPairs {
 /// - apart (`i ≠ i'`, `j ≠ j'`): distinct positions on both axes, `1 / (r (r − 1) m (m − 1))`
 ///   each, all pairs of blocks less those in one column and in one row, plus those in one block
 ///   (counted out twice).
-pub(super) fn correlated_from_table(f: &dyn Integrand, n: usize) -> CellSum {
+pub(crate) fn correlated_from_table(f: &dyn Integrand, n: usize) -> CellSum {
     let (m, r) = near_square_factors(n);
     let table = CellTable::new(&CellMoments::new(f, &[n, n]), n);
     let g = &table.deviation;

@@ -16,14 +16,14 @@
 //! projections are stratified): it overestimates integrands that jump across the cube's faces,
 //! more so as N grows (`docs/theory.md`, "Scrambled nets under a shift").
 
-use super::cell_moments::CellSum;
-use super::cell_moments::{check_box_moments, seconds_per_grid_cell};
-use super::cells::{CellOrigin, Occupancy};
 use super::owen_gains::ScrambledNet;
-use super::term_mean::{mean_of_exact_terms, terms_within_budget, OccupancyEstimate};
-use super::{ErrorBudget, Form, PredictParams, Prediction, Route, SpectrumOrigin};
 use crate::error::Result;
 use crate::integrand::Integrand;
+use crate::predict::strata::cell_moments::CellSum;
+use crate::predict::strata::cell_moments::{check_box_moments, seconds_per_grid_cell};
+use crate::predict::strata::cells::{CellOrigin, Occupancy};
+use crate::predict::term_mean::{mean_of_exact_terms, terms_within_budget, OccupancyEstimate};
+use crate::predict::{ErrorBudget, Form, PredictParams, Prediction, Route, SpectrumOrigin};
 use crate::progress::Progress;
 use crate::randomization::{toroidal_shift, Randomization};
 use crate::sampler::{CellLaw, CellRule, Sampler};
@@ -109,7 +109,7 @@ pub(crate) fn predict_shifted_net(
 ///
 /// # Errors
 /// The first term's error.
-pub(super) fn mean_over_shifts(
+pub(crate) fn mean_over_shifts(
     label: &str,
     (d, params): (usize, &PredictParams),
     per_shift: f64,
@@ -131,7 +131,7 @@ pub(super) fn mean_over_shifts(
 /// The prediction of a randomly shifted estimator whose variance is `estimate`, a mean of exact
 /// conditional terms over shifts: the cell form, its noise the estimate's standard error and
 /// no other term.
-pub(super) fn shifted_prediction(
+pub(crate) fn shifted_prediction(
     estimate: &OccupancyEstimate,
     origin: CellOrigin,
     reason: String,
