@@ -143,7 +143,8 @@ pub fn bytes(b: f64) -> String {
     }
 }
 
-fn seconds(s: f64) -> String {
+/// A work estimate in words: `about 6 minutes of work`, `about 0.05 s of work`.
+pub fn seconds(s: f64) -> String {
     if !s.is_finite() {
         "unbounded work".into()
     } else if s >= 3.6e9 {

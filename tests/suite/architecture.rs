@@ -144,3 +144,37 @@ fn the_sampler_facts_have_no_catch_all_arm() {
         );
     }
 }
+
+/// Every ignored test says why it does not run by default.
+#[test]
+fn every_ignored_test_says_why() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    for dir in ["src", "tests"] {
+        for file in rust_files(&root.join(dir)) {
+            let text = std::fs::read_to_string(&file).unwrap();
+            assert!(
+                !text.lines().any(|l| l.trim() == "#[ignore]"),
+                "a bare #[ignore] in {}",
+                file.display()
+            );
+        }
+    }
+}
+
+/// The analyses name no sampler: they read its facts. The non-test code of `src/predict/`
+/// names at most three, each with its reason beside it.
+#[test]
+fn the_analyses_read_facts_not_names() {
+    let predict = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/predict");
+    let mut named = Vec::new();
+    for file in rust_files(&predict) {
+        let text = std::fs::read_to_string(&file).unwrap();
+        let code = text.split("#[cfg(test)]").next().unwrap_or("");
+        for line in code.lines() {
+            if line.contains("SamplerKind::") && !line.trim_start().starts_with("//") {
+                named.push(format!("{}: {}", file.display(), line.trim()));
+            }
+        }
+    }
+    assert!(named.len() <= 3, "{}", named.join("\n"));
+}

@@ -190,7 +190,7 @@ fn a_low_band_the_fit_cannot_follow_is_read_raw() {
 /// band fitted, against Monte Carlo of the shifted estimator over 4000 independent patterns
 /// (8 shifts each), on a Gaussian cut by the faces and on a disk; the two intervals must meet.
 #[test]
-#[ignore]
+#[ignore = "long: 4000 Poisson disk patterns of 4096 points against the low band, about 85 s on 2 cores"]
 fn poisson_disk_through_the_low_band_meets_monte_carlo() {
     use specvar::montecarlo::{empirical_variance, McParams};
     use specvar::predict::{predict, PredictParams, Problem};

@@ -196,8 +196,8 @@ fn print_plan(plan: &AnalysisPlan, json: bool) -> Result<()> {
     outln!("analysis     {}", plan.analysis)?;
     outln!("reason       {}", plan.reason)?;
     outln!(
-        "needs        {:.3e} s of one core, {} before any further step{}",
-        plan.needs.seconds,
+        "needs        {} on one core and {} before any further step{}",
+        specvar::budget::seconds(plan.needs.seconds),
         specvar::budget::bytes(plan.needs.bytes),
         if plan.needs.tables_checked_as_built {
             "; its tables are sized as they are built, each checked against the budget first"
