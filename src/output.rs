@@ -99,22 +99,33 @@ fn write_replacing(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     written
 }
 
-/// Checks, before any work, that `dir` can take an output: creates it (and its parents) if
-/// missing, and proves it writable by creating and removing a staging directory in it. The
-/// error names `dir` itself.
+/// Checks, before any work, that `dir` can take an output: proves it writable (creating it and
+/// its parents where missing) by creating and removing a staging directory in it, then removes
+/// again the directories it created, so that a run refused after the check leaves nothing
+/// behind (the output's writing creates them anew). The error names `dir` itself.
 ///
 /// # Errors
 /// A path that is not a directory, or one that cannot be created or written.
 ///
 /// # Examples
 /// ```
-/// let dir = std::env::temp_dir().join("specvar_doc_check_dir");
+/// let dir = std::env::temp_dir().join("specvar_doc_check_dir").join("out");
 /// specvar::output::check_output_dir(&dir)?;
-/// assert!(dir.is_dir());
+/// assert!(!dir.exists(), "nothing left behind by the check");
 /// # Ok::<(), specvar::Error>(())
 /// ```
 pub fn check_output_dir(dir: &Path) -> Result<()> {
-    Staging::create(dir).map(drop)
+    let missing: Vec<PathBuf> = dir
+        .ancestors()
+        .take_while(|a| !a.as_os_str().is_empty() && !a.exists())
+        .map(Path::to_path_buf)
+        .collect();
+    let checked = Staging::create(dir).map(drop);
+    // Leaf first: each only if still empty (remove_dir refuses otherwise).
+    for created in &missing {
+        let _ = std::fs::remove_dir(created);
+    }
+    checked
 }
 
 /// A staging directory inside an output directory, removed when dropped.

@@ -936,6 +936,21 @@ fn refusals_name_what_was_typed() {
     );
     assert_eq!(std::fs::read_to_string(&file).unwrap(), "mine");
     std::fs::remove_file(&file).unwrap();
+    // A run refused after its output directory was checked leaves no directory behind.
+    let fresh = file.with_extension("new").join("atlas");
+    let out = fresh.display().to_string();
+    refuses_with(
+        &[
+            "--budget-seconds",
+            "0.001",
+            "atlas",
+            "--quick",
+            "--out",
+            &out,
+        ],
+        "above the budget",
+    );
+    assert!(!fresh.exists() && !fresh.parent().unwrap().exists());
     let plan = run_bounded(
         &[
             "plan",
