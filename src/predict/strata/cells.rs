@@ -437,10 +437,28 @@ fn check_sets_drawn(sets: &[PointSet], rule: CellRule, grid: &[usize]) -> Result
             ),
         ))
     };
-    let mut seen = std::collections::HashMap::new();
+    // Each set's bits hashed, and compared in full only where two hashes agree: no copy of the
+    // sets is held.
+    let hash = |set: &PointSet| {
+        use std::hash::{Hash, Hasher};
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        set.points()
+            .flatten()
+            .for_each(|x| x.to_bits().hash(&mut h));
+        h.finish()
+    };
+    let same = |a: &PointSet, b: &PointSet| {
+        a.points()
+            .flatten()
+            .zip(b.points().flatten())
+            .all(|(x, y)| x.to_bits() == y.to_bits())
+    };
+    let mut seen: std::collections::HashMap<u64, Vec<usize>> = std::collections::HashMap::new();
     for (i, set) in sets.iter().enumerate() {
-        let bits: Vec<u64> = set.points().flatten().map(|x| x.to_bits()).collect();
-        if let Some(j) = seen.insert(bits, i) {
+        let earlier = seen.entry(hash(set)).or_default();
+        let twin = earlier.iter().copied().find(|&j| same(&sets[j], set));
+        earlier.push(i);
+        if let Some(j) = twin {
             return refuse(format!(
                 "sets {j} and {i} are identical, so their estimator has no variance of its own \
                  (measure it with `specvar mc --input`)"
