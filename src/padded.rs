@@ -30,7 +30,7 @@
 
 use crate::budget::{Budget, Needs};
 use crate::error::{invalid, Error, Result};
-use crate::integrand::GridIntegrand;
+use crate::integrand::{GridIntegrand, GridMeaning};
 use crate::montecarlo::{result_from_estimates, trial_pattern, McParams, McResult, MIN_UNITS};
 use crate::npy::{read_npy, NpyArray};
 use crate::pixels::mean_of;
@@ -64,6 +64,8 @@ pub struct PaddedGrid {
     /// `[ah, aw, bh, bw]`.
     shape: [usize; 4],
     values: Vec<f64>,
+    /// What the cells are.
+    meaning: GridMeaning,
 }
 
 impl PaddedGrid {
@@ -109,7 +111,18 @@ impl PaddedGrid {
                 "a finite number",
             ));
         }
-        Ok(Self { shape, values })
+        Ok(Self {
+            shape,
+            values,
+            meaning: GridMeaning::CellAverages,
+        })
+    }
+
+    /// The same grid with another meaning: what its cells are
+    /// ([`GridMeaning`]: a finer function's cell averages by default). Its marginals, which the
+    /// two patterns integrate, are grids of the same meaning.
+    pub fn with_meaning(self, meaning: GridMeaning) -> Self {
+        Self { meaning, ..self }
     }
 
     /// A grid from a rank-4 array `(ah, aw, bh, bw)` (as `numpy.save` writes it).
@@ -166,7 +179,7 @@ impl PaddedGrid {
             .chunks_exact(nb)
             .map(|row| row.iter().sum::<f64>() / nb as f64)
             .collect();
-        GridIntegrand::new(self.shape[1], self.shape[0], values)
+        Ok(GridIntegrand::new(self.shape[1], self.shape[0], values)?.with_meaning(self.meaning))
     }
 
     /// `∫ f(u, v) du`, a function of the second pair.
@@ -182,7 +195,7 @@ impl PaddedGrid {
             }
         }
         values.iter_mut().for_each(|s| *s /= na as f64);
-        GridIntegrand::new(self.shape[3], self.shape[2], values)
+        Ok(GridIntegrand::new(self.shape[3], self.shape[2], values)?.with_meaning(self.meaning))
     }
 
     /// The interaction `h = f − I − g_A − g_B` on the cells, in the grid's order.
@@ -466,6 +479,7 @@ fn ladder_kind(samplers: PaddedSamplers, params: &PlanParams) -> Result<SamplerK
 ///
 /// # Examples
 /// ```
+/// use specvar::integrand::GridMeaning;
 /// use specvar::padded::{predict_padded, PaddedGrid, PaddedSamplers};
 /// use specvar::predict::PredictParams;
 /// use specvar::progress::Silent;
@@ -475,7 +489,8 @@ fn ladder_kind(samplers: PaddedSamplers, params: &PlanParams) -> Result<SamplerK
 /// let values = (0..m * m * m * m)
 ///     .map(|i| (((i % m) as f64) < ((i / (m * m)) % m) as f64) as u8 as f64)
 ///     .collect();
-/// let f = PaddedGrid::new([m, m, m, m], values)?;
+/// // The grid is the function here (a tabulation's marginals would need finer cells at N = 64).
+/// let f = PaddedGrid::new([m, m, m, m], values)?.with_meaning(GridMeaning::Exact);
 /// let jitter = Jitter::new(2)?;
 /// let p = predict_padded(&f, PaddedSamplers::native(&jitter, &jitter)?, 64, &PredictParams::default(), &Silent)?;
 /// // The interaction dominates: near white, not stratified.
@@ -553,6 +568,7 @@ pub fn predict_padded(
         quadrature: first.budget.quadrature + second.budget.quadrature,
         truncation: first.budget.truncation + second.budget.truncation,
         model: first.budget.model + second.budget.model,
+        tabulation: first.budget.tabulation + second.budget.tabulation,
     };
     Ok(PaddedPrediction {
         variance,

@@ -342,7 +342,7 @@ fn family_ratio(at_pilot: &[Prediction], at_n: &[Prediction]) -> FamilyRatio {
     let ratio = (ratios.iter().map(|r| r.ln()).sum::<f64>() / count).exp();
     let relative = |p: &Prediction, part: fn(&ErrorBudget) -> f64| part(&p.budget) / p.variance;
     let noise_of = |b: &ErrorBudget| b.spectrum_noise;
-    let bounds_of = |b: &ErrorBudget| b.quadrature + b.truncation + b.model;
+    let bounds_of = ErrorBudget::bounds;
     let noise = at_pilot
         .iter()
         .chain(at_n)
@@ -422,6 +422,7 @@ pub fn plan_pilot(
             Ok(Prediction {
                 variance,
                 budget: ErrorBudget {
+                    tabulation: 0.0,
                     spectrum_noise: variance * pilot_noise.hypot(r.noise),
                     model: variance * r.model,
                     ..ErrorBudget::default()

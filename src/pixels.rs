@@ -128,6 +128,19 @@ impl PixelStack {
         Self::from_array(read_npy(&crate::io::read_bounded(path)?)?)
     }
 
+    /// The same pixels, every grid with `meaning` (by default a finer function's cell
+    /// averages).
+    pub fn with_meaning(self, meaning: crate::integrand::GridMeaning) -> Self {
+        Self {
+            pixels: self
+                .pixels
+                .into_iter()
+                .map(|p| p.with_meaning(meaning))
+                .collect(),
+            ..self
+        }
+    }
+
     /// Pixels per row.
     pub fn columns(&self) -> usize {
         self.columns
@@ -185,7 +198,7 @@ pub struct ImagePrediction {
 }
 
 /// The mean of several predictions and its budget: the noise of independent estimates in
-/// quadrature, the bounds (quadrature, truncation, model) averaged.
+/// quadrature, the bounds (quadrature, truncation, model, tabulation) averaged.
 pub(crate) fn mean_of(predictions: &[&Prediction]) -> (f64, ErrorBudget) {
     let count = predictions.len().max(1) as f64;
     let mut budget = ErrorBudget::default();
@@ -196,11 +209,13 @@ pub(crate) fn mean_of(predictions: &[&Prediction]) -> (f64, ErrorBudget) {
         budget.quadrature += p.budget.quadrature;
         budget.truncation += p.budget.truncation;
         budget.model += p.budget.model;
+        budget.tabulation += p.budget.tabulation;
     }
     budget.spectrum_noise = budget.spectrum_noise.sqrt() / count;
     budget.quadrature /= count;
     budget.truncation /= count;
     budget.model /= count;
+    budget.tabulation /= count;
     (variance / count, budget)
 }
 
@@ -230,17 +245,18 @@ pub fn pixel_params(params: &PredictParams) -> PredictParams {
 /// use specvar::progress::Silent;
 /// use specvar::randomization::RandomizationChoice;
 /// use specvar::sampler::Jitter;
-/// // Two pixels: an edge at x = 0.3 and one at x = 0.6, on 16 × 16 cells.
+/// // Two pixels: an edge at x = 0.3 and one at x = 0.6, the averages of 64 × 64 cells (a
+/// // tabulation fine enough for N = 64: each pixel is predicted for its edge).
 /// let edge = |at: f64| {
-///     let values = (0..256).map(|i| if (i % 16) as f64 / 16.0 >= at { 1.0 } else { 0.0 });
-///     GridIntegrand::new(16, 16, values.collect()).unwrap()
+///     let values = (0..4096).map(|i| ((i % 64) as f64 + 1.0 - at * 64.0).clamp(0.0, 1.0));
+///     GridIntegrand::new(64, 64, values.collect()).unwrap()
 /// };
 /// let stack = PixelStack::new(2, vec![edge(0.3), edge(0.6)])?;
 /// let params = pixel_params(&PredictParams::default());
 /// let image =
 ///     predict_pixels(&stack, &Jitter::new(2)?, 64, RandomizationChoice::Native, &params, &Silent)?;
 /// assert_eq!(image.pixels.len(), 2);
-/// assert!(image.mse > 0.0);
+/// assert!(image.mse > 0.0 && image.budget.tabulation > 0.0);
 /// # Ok::<(), specvar::Error>(())
 /// ```
 pub fn predict_pixels(

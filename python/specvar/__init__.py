@@ -76,6 +76,7 @@ PythonIntegrand = Callable[[np.ndarray], Any]
 # sampler's own (none for random samplers and your own points, shift for fixed rules).
 RandomizationName = Literal["native", "shift", "digital-shift", "none"]
 CellsName = Literal["strata", "rows", "dyadic", "whole"]
+TabulationName = Literal["averages", "samples", "exact"]
 SpectrumName = Literal["auto", "closed", "estimated"]
 FormName = Literal["auto", "lattice", "polar", "cells"]
 EngineName = Literal["auto", "direct", "fast"]
@@ -106,10 +107,12 @@ def _counts_checked(function):
 
 
 def _integrand(integrand: Any) -> Any:
-    """A specification string or a function as given; anything else as a float64 array of
-    cell values."""
+    """A specification string or a function as given; a pair ``(values, meaning)`` with its
+    values as a float64 array; anything else as a float64 array of cell values."""
     if isinstance(integrand, str) or callable(integrand):
         return integrand
+    if isinstance(integrand, tuple) and len(integrand) == 2 and isinstance(integrand[1], str):
+        return (np.asarray(integrand[0], dtype=np.float64), integrand[1])
     return np.asarray(integrand, dtype=np.float64)
 
 
@@ -371,16 +374,18 @@ def spectrum(
 @dataclass(frozen=True)
 class ErrorBudget:
     """A prediction's uncertainty by source, in units of the variance: one standard error of
-    spectrum noise, and bounds on quadrature, truncation and the route's model."""
+    spectrum noise, and bounds on quadrature, truncation, the route's model and, for a grid that
+    tabulates a finer function, the tabulation."""
 
     spectrum_noise: float
     quadrature: float
     truncation: float
     model: float
+    tabulation: float = 0.0
 
     def half_width(self, z: float) -> float:
-        """``z · spectrum_noise + quadrature + truncation + model``."""
-        return z * self.spectrum_noise + self.quadrature + self.truncation + self.model
+        """``z · spectrum_noise + quadrature + truncation + model + tabulation``."""
+        return z * self.spectrum_noise + self.quadrature + self.truncation + self.model + self.tabulation
 
 
 @dataclass(frozen=True)
@@ -465,7 +470,10 @@ def predict(
 ) -> Prediction:
     """Predict the variance of integrating ``integrand`` (``disk``, ``gaussian:sigma=0.1``,
     ``edge:theta=30``, … as on the command line, or cell values ``values[y, x]`` on the unit
-    square such as :func:`tabulate` gives) with ``n`` points of ``sampler``, or with the
+    square: by default a finer function's averages over the cells, predicted for that function
+    with the budget's ``tabulation`` term and refused where too coarse for ``n``; a pair
+    ``(values, "samples")`` for values at the cells' centres, as :func:`tabulate` gives, or
+    ``(values, "exact")`` for a grid that is the function) with ``n`` points of ``sampler``, or with the
     patterns ``points`` of your own. The library chooses a valid route unless ``spectrum``
     (``auto``, ``closed``, ``estimated``) or ``form`` (``auto``, ``lattice``, ``polar``,
     ``cells``) say otherwise. ``randomization`` names the estimator: ``native`` (the default: the sampler's
@@ -577,13 +585,16 @@ def predict_image(
     randomization: RandomizationName = "native",
     seed: int = 0,
     cache: bool = True,
+    tabulation: TabulationName = "averages",
 ) -> ImagePrediction:
     """Predict every pixel of an image integrated with ``n`` points of ``sampler`` per pixel:
     ``pixels`` holds each pixel's cell values ``values[y, x]`` (as :func:`predict` takes one),
-    shaped ``(pixels, h, w)`` or ``(rows, columns, h, w)``. Each pixel takes its own default
+    shaped ``(pixels, h, w)`` or ``(rows, columns, h, w)``; ``tabulation`` says what their cells
+    are (``averages`` of a finer function, the default; ``samples``; ``exact``), as for
+    :func:`predict`. Each pixel takes its own default
     route and seed; the image's MSE is their mean."""
     stack = np.ascontiguousarray(pixels, dtype=np.float64)
-    raw = _specvar.predict_image(stack, sampler, n, randomization, seed, cache)
+    raw = _specvar.predict_image(stack, sampler, n, randomization, seed, cache, tabulation)
     shape = (raw["rows"], raw["columns"])
     return ImagePrediction(
         n=raw["n"],
@@ -649,8 +660,10 @@ def plan(
     positive and finite, one that no sampler reaches (naming that N and its RMSE), or when
     every sampler is refused."""
     if callable(integrand):
-        integrand = tabulate_adaptive(integrand, resolution=256).values
-    spec, pixels = _integrand(integrand), None
+        integrand = (tabulate_adaptive(integrand, resolution=256).values, "samples")
+    spec, pixels, tabulation = _integrand(integrand), None, "averages"
+    if isinstance(spec, tuple) and spec[0].ndim in (3, 4):
+        spec, tabulation = spec[0], spec[1]
     if isinstance(spec, np.ndarray) and spec.ndim in (3, 4):
         spec, pixels = None, np.ascontiguousarray(spec)
     raw = _specvar.plan(
@@ -664,6 +677,7 @@ def plan(
         seed,
         cache,
         pixels,
+        tabulation,
     )
     for refusal in raw["refused"]:
         warnings.warn(f"{refusal['sampler']} is not planned: {refusal['reason']}", stacklevel=2)
@@ -734,6 +748,7 @@ def predict_padded(
     mc: Optional[int] = None,
     seed: int = 0,
     cache: bool = True,
+    tabulation: TabulationName = "averages",
 ) -> dict:
     """The variance of a 4D integrand under two 2D patterns padded together, as renderers pad
     them: ``values[ay, ax, by, bx]`` are its cell values (the first pair of dimensions, e.g. the
@@ -742,7 +757,11 @@ def predict_padded(
     permutation. Returns a dict: ``variance``, ``budget``, the two marginals' predictions
     (``first``, ``second``), the interaction's term (``interaction``) beside its white value
     ``interaction_white`` (``‖h‖²/N``), and with ``mc`` trials the Monte Carlo measurement of
-    the padded estimator (``measured``: ``variance``, ``ci_low``, ``ci_high``, …)."""
+    the padded estimator (``measured``: ``variance``, ``ci_low``, ``ci_high``, …).
+    ``tabulation`` says what the cells are: ``averages`` of a finer function (the default; the
+    marginals carry the tabulation term, and too coarse a grid for ``n`` raises
+    ``ValueError``), ``samples`` (values at the centres) or ``exact`` (the grid is the
+    function)."""
     return _specvar.predict_padded(
         np.ascontiguousarray(values, dtype=np.float64),
         sampler,
@@ -752,6 +771,7 @@ def predict_padded(
         mc,
         seed,
         cache,
+        tabulation,
     )
 
 
@@ -766,13 +786,15 @@ def plan_padded(
     max_n: Optional[int] = None,
     seed: int = 0,
     cache: bool = True,
+    tabulation: TabulationName = "averages",
 ) -> Plan:
     """How many samples for a 4D integrand ``values[ay, ax, by, bx]`` integrated by two 2D
     patterns padded together (as :func:`predict_padded`): the smallest balanced count (of the
     sparser ladder of the two samplers) whose predicted RMSE reaches ``rmse`` (relative to
     ``|∫f|`` with ``relative=True``). A stack of such pixels, ``values[pixel, ay, ax, by, bx]``,
     is planned for the image's RMSE (the root of the mean of the pixels' variances; relative to
-    the image's mean). Raises ``ValueError`` as :func:`plan` does."""
+    the image's mean). ``tabulation`` as for :func:`predict_padded`. Raises ``ValueError`` as
+    :func:`plan` does."""
     raw = _specvar.plan_padded(
         np.ascontiguousarray(values, dtype=np.float64),
         sampler,
@@ -783,6 +805,7 @@ def plan_padded(
         max_n,
         seed,
         cache,
+        tabulation,
     )
     return _build(Plan, raw, rmse_interval=tuple(raw["rmse_interval"]))
 

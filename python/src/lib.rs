@@ -13,7 +13,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use rayon::prelude::*;
 use specvar::budget::{Budget, DEFAULT_MEMORY_BYTES, DEFAULT_WORK_SECONDS};
-use specvar::integrand::{GridIntegrand, Integrand, IntegrandSpec};
+use specvar::integrand::{GridIntegrand, GridMeaning, Integrand, IntegrandSpec};
 use specvar::montecarlo::{
     blocked_run_needs, empirical_variances, empirical_variances_of_sets, result_from_estimates,
     shifted_pattern, trial_pattern, McParams, McResult, TRIAL_BLOCK,
@@ -134,9 +134,11 @@ impl Source {
     }
 }
 
-/// A built-in integrand from a specification string (`disk:r=0.2`, as on the command line)
-/// or a 2D array of cell values `values[y, x]` on the unit square (a piecewise-constant
-/// function, [`specvar::integrand::GridIntegrand`]); `None` for anything else.
+/// A built-in integrand from a specification string (`disk:r=0.2`, as on the command line),
+/// a 2D array of cell values `values[y, x]` on the unit square (a finer function's cell
+/// averages, [`specvar::integrand::GridIntegrand`]), or a pair `(values, meaning)` whose
+/// meaning (`"averages"`, `"samples"` for values at the cells' centres, `"exact"` for a grid
+/// that is the function) says what the cells are; `None` for anything else.
 fn builtin_integrand(
     integrand: &Bound<'_, PyAny>,
     d: usize,
@@ -145,26 +147,39 @@ fn builtin_integrand(
         let spec: IntegrandSpec = text.parse().or_value_error()?;
         return spec.build(d).map(Some).or_value_error();
     }
-    if let Ok(values) = integrand.extract::<PyReadonlyArrayDyn<'_, f64>>() {
-        let shape = values.shape().to_vec();
-        let [height, width] = shape[..] else {
-            return Err(PyValueError::new_err(format!(
-                "a tabulated integrand is a 2D array values[y, x], not shape {shape:?}"
-            )));
-        };
-        let flat: Vec<f64> = values.as_array().iter().copied().collect();
-        let grid = GridIntegrand::new(width, height, flat).or_value_error()?;
-        return Ok(Some(Box::new(grid)));
+    if let Ok((values, meaning)) = integrand.extract::<(Bound<'_, PyAny>, String)>() {
+        let meaning: GridMeaning = meaning.parse().or_value_error()?;
+        return Ok(
+            grid_of(&values)?.map(|g| Box::new(g.with_meaning(meaning)) as Box<dyn Integrand>)
+        );
     }
-    Ok(None)
+    Ok(grid_of(integrand)?.map(|g| Box::new(g) as Box<dyn Integrand>))
+}
+
+/// The grid of a 2D float64 array `values[y, x]`, if `values` is an array.
+fn grid_of(values: &Bound<'_, PyAny>) -> PyResult<Option<GridIntegrand>> {
+    let Ok(values) = values.extract::<PyReadonlyArrayDyn<'_, f64>>() else {
+        return Ok(None);
+    };
+    let shape = values.shape().to_vec();
+    let [height, width] = shape[..] else {
+        return Err(PyValueError::new_err(format!(
+            "a tabulated integrand is a 2D array values[y, x], not shape {shape:?}"
+        )));
+    };
+    let flat: Vec<f64> = values.as_array().iter().copied().collect();
+    GridIntegrand::new(width, height, flat)
+        .map(Some)
+        .or_value_error()
 }
 
 /// [`builtin_integrand`], which must succeed.
 fn required_integrand(integrand: &Bound<'_, PyAny>, d: usize) -> PyResult<Box<dyn Integrand>> {
     builtin_integrand(integrand, d)?.ok_or_else(|| {
         PyValueError::new_err(
-            "the integrand must be a specification string (disk, gaussian:sigma=0.1, …) or a \
-             2D float64 array of cell values",
+            "the integrand must be a specification string (disk, gaussian:sigma=0.1, …), a 2D \
+             float64 array of cell values, or a pair (values, \"averages\" | \"samples\" | \
+             \"exact\")",
         )
     })
 }
@@ -387,7 +402,7 @@ fn plan_params(
 /// for a stack of per-pixel cell values `(pixels, h, w)` or `(rows, columns, h, w)` in
 /// `pixels`, the image's RMSE.
 #[pyfunction]
-#[pyo3(signature = (integrand, rmse, relative=false, samplers=None, dimension=2, randomization="native", max_n=None, seed=0, cache=true, pixels=None))]
+#[pyo3(signature = (integrand, rmse, relative=false, samplers=None, dimension=2, randomization="native", max_n=None, seed=0, cache=true, pixels=None, tabulation="averages"))]
 #[allow(clippy::too_many_arguments)]
 fn plan<'py>(
     py: Python<'py>,
@@ -401,8 +416,10 @@ fn plan<'py>(
     seed: u64,
     cache: bool,
     pixels: Option<PyReadonlyArrayDyn<'py, f64>>,
+    tabulation: &str,
 ) -> PyResult<Bound<'py, PyAny>> {
     use specvar::pixels::PixelStack;
+    let meaning: GridMeaning = tabulation.parse().or_value_error()?;
     use specvar::plan::{default_samplers, plan_many, plan_pixels_many, Target};
     let target = Target::new(rmse, relative);
     let kinds: Vec<SamplerKind> = match samplers {
@@ -427,7 +444,8 @@ fn plan<'py>(
                 shape: stack.shape().to_vec(),
                 values: stack.as_array().iter().copied().collect(),
             })
-            .or_value_error()?;
+            .or_value_error()?
+            .with_meaning(meaning);
             py.detach(|| plan_pixels_many(&refs, &stack, &params, &silent))
         }
         (Some(integrand), None) => {
@@ -501,8 +519,10 @@ impl PaddedInput {
         values: &PyReadonlyArrayDyn<'_, f64>,
         sampler: &str,
         second: Option<&str>,
+        tabulation: &str,
         cache: bool,
     ) -> PyResult<Self> {
+        let meaning: GridMeaning = tabulation.parse().or_value_error()?;
         let shape = values.shape().to_vec();
         let all: Vec<f64> = values.as_array().iter().copied().collect();
         let (count, grid) = match shape.as_slice() {
@@ -516,6 +536,7 @@ impl PaddedInput {
                     shape: grid.clone(),
                     values: all[p * cells..(p + 1) * cells].to_vec(),
                 })
+                .map(|g| g.with_meaning(meaning))
             })
             .collect::<specvar::Result<Vec<_>>>()
             .or_value_error()?;
@@ -548,7 +569,7 @@ impl PaddedInput {
 /// together (`sampler` on the first pair, `second` on the other), and with `mc` trials its
 /// Monte Carlo measurement.
 #[pyfunction]
-#[pyo3(signature = (values, sampler, n, second=None, randomization="native", mc=None, seed=0, cache=true))]
+#[pyo3(signature = (values, sampler, n, second=None, randomization="native", mc=None, seed=0, cache=true, tabulation="averages"))]
 #[allow(clippy::too_many_arguments)]
 fn predict_padded<'py>(
     py: Python<'py>,
@@ -560,9 +581,10 @@ fn predict_padded<'py>(
     mc: Option<usize>,
     seed: u64,
     cache: bool,
+    tabulation: &str,
 ) -> PyResult<Bound<'py, PyAny>> {
     use specvar::padded::{padded_monte_carlo, predict_padded};
-    let input = PaddedInput::new(&values, sampler, second, cache)?;
+    let input = PaddedInput::new(&values, sampler, second, tabulation, cache)?;
     let (f, samplers) = (input.grid()?, input.samplers(randomization)?);
     let params = PredictParams {
         seed,
@@ -587,7 +609,7 @@ fn predict_padded<'py>(
 /// The samples for a target RMSE of a padded estimator on a 4D integrand, or on an image of
 /// them (`values` of rank 5, pixels first: the image's RMSE).
 #[pyfunction]
-#[pyo3(signature = (values, sampler, rmse, relative=false, second=None, randomization="native", max_n=None, seed=0, cache=true))]
+#[pyo3(signature = (values, sampler, rmse, relative=false, second=None, randomization="native", max_n=None, seed=0, cache=true, tabulation="averages"))]
 #[allow(clippy::too_many_arguments)]
 fn plan_padded<'py>(
     py: Python<'py>,
@@ -600,10 +622,11 @@ fn plan_padded<'py>(
     max_n: Option<usize>,
     seed: u64,
     cache: bool,
+    tabulation: &str,
 ) -> PyResult<Bound<'py, PyAny>> {
     use specvar::padded::{plan_padded, plan_padded_pixels};
     use specvar::plan::Target;
-    let input = PaddedInput::new(&values, sampler, second, cache)?;
+    let input = PaddedInput::new(&values, sampler, second, tabulation, cache)?;
     let samplers = input.samplers(randomization)?;
     let target = Target::new(rmse, relative);
     // The samplers carry their randomizations: the plan's own is not read.
@@ -621,7 +644,8 @@ fn plan_padded<'py>(
 /// Every pixel's predicted variance, and the image's MSE, for a stack of per-pixel cell values
 /// `(pixels, h, w)` or `(rows, columns, h, w)`, each `values[y, x]`.
 #[pyfunction]
-#[pyo3(signature = (pixels, sampler, n, randomization="native", seed=0, cache=true))]
+#[pyo3(signature = (pixels, sampler, n, randomization="native", seed=0, cache=true, tabulation="averages"))]
+#[allow(clippy::too_many_arguments)]
 fn predict_image<'py>(
     py: Python<'py>,
     pixels: PyReadonlyArrayDyn<'py, f64>,
@@ -630,13 +654,17 @@ fn predict_image<'py>(
     randomization: &str,
     seed: u64,
     cache: bool,
+    tabulation: &str,
 ) -> PyResult<Bound<'py, PyAny>> {
     use specvar::pixels::{pixel_params, predict_pixels, PixelStack};
     let array = specvar::npy::NpyArray {
         shape: pixels.shape().to_vec(),
         values: pixels.as_array().iter().copied().collect(),
     };
-    let stack = PixelStack::from_array(array).or_value_error()?;
+    let meaning: GridMeaning = tabulation.parse().or_value_error()?;
+    let stack = PixelStack::from_array(array)
+        .or_value_error()?
+        .with_meaning(meaning);
     let s = build_sampler(sampler, 2, cache).or_value_error()?;
     s.check_count(n).or_value_error()?;
     let choice: RandomizationChoice = randomization.parse().or_value_error()?;

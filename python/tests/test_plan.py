@@ -19,7 +19,7 @@ def soft_shadow(m=64):
 def test_each_planned_count_reaches_the_target_by_monte_carlo():
     values = soft_shadow()
     integral = float(values.mean())
-    plans = specvar.plan(values, rmse=0.01, relative=True)
+    plans = specvar.plan((values, "exact"), rmse=0.01, relative=True)
     assert [p.sampler for p in plans] == ["random", "jitter", "cmj", "sobol"]
     for p in plans:
         assert p.target == pytest.approx(0.01 * integral)
@@ -69,12 +69,12 @@ def test_an_unreachable_target_names_the_largest_n():
 
 def test_an_image_of_pixels_is_predicted_pixel_by_pixel():
     stack = np.stack([np.stack([soft_shadow(32) * (1 + 0.1 * c + 0.2 * r) for c in range(3)]) for r in range(2)])
-    image = specvar.predict_image(stack, "jitter", 64)
+    image = specvar.predict_image(stack, "jitter", 64, tabulation="exact")
     assert image.variance.shape == (2, 3) and image.randomization == "none"
-    alone = specvar.predict(stack[1, 2], sampler="jitter", n=64)
+    alone = specvar.predict((stack[1, 2], "exact"), sampler="jitter", n=64)
     assert image.variance[1, 2] == alone.variance
     assert image.mse == pytest.approx(image.variance.mean(), rel=1e-14)
-    flat = specvar.predict_image(stack.reshape(6, 32, 32), "jitter", 64)
+    flat = specvar.predict_image(stack.reshape(6, 32, 32), "jitter", 64, tabulation="exact")
     assert flat.variance.shape == (1, 6)
     with pytest.raises(ValueError, match="shape"):
         specvar.predict_image(stack[0, 0], "jitter", 64)
@@ -86,13 +86,15 @@ def test_a_function_is_tabulated_adaptively_then_planned():
         return 0.8 * (np.hypot(x - 0.35, y - 0.4) >= 0.2)
 
     ours = specvar.plan(visibility, rmse=0.01, relative=True, samplers=["jitter"])
-    tabulated = specvar.plan(specvar.tabulate(visibility, 256), rmse=0.01, relative=True, samplers=["jitter"])
+    tabulated = specvar.plan(
+        (specvar.tabulate(visibility, 256), "samples"), rmse=0.01, relative=True, samplers=["jitter"]
+    )
     assert [(p.n, p.rmse) for p in ours] == [(p.n, p.rmse) for p in tabulated]
 
 
 def test_an_image_is_planned_for_its_rmse():
     stack = np.stack([soft_shadow(32) * (1 + 0.2 * c) for c in range(4)])
-    (p,) = specvar.plan(stack, rmse=0.01, relative=True, samplers=["jitter"])
-    image = specvar.predict_image(stack, "jitter", p.n)
+    (p,) = specvar.plan((stack, "exact"), rmse=0.01, relative=True, samplers=["jitter"])
+    image = specvar.predict_image(stack, "jitter", p.n, tabulation="exact")
     assert math.sqrt(image.mse) == pytest.approx(p.rmse, rel=1e-12)
     assert p.rmse <= p.target == pytest.approx(0.01 * stack.mean())

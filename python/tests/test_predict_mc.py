@@ -105,15 +105,19 @@ def test_a_tabulated_function_of_ones_own_is_predicted_and_checked():
     def bump(x):
         return np.exp(-((x[:, 0] - 0.4) ** 2 + (x[:, 1] - 0.6) ** 2) / 0.02) * (x[:, 0] < 0.55)
 
-    values = specvar.tabulate(bump, resolution=128)
-    assert values.shape == (128, 128)
+    # 256 cells per axis: smooth at its cells' scale, the bump needs 4 N cells per axis under
+    # Sobol' points, whose projections are stratified into N intervals.
+    values = specvar.tabulate(bump, resolution=256)
+    assert values.shape == (256, 256)
     f = specvar.integrand(values)
     # The piecewise-constant function's integral is the mean of its cells.
     assert abs(f.integral - values.mean()) < 1e-15
     for sampler in ("jitter", "sobol"):
-        p = specvar.predict(values, sampler=sampler, n=64)
-        m = specvar.monte_carlo(values, sampler=sampler, n=64, trials=6000, seed=8)
-        # Both are used as drawn: the grid's cells enter the cell form exactly.
+        # The values at the cells' centres tabulate the bump: predicted for the bump itself (the
+        # grid's cell form extrapolated over its coarser levels), measured on the bump.
+        p = specvar.predict((values, "samples"), sampler=sampler, n=64)
+        m = specvar.monte_carlo(bump, sampler=sampler, n=64, trials=6000, seed=8)
+        assert p.budget.tabulation > 0
         assert p.route.form == "cells" and p.randomization == m.randomization == "none"
         assert p.interval(3.0)[0] <= m.ci_high and m.ci_low <= p.interval(3.0)[1], (sampler, p, m)
 

@@ -7,6 +7,57 @@ use num_complex::Complex64;
 use rustfft::FftPlanner;
 use std::f64::consts::PI;
 
+/// What a grid's cells are.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum GridMeaning {
+    /// The averages of a finer function over the cells (a rendered pixel's sub-pixels, an
+    /// antialiased image of a scene, supersampled coverage): predictions are for that function,
+    /// the grid's own prediction extrapolated over its coarser averages, with the
+    /// extrapolation's bound as the budget's tabulation term. The default.
+    CellAverages,
+    /// A finer function's values at the cells' centres (a tabulation by point evaluation):
+    /// predicted as [`CellAverages`](Self::CellAverages) are, its coarser levels the values at
+    /// every second and fourth cell.
+    PointSamples,
+    /// The function itself (a texture looked up by nearest neighbour, an image integrated as
+    /// pixels): predictions are exact for the piecewise-constant function.
+    Exact,
+}
+
+impl std::str::FromStr for GridMeaning {
+    type Err = crate::error::Error;
+    /// `averages`, `samples` or `exact`.
+    fn from_str(s: &str) -> Result<Self> {
+        [
+            GridMeaning::CellAverages,
+            GridMeaning::PointSamples,
+            GridMeaning::Exact,
+        ]
+        .into_iter()
+        .find(|m| m.name() == s.trim())
+        .ok_or_else(|| {
+            invalid(
+                "tabulation",
+                crate::error::quoted(s),
+                "averages (a finer function's cell averages), samples (its values at the cells' \
+                 centres) or exact (the grid is the function)",
+            )
+        })
+    }
+}
+
+impl GridMeaning {
+    /// The name in an integrand's spec (`grid:FILE,exact`): `averages`, `samples` or `exact`.
+    pub fn name(self) -> &'static str {
+        match self {
+            GridMeaning::CellAverages => "averages",
+            GridMeaning::PointSamples => "samples",
+            GridMeaning::Exact => "exact",
+        }
+    }
+}
+
 /// A piecewise-constant function on `[0,1)²`: `width × height` cells, cell `(x, y)` covering
 /// `[x/w, (x+1)/w) × [y/h, (y+1)/h)` with value `values[y * width + x]`, and zero outside the
 /// square.
@@ -37,6 +88,7 @@ use std::f64::consts::PI;
 /// ```
 #[derive(Debug, Clone)]
 pub struct GridIntegrand {
+    meaning: GridMeaning,
     width: usize,
     height: usize,
     values: Vec<f64>,
@@ -92,6 +144,7 @@ impl GridIntegrand {
         let mean = values.iter().sum::<f64>() / cells;
         let mean_square = values.iter().map(|v| v * v).sum::<f64>() / cells;
         Ok(Self {
+            meaning: GridMeaning::CellAverages,
             dft: dft_2d(width, height, &values),
             cell_x: cell_table(width),
             cell_y: cell_table(height),
@@ -114,7 +167,134 @@ impl GridIntegrand {
     pub fn scaled(self, factor: f64) -> Result<Self> {
         let name = format!("{} × {factor}", self.name);
         let values = self.values().iter().map(|v| v * factor).collect();
-        Ok(Self::new(self.width(), self.height(), values)?.with_name(name))
+        Ok(Self::new(self.width(), self.height(), values)?
+            .with_name(name)
+            .with_meaning(self.meaning))
+    }
+
+    /// The same cells with another meaning: [`GridMeaning::Exact`] for a grid that is the
+    /// function itself.
+    pub fn with_meaning(mut self, meaning: GridMeaning) -> Self {
+        self.meaning = meaning;
+        self
+    }
+
+    /// What the cells are: a tabulation of a finer function (its cell averages by default, or
+    /// its values at the centres) or the function.
+    pub fn meaning(&self) -> GridMeaning {
+        self.meaning
+    }
+
+    /// Whether every cell holds the same value: a constant, whose every estimator has
+    /// variance 0, and whose coarser averages say nothing of a finer function.
+    pub fn is_constant(&self) -> bool {
+        self.values.iter().all(|&v| v == self.values[0])
+    }
+
+    /// The cell averages of this function on a coarser `width × height` grid: each coarse
+    /// cell's value is the mean of the fine cells it covers, weighted by the area they share
+    /// (for sides that divide, the mean of whole blocks). A tabulation by cell averages
+    /// averaged again is the tabulation at the coarser resolution; the result is declared
+    /// [`GridMeaning::Exact`], being the function it is computed from at that resolution.
+    ///
+    /// # Errors
+    /// A side of zero, or finer than this grid's.
+    ///
+    /// # Examples
+    /// ```
+    /// use specvar::integrand::{GridIntegrand, Integrand};
+    /// let f = GridIntegrand::new(4, 2, vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0])?;
+    /// let coarse = f.averaged(2, 1)?;
+    /// assert_eq!(coarse.values(), &[3.5, 5.5]);
+    /// // An uneven split shares the middle cell: 3 cells to 2.
+    /// let g = GridIntegrand::new(3, 1, vec![0.0, 3.0, 6.0])?.averaged(2, 1)?;
+    /// assert_eq!(g.values(), &[1.0, 5.0]);
+    /// assert_eq!(g.integral(), 3.0);
+    /// # Ok::<(), specvar::Error>(())
+    /// ```
+    pub fn averaged(&self, width: usize, height: usize) -> Result<GridIntegrand> {
+        self.check_coarser(width, height)?;
+        let columns = Self::shares(width, self.width);
+        let rows = Self::shares(height, self.height);
+        let mut values = Vec::with_capacity(width * height);
+        for row in &rows {
+            for column in &columns {
+                let mut sum = 0.0;
+                for &(y, wy) in row {
+                    let fine = &self.values[y * self.width..(y + 1) * self.width];
+                    sum += wy * column.iter().map(|&(x, wx)| wx * fine[x]).sum::<f64>();
+                }
+                values.push(sum);
+            }
+        }
+        Ok(GridIntegrand::new(width, height, values)?
+            .with_name(format!("{} averaged to {width}×{height}", self.name))
+            .with_meaning(GridMeaning::Exact))
+    }
+
+    /// The values at the cells of a coarser `width × height` grid that hold its cells'
+    /// centres: a tabulation by point evaluation at the coarser resolution (each point within
+    /// half a fine cell of its coarse cell's centre), declared [`GridMeaning::Exact`].
+    ///
+    /// # Errors
+    /// A side of zero, or finer than this grid's.
+    pub fn subsampled(&self, width: usize, height: usize) -> Result<GridIntegrand> {
+        self.check_coarser(width, height)?;
+        let centre = |i: usize, coarse: usize, fine: usize| {
+            (((2 * i + 1) * fine) / (2 * coarse)).min(fine - 1)
+        };
+        let values = (0..height)
+            .flat_map(|j| {
+                let y = centre(j, height, self.height);
+                (0..width).map(move |i| (y, centre(i, width, self.width)))
+            })
+            .map(|(y, x)| self.values[y * self.width + x])
+            .collect();
+        Ok(GridIntegrand::new(width, height, values)?
+            .with_name(format!("{} sampled at {width}×{height}", self.name))
+            .with_meaning(GridMeaning::Exact))
+    }
+
+    fn check_coarser(&self, width: usize, height: usize) -> Result<()> {
+        if width == 0 || height == 0 || width > self.width || height > self.height {
+            return Err(invalid(
+                "coarser grid",
+                format!("{width} × {height}"),
+                format!("1 × 1 to {} × {}", self.width, self.height),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The tabulation of the same function at a coarser `width × height` resolution, as this
+    /// grid's meaning says it was made: its averages ([`averaged`](Self::averaged)) or its
+    /// values at the coarser centres ([`subsampled`](Self::subsampled)).
+    ///
+    /// # Errors
+    /// As [`averaged`](Self::averaged).
+    pub fn coarser(&self, width: usize, height: usize) -> Result<GridIntegrand> {
+        match self.meaning {
+            GridMeaning::PointSamples => self.subsampled(width, height),
+            _ => self.averaged(width, height),
+        }
+    }
+
+    /// For each of `coarse` cells on an axis of `fine` cells, the fine cells it covers with the
+    /// share of the coarse cell each takes (summing to 1).
+    pub(crate) fn shares(coarse: usize, fine: usize) -> Vec<Vec<(usize, f64)>> {
+        (0..coarse)
+            .map(|i| {
+                if fine.is_multiple_of(coarse) {
+                    let ratio = fine / coarse;
+                    let share = 1.0 / ratio as f64;
+                    return (i * ratio..(i + 1) * ratio).map(|j| (j, share)).collect();
+                }
+                let (lo, hi) = (i as f64 / coarse as f64, (i + 1) as f64 / coarse as f64);
+                Self::overlaps(lo, hi, fine)
+                    .map(|(j, len)| (j, len * coarse as f64))
+                    .collect()
+            })
+            .collect()
     }
 
     /// The same function under another label (e.g. the file it came from).
@@ -362,6 +542,9 @@ impl Integrand for GridIntegrand {
     }
     fn kind(&self) -> IntegrandKind {
         IntegrandKind::Grid
+    }
+    fn tabulation(&self) -> Option<&GridIntegrand> {
+        (self.meaning != GridMeaning::Exact).then_some(self)
     }
     fn is_isotropic(&self) -> bool {
         false

@@ -29,7 +29,7 @@ mod truncated_lobe;
 pub use anisotropic::{AnisotropicGaussian, MAX_OUTSIDE_FRACTION};
 pub use ball::Ball;
 pub use gaussian::Gaussian;
-pub use grid::GridIntegrand;
+pub use grid::{GridIntegrand, GridMeaning};
 pub use grid_io::{grid_of_array, read_grid_exr, read_grid_file, read_grid_png, read_grid_text};
 pub use polygon::{Polygon, MAX_VERTICES};
 pub use product_form::{AxisFactor, ProductForm};
@@ -468,6 +468,11 @@ pub trait Integrand: Send + Sync {
     /// `2^a` cells per axis (a tabulated grid of power-of-two sides), if it is: its Walsh
     /// coefficients beyond that level vanish, so a Walsh sum through it is exact.
     fn dyadic_level(&self) -> Option<u32> {
+        None
+    }
+    /// The grid, where the integrand is a grid that tabulates a finer function
+    /// ([`grid::GridMeaning::Tabulation`]): its predictions carry the tabulation term.
+    fn tabulation(&self) -> Option<&GridIntegrand> {
         None
     }
     /// The integrand as `height · Π_l g_l(x_l)`, each factor analytic between its breakpoints

@@ -8,7 +8,7 @@
 //! `d` values separated by `;`). Defaults: ball `r = 0.25`, Gaussian `sigma = 0.1`, centre 0.5
 //! in every coordinate, `a = 1`. A key may appear once.
 
-use super::{read_grid_file, AnisotropicGaussian, Ball, Gaussian, Integrand, Polygon};
+use super::{read_grid_file, AnisotropicGaussian, Ball, Gaussian, GridMeaning, Integrand, Polygon};
 use crate::error::{invalid, Error, Result};
 use serde::Serialize;
 use std::fmt;
@@ -80,6 +80,9 @@ pub enum IntegrandSpec {
         /// The factor every value is multiplied by (`a=`: a PNG's grey levels in `[0, 1]` to
         /// radiance, say).
         scale: f64,
+        /// What the cells are (`,exact`, `,samples`; by default a finer function's averages
+        /// over them).
+        meaning: GridMeaning,
     },
     /// A polygon of height 1 on these vertices (2D).
     Polygon {
@@ -114,7 +117,7 @@ pub enum IntegrandSpec {
 /// Every form [`parse_integrand`] accepts, in words: the one list the command line's help and
 /// the parser's errors both show.
 pub const INTEGRAND_FORMS: &str = "disk, ball or gaussian, with optional overrides such as \
-                                   disk:r=0.2,a=2, grid:FILE for a text, PNG, OpenEXR or .npy grid (grid:FILE,a=0.14 scales it), \
+                                   disk:r=0.2,a=2, grid:FILE for a text, PNG, OpenEXR or .npy grid of a finer function's cell averages (grid:FILE,a=0.14 scales it; ,samples for values at the centres, ,exact for a grid that is the function), \
                                    polygon:x,y;x,y;x,y or polygon:@FILE, \
                                    edge:theta=30,offset=0.5, or agaussian:s1=0.05,s2=0.02,angle=30";
 
@@ -193,26 +196,44 @@ pub fn parse_integrand(text: &str) -> Result<IntegrandSpec> {
     }
 }
 
-/// `FILE` or `FILE,a=SCALE`: a trailing `,a=` that parses as a number is the scale, anything
-/// else is part of the file name.
+/// `FILE`, then optionally `,a=SCALE` and one of `,averages` (the default), `,samples` or
+/// `,exact` ([`GridMeaning`]), in either order: a trailing part that is one of these is taken as
+/// it, anything else is part of the file name.
 fn parse_grid(rest: &str) -> Result<IntegrandSpec> {
-    let rest = rest.trim();
-    let (path, scale) = match rest.rsplit_once(",a=") {
-        Some((path, value)) if !path.is_empty() => match value.trim().parse::<f64>() {
-            Ok(a) if a.is_finite() && a != 0.0 => (path, a),
-            _ => {
-                return Err(invalid(
-                    "grid scale",
-                    crate::error::quoted(value),
-                    "a finite non-zero number, as in grid:FILE,a=0.14",
-                ))
+    let mut path = rest.trim();
+    let (mut scale, mut meaning) = (None, None);
+    while let Some((head, tail)) = path.rsplit_once(',') {
+        let word = tail.trim();
+        let as_meaning = word.parse::<GridMeaning>().ok();
+        if let (Some(m), None) = (as_meaning, meaning) {
+            meaning = Some(m);
+        } else if let (Some(value), None) = (word.strip_prefix("a="), scale) {
+            match value.trim().parse::<f64>() {
+                Ok(a) if a.is_finite() && a != 0.0 => scale = Some(a),
+                _ => {
+                    return Err(invalid(
+                        "grid scale",
+                        crate::error::quoted(value),
+                        "a finite non-zero number, as in grid:FILE,a=0.14",
+                    ))
+                }
             }
-        },
-        _ => (rest, 1.0),
-    };
+        } else {
+            break;
+        }
+        path = head;
+    }
+    if path.is_empty() {
+        return Err(invalid(
+            "grid file",
+            "''",
+            "a file name, as in grid:FILE,exact",
+        ));
+    }
     Ok(IntegrandSpec::Grid {
         path: path.into(),
-        scale,
+        scale: scale.unwrap_or(1.0),
+        meaning: meaning.unwrap_or(GridMeaning::CellAverages),
     })
 }
 
@@ -427,11 +448,15 @@ impl IntegrandSpec {
             }
         };
         Ok(match self {
-            IntegrandSpec::Grid { path, scale } => {
+            IntegrandSpec::Grid {
+                path,
+                scale,
+                meaning,
+            } => {
                 if d != 2 {
                     return Err(invalid("dimension", d, "2 for a grid integrand"));
                 }
-                let grid = read_grid_file(path)?;
+                let grid = read_grid_file(path)?.with_meaning(*meaning);
                 if *scale == 1.0 {
                     Box::new(grid)
                 } else {
@@ -516,10 +541,20 @@ impl fmt::Display for IntegrandSpec {
                 height,
                 centre: c,
             } => write!(f, "gaussian:sigma={sigma},a={height}{}", centre(c)),
-            IntegrandSpec::Grid { path, scale } if *scale == 1.0 => {
-                write!(f, "grid:{}", path.display())
+            IntegrandSpec::Grid {
+                path,
+                scale,
+                meaning,
+            } => {
+                write!(f, "grid:{}", path.display())?;
+                if *scale != 1.0 {
+                    write!(f, ",a={scale}")?;
+                }
+                if *meaning != GridMeaning::CellAverages {
+                    write!(f, ",{}", meaning.name())?;
+                }
+                Ok(())
             }
-            IntegrandSpec::Grid { path, scale } => write!(f, "grid:{},a={scale}", path.display()),
             IntegrandSpec::Polygon { vertices } => {
                 let list: Vec<String> = vertices
                     .iter()

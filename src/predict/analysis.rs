@@ -312,7 +312,10 @@ pub fn analysis_markdown_table(n: usize) -> String {
             ),
             (
                 "grid",
-                Box::new(GridIntegrand::new(4, 4, (0..16).map(f64::from).collect())?),
+                Box::new(
+                    GridIntegrand::new(4, 4, (0..16).map(f64::from).collect())?
+                        .with_meaning(crate::integrand::GridMeaning::Exact),
+                ),
             ),
             (
                 "agaussian",

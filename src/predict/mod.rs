@@ -27,6 +27,7 @@ mod fourier;
 mod route;
 mod strata;
 mod table;
+mod tabulation;
 mod term_mean;
 mod walsh;
 
@@ -55,6 +56,7 @@ pub use strata::cell_pairs::{
     correlated_multi_jitter_variance, latin_hypercube_variance, multi_jitter_variance,
 };
 pub use strata::cells::{fixed_strata_variance, occupancy_variance, CellOrigin, Occupancy};
+pub use tabulation::{min_tabulation_cells, MIN_COARSE_CELLS_PER_SPACING, SMOOTH_RATIO};
 pub use term_mean::OccupancyEstimate;
 pub use walsh::forms::{WalshNetOrigin, WalshOrigin};
 
@@ -265,13 +267,22 @@ pub struct ErrorBudget {
     pub truncation: f64,
     /// A systematic term from the route's model (e.g. the gap to another valid route).
     pub model: f64,
+    /// For a grid that tabulates a finer function: a bound on the gap between the function's
+    /// variance and the extrapolation from the grid and its coarser averages (0 for a grid
+    /// declared exact and for every other integrand; see [`tabulation`]).
+    pub tabulation: f64,
 }
 
 impl ErrorBudget {
+    /// The systematic bounds, added linearly: `quadrature + truncation + model + tabulation`.
+    pub fn bounds(&self) -> f64 {
+        self.quadrature + self.truncation + self.model + self.tabulation
+    }
+
     /// The half-width of an interval around the prediction at `z` standard errors of the noise:
-    /// `z · noise + quadrature + truncation + model` (the bounds add linearly).
+    /// `z · noise + quadrature + truncation + model + tabulation` (the bounds add linearly).
     pub fn half_width(&self, z: f64) -> f64 {
-        z * self.spectrum_noise + self.quadrature + self.truncation + self.model
+        z * self.spectrum_noise + self.bounds()
     }
 }
 
@@ -336,7 +347,7 @@ impl Prediction {
     pub fn z_beyond_bounds(&self, measured: &crate::montecarlo::McResult) -> f64 {
         let mc_se = (measured.ci_high - measured.ci_low) / (2.0 * crate::montecarlo::Z_99);
         let b = &self.budget;
-        let bounds = b.quadrature + b.truncation + b.model;
+        let bounds = b.bounds();
         let diff = self.variance - measured.variance;
         let sigma = b.spectrum_noise.hypot(mc_se);
         (diff.abs() - bounds).max(0.0) / sigma * diff.signum()
@@ -751,7 +762,40 @@ pub fn check_route(problem: &Problem<'_>) -> Result<()> {
 /// ```
 pub fn plan_analysis(problem: &Problem<'_>, params: &PredictParams) -> Result<AnalysisPlan> {
     check_params(params)?;
-    table::choose(problem, params).map(|(_, plan)| plan)
+    plan_levels(problem, params).map(|(_, plan, _)| plan)
+}
+
+/// The analysis of `problem` and its plan, and for a tabulated grid its coarser levels, whose
+/// plans' needs the plan's include and whose sum is checked against the budget.
+fn plan_levels(
+    problem: &Problem<'_>,
+    params: &PredictParams,
+) -> Result<(
+    &'static dyn analysis::Analysis,
+    AnalysisPlan,
+    Option<tabulation::Levels>,
+)> {
+    let (row, mut plan) = table::choose(problem, params)?;
+    let levels = tabulation::levels(problem)?;
+    if let Some(levels) = &levels {
+        for grid in &levels.coarser {
+            let (_, coarse) = table::choose(&tabulation::on(problem, grid), params)?;
+            plan.needs.seconds += coarse.needs.seconds;
+            plan.needs.bytes = plan.needs.bytes.max(coarse.needs.bytes);
+        }
+        params.budget.check(
+            &format!(
+                "the {} analysis at N = {} on the grid and its two coarser averages",
+                plan.analysis, problem.n
+            ),
+            crate::budget::Needs {
+                memory_bytes: plan.needs.bytes,
+                work_seconds: plan.needs.seconds,
+            },
+            "lower N",
+        )?;
+    }
+    Ok((row, plan, levels))
 }
 
 /// Refuses an estimator whose mean squared error is not its variance: Gaussian jitter used as
@@ -810,9 +854,21 @@ fn predict_planned(
     params: &PredictParams,
     progress: &dyn Progress,
 ) -> Result<Prediction> {
-    let (row, plan) = table::choose(problem, params)?;
-    row.predict(problem, params, progress)
-        .map(|p| planned(p, &plan))
+    let (row, plan, levels) = plan_levels(problem, params)?;
+    let fine = row.predict(problem, params, progress)?;
+    let Some(levels) = levels else {
+        return Ok(planned(fine, &plan));
+    };
+    let mut coarser = Vec::with_capacity(2);
+    for grid in &levels.coarser {
+        let level = tabulation::on(problem, grid);
+        let (row, _) = table::choose(&level, params)?;
+        coarser.push(row.predict(&level, params, progress)?);
+    }
+    let coarser: [Prediction; 2] = coarser
+        .try_into()
+        .map_err(|_| Error::Mismatch("a tabulated grid's levels left unpredicted".into()))?;
+    tabulation::extrapolate(fine, coarser, &levels).map(|p| planned(p, &plan))
 }
 
 /// `p` labelled with the analysis of `plan`.
@@ -885,7 +941,35 @@ pub fn predict_many(
     progress: &dyn Progress,
 ) -> Result<Vec<Prediction>> {
     check_params(params)?;
-    table::predict_planned_many(problems, params, progress)?
+    // Tabulated grids' coarser levels are predicted on the same patterns as the grids.
+    let levels = problems
+        .iter()
+        .map(tabulation::levels)
+        .collect::<Result<Vec<_>>>()?;
+    let mut all = problems.to_vec();
+    for (problem, levels) in problems.iter().zip(&levels) {
+        for grid in levels.iter().flat_map(|l| &l.coarser) {
+            all.push(tabulation::on(problem, grid));
+        }
+    }
+    let mut predictions = table::predict_planned_many(&all, params, progress)?.into_iter();
+    let fine: Vec<Prediction> = predictions.by_ref().take(problems.len()).collect();
+    let mut combined = Vec::with_capacity(problems.len());
+    for (p, levels) in fine.into_iter().zip(&levels) {
+        combined.push(match levels {
+            None => p,
+            Some(levels) => {
+                let mut coarser = predictions.by_ref().take(2);
+                let (Some(a), Some(b)) = (coarser.next(), coarser.next()) else {
+                    return Err(Error::Mismatch(
+                        "a tabulated grid's levels left unpredicted".into(),
+                    ));
+                };
+                tabulation::extrapolate(p, [a, b], levels)?
+            }
+        });
+    }
+    combined
         .into_iter()
         .zip(problems)
         .map(|(p, problem)| finite_prediction(p).map(|p| for_estimator(p, problem)))
@@ -929,6 +1013,7 @@ fn finite_prediction(p: Prediction) -> Result<Prediction> {
         ("quadrature error", b.quadrature),
         ("truncation bound", b.truncation),
         ("model term", b.model),
+        ("tabulation term", b.tabulation),
     ] {
         finite(v, || format!("the {what} of the {} is {v}", p.route))?;
     }

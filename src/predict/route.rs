@@ -761,6 +761,7 @@ fn fixed_sets_in_space(
             n * n
         ),
         budget: ErrorBudget {
+            tabulation: 0.0,
             quadrature: rounding,
             ..Default::default()
         },
@@ -941,6 +942,7 @@ fn patterns_in_space(
             n * n
         ),
         budget: ErrorBudget {
+            tabulation: 0.0,
             spectrum_noise: estimate.standard_error,
             quadrature: estimate.rounding,
             ..Default::default()
@@ -1159,6 +1161,7 @@ fn in_space(
         },
         reason,
         budget: ErrorBudget {
+            tabulation: 0.0,
             quadrature: rounding,
             ..Default::default()
         },

@@ -103,7 +103,8 @@ impl ShadingPoint {
     }
 
     /// `V` rasterized on a `resolution × resolution` grid, one ray through each cell centre;
-    /// cell `(x, y)` holds `V((x + ½)/R, (y + ½)/R)`.
+    /// cell `(x, y)` holds `V((x + ½)/R, (y + ½)/R)`: a tabulation by point samples
+    /// ([`GridMeaning::PointSamples`](crate::integrand::GridMeaning)).
     ///
     /// # Errors
     /// A zero resolution.
@@ -126,6 +127,7 @@ impl ShadingPoint {
                     .map(|&r| self.visible(scene, near, r, cos, sin, max_distance)),
             );
         }
-        GridIntegrand::new(resolution, resolution, values)
+        Ok(GridIntegrand::new(resolution, resolution, values)?
+            .with_meaning(crate::integrand::GridMeaning::PointSamples))
     }
 }

@@ -71,7 +71,7 @@ impl ComparisonRow {
         let b = &self.predicted.budget;
         let sigma = self.measured.stderr.hypot(b.spectrum_noise);
         let gap = self.predicted.variance - self.measured.mse;
-        let systematic = b.quadrature + b.truncation + b.model;
+        let systematic = b.bounds();
         gap.signum() * (gap.abs() - systematic).max(0.0) / sigma
     }
 }
@@ -178,9 +178,7 @@ pub fn comparison_table(rows: &[ComparisonRow]) -> String {
             r.measured.stderr,
             r.predicted.variance,
             r.predicted.budget.spectrum_noise,
-            r.predicted.budget.quadrature
-                + r.predicted.budget.truncation
-                + r.predicted.budget.model,
+            r.predicted.budget.bounds(),
             r.predicted.variance / r.measured.mse,
             r.z_score(),
             r.talk.map_or("".into(), |t| format!("{t:.2e}")),

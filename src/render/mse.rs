@@ -258,7 +258,9 @@ const RENDER_PIXEL_WORK_SECONDS: f64 = 0.05;
 /// that estimator (the cell form for strata and nets as drawn, Owen's gains, the Walsh form for
 /// a digital shift), with its own seed, and the mean taken over the pixels (those whose primary
 /// ray leaves the scene with no variance). The noise is the pixels' independent noises combined,
-/// the bounds their mean. This is the route for estimators other than the shift, whose cross
+/// the bounds their mean. The grids are as fine as `grid` asks and at least as fine as the
+/// tabulation's extrapolation needs at `n` ([`crate::predict::min_tabulation_cells`]). This is
+/// the route for estimators other than the shift, whose cross
 /// terms between frequencies do not vanish, so that no mean power over the pixels can carry them.
 ///
 /// # Errors
@@ -286,6 +288,16 @@ pub fn predict_mse_per_pixel(
                 .map(move |x| y * frame.width() + x)
         })
         .collect();
+    // Each pixel's visibility is a tabulation of its rays' function: fine enough for the
+    // extrapolation over its coarser levels at N.
+    let strata = sampler
+        .kind()
+        .map_or(crate::sampler::AxisStrata::Projections, |k| {
+            k.facts().axis_strata
+        });
+    let resolution = grid
+        .resolution
+        .max(crate::predict::min_tabulation_cells(n, strata));
     let params = PredictParams {
         target_noise: RENDER_PIXEL_TARGET_NOISE,
         work_budget_seconds: RENDER_PIXEL_WORK_SECONDS,
@@ -297,7 +309,7 @@ pub fn predict_mse_per_pixel(
             let Some(point) = frame.point(p) else {
                 return Ok(None);
             };
-            let visibility = point.visibility_grid(frame.scene(), grid.resolution, max_distance)?;
+            let visibility = point.visibility_grid(frame.scene(), resolution, max_distance)?;
             let problem = Problem::new(sampler, &visibility, n)?.with_randomization(randomization);
             let own = PredictParams {
                 seed: realization_rng(seed, p as u64, Stream::Trial).next_u64(),

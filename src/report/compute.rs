@@ -590,9 +590,7 @@ fn ambient_checks(ao: &AmbientSection) -> Vec<Check> {
                 "predicted {:.4e} (bounds ±{:.1e}), measured {:.4e} ± {:.1e} (z beyond the \
                  bounds = {z:+.2}, predicted / measured = {:.3})",
                 r.predicted.variance,
-                r.predicted.budget.quadrature
-                    + r.predicted.budget.truncation
-                    + r.predicted.budget.model,
+                r.predicted.budget.bounds(),
                 r.measured.mse,
                 r.measured.stderr,
                 r.predicted.variance / r.measured.mse

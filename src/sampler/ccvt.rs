@@ -47,6 +47,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     isotropic: true,
     symmetry: Symmetry::Cube,
     correlation_reach: 2.0,
+    axis_strata: super::AxisStrata::Spacing,
     cost_per_point_ns: 85_000.0,
     cost_growth: 0.0,
     cost_dimension: DimensionCost::PerDimension(4.5),

@@ -49,6 +49,9 @@ pub struct SamplerFacts {
     pub symmetry: Symmetry,
     /// How far its pair correlations reach, in mean spacings `N^{-1/d}` (largest component).
     pub correlation_reach: f64,
+    /// The finest scale at which its patterns are structured along an axis: what a tabulated
+    /// integrand must resolve for its coarser averages to show the variance.
+    pub axis_strata: AxisStrata,
     /// The time to generate one point of a 2D pattern, in nanoseconds, measured at N = 1024 to
     /// 4096 by `benches/samplers.rs` (which fails when a measurement leaves
     /// [`COST_TOLERANCE`] of it). It sizes work estimates and Monte Carlo pools.
@@ -62,6 +65,33 @@ pub struct SamplerFacts {
     /// The generator's working memory, in bytes, for `n` points in dimension `d` (beyond the
     /// points themselves).
     pub working_bytes: fn(n: f64, d: usize) -> f64,
+}
+
+/// The finest scale at which a sampler's patterns are structured along one axis
+/// ([`SamplerFacts::axis_strata`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum AxisStrata {
+    /// Independent uniform points: no scale of their own.
+    Independent,
+    /// Structure at the points' spacing, `N^{1/d}` intervals per axis (jitter's strata, the
+    /// spacing of blue noise and of a regular grid).
+    Spacing,
+    /// Every axis's projection stratified into about `N` intervals (N-rooks, nets, Halton's
+    /// radical inverses, rank-1 lattices and Kronecker sequences).
+    Projections,
+}
+
+impl AxisStrata {
+    /// Intervals per axis at which `n` points in dimension `d` are structured (0 for
+    /// independent points).
+    pub fn intervals(self, n: usize, d: usize) -> f64 {
+        match self {
+            AxisStrata::Independent => 0.0,
+            AxisStrata::Spacing => (n as f64).powf(1.0 / d as f64),
+            AxisStrata::Projections => n as f64,
+        }
+    }
 }
 
 /// How a sampler's cost per point changes with the dimension, from its 2D cost.

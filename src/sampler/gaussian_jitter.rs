@@ -31,6 +31,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     isotropic: false,
     symmetry: Symmetry::CubeWithSquareStrata,
     correlation_reach: 2.0,
+    axis_strata: super::AxisStrata::Spacing,
     cost_per_point_ns: 55.0,
     cost_growth: 0.0,
     cost_dimension: DimensionCost::PerCoordinate,

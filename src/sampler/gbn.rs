@@ -45,6 +45,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     isotropic: true,
     symmetry: Symmetry::Cube,
     correlation_reach: RELAXED_REACH,
+    axis_strata: super::AxisStrata::Spacing,
     cost_per_point_ns: 45_000.0,
     cost_growth: 0.0,
     cost_dimension: DimensionCost::PerDimension(8.5),

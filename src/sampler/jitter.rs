@@ -29,6 +29,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     isotropic: false,
     symmetry: Symmetry::CubeWithSquareStrata,
     correlation_reach: 1.0,
+    axis_strata: super::AxisStrata::Spacing,
     cost_per_point_ns: 8.0,
     cost_growth: 0.0,
     cost_dimension: DimensionCost::PerCoordinate,

@@ -32,8 +32,8 @@ pub use ccvt::{Ccvt, CcvtParams, CcvtStats};
 pub use closed_form::{fejer, sinc, ClosedForm, ClosedLattice, TailDeviation};
 pub use cmj::CorrelatedMultiJitter;
 pub use facts::{
-    CellLaw, CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness, SamplerFacts, Scaling,
-    Symmetry, COST_REFERENCE_N, COST_TOLERANCE,
+    AxisStrata, CellLaw, CellRule, ClosedFormRule, CountRule, DimensionCost, Randomness,
+    SamplerFacts, Scaling, Symmetry, COST_REFERENCE_N, COST_TOLERANCE,
 };
 pub use gaussian_jitter::{
     GaussianJitter, DEFAULT_GAUSSIAN_WIDTH, MAX_GAUSSIAN_WIDTH, MIN_GAUSSIAN_WIDTH,

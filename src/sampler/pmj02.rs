@@ -28,6 +28,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     isotropic: false,
     symmetry: Symmetry::Partial,
     correlation_reach: 2.0,
+    axis_strata: super::AxisStrata::Projections,
     cost_per_point_ns: 330.0,
     cost_growth: 0.5,
     cost_dimension: DimensionCost::PerCoordinate,

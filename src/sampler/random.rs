@@ -28,6 +28,7 @@ pub(crate) const FACTS: SamplerFacts = SamplerFacts {
     isotropic: true,
     symmetry: Symmetry::Cube,
     correlation_reach: 0.0,
+    axis_strata: super::AxisStrata::Independent,
     cost_per_point_ns: 4.0,
     cost_growth: 0.0,
     cost_dimension: DimensionCost::PerCoordinate,

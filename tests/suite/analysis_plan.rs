@@ -78,7 +78,9 @@ fn needs_above_the_budget_are_refused_before_any_work() {
 /// minutes, refused under a budget of two seconds before any pixel is predicted.
 #[test]
 fn an_image_is_planned_as_a_whole() {
-    let pixel = GridIntegrand::new(4, 4, (0..16).map(|i| i as f64 / 15.0).collect()).unwrap();
+    let pixel = GridIntegrand::new(4, 4, (0..16).map(|i| i as f64 / 15.0).collect())
+        .unwrap()
+        .with_meaning(specvar::integrand::GridMeaning::Exact);
     let stack = PixelStack::new(200, vec![pixel; 20_000]).unwrap();
     let params = PredictParams {
         budget: Budget {
@@ -152,7 +154,9 @@ fn a_sampler_of_ones_own_is_shifted_everywhere() {
         }
     }
     let own = Own(Jitter::new(2).unwrap());
-    let pixel = GridIntegrand::new(4, 4, (0..16).map(|i| i as f64 / 15.0).collect()).unwrap();
+    let pixel = GridIntegrand::new(4, 4, (0..16).map(|i| i as f64 / 15.0).collect())
+        .unwrap()
+        .with_meaning(specvar::integrand::GridMeaning::Exact);
     let problem = Problem::new(&own, &pixel, 64).unwrap();
     assert_eq!(problem.randomization, Randomization::Shift);
     let stack = PixelStack::new(1, vec![pixel.clone()]).unwrap();

@@ -233,7 +233,7 @@ fn predict_accepts_grid_files_and_names_bad_lines() {
     std::fs::create_dir_all(&dir).unwrap();
     let good = dir.join("g.txt");
     std::fs::write(&good, "0 1 1 0\n1 1 1 1\n0 1 1 0\n0 0 0 0\n").unwrap();
-    let spec = format!("grid:{}", good.display());
+    let spec = format!("grid:{},exact", good.display());
     let (code, out, err) = specvar(&[
         "predict",
         "-s",

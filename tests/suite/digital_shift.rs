@@ -26,7 +26,9 @@ fn dyadic_pixel() -> GridIntegrand {
             }
         })
         .collect();
-    GridIntegrand::new(16, 16, values).unwrap()
+    GridIntegrand::new(16, 16, values)
+        .unwrap()
+        .with_meaning(specvar::integrand::GridMeaning::Exact)
 }
 
 /// The variance over every digital shift of the top 4 digits per axis, which is the whole

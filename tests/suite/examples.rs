@@ -109,7 +109,9 @@ fn edge_pixel(p: usize) -> specvar::integrand::GridIntegrand {
             }
         })
         .collect();
-    specvar::integrand::GridIntegrand::new(16, 16, values).unwrap()
+    specvar::integrand::GridIntegrand::new(16, 16, values)
+        .unwrap()
+        .with_meaning(specvar::integrand::GridMeaning::Exact)
 }
 
 /// A `.npy` stack of 2 × 3 pixels ([`edge_pixel`]), shape `(2, 3, 16, 16)`.

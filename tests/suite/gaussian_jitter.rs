@@ -136,7 +136,11 @@ fn as_drawn_agrees_with_monte_carlo_of_the_same_estimator() {
         Box::new(Ball::new(0.45, vec![0.9, 0.1], 1.0).unwrap()),
         Box::new(Gaussian::new(0.2, vec![0.2, 0.7], 1.0).unwrap()),
         Box::new(Polygon::edge(30.0, 0.4, 1.0).unwrap()),
-        Box::new(GridIntegrand::new(12, 12, pixel).unwrap()),
+        Box::new(
+            GridIntegrand::new(12, 12, pixel)
+                .unwrap()
+                .with_meaning(specvar::integrand::GridMeaning::Exact),
+        ),
     ];
     let jitter = SamplerKind::GaussianJitter.build(2).unwrap();
     let ns = [16, 144];

@@ -49,7 +49,14 @@ fn integrands_2d() -> Vec<(&'static str, Box<dyn Integrand>)> {
             Box::new(Polygon::new(vec![[0.12, 0.18], [0.83, 0.31], [0.41, 0.88]], 1.0).unwrap()),
         ),
         ("edge", Box::new(Polygon::edge(30.0, 0.4, 1.0).unwrap())),
-        ("grid4", Box::new(GridIntegrand::new(4, 4, grid).unwrap())),
+        (
+            "grid4",
+            Box::new(
+                GridIntegrand::new(4, 4, grid)
+                    .unwrap()
+                    .with_meaning(specvar::integrand::GridMeaning::Exact),
+            ),
+        ),
         (
             "agaussian",
             Box::new(AnisotropicGaussian::new(0.05, 0.15, 30.0, [0.5, 0.5], 1.0).unwrap()),

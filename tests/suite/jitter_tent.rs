@@ -125,7 +125,9 @@ fn beyond_the_lattice_the_default_is_the_tent_and_the_lattice_agrees() {
 fn checkerboard() -> GridIntegrand {
     let (w, h) = (6, 5);
     let values = (0..w * h).map(|i| ((i % w + i / w) % 2) as f64).collect();
-    GridIntegrand::new(w, h, values).unwrap()
+    GridIntegrand::new(w, h, values)
+        .unwrap()
+        .with_meaning(specvar::integrand::GridMeaning::Exact)
 }
 
 /// At N = 10^12 the disk's tent agrees with the polar form's closed-form radial mean, and the

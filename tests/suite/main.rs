@@ -45,4 +45,5 @@ mod sampler;
 mod sampler_facts;
 mod shifted_cells;
 mod spectrum;
+mod tabulation;
 mod unshifted;

@@ -38,7 +38,9 @@ fn pixel() -> PaddedGrid {
             }
         }
     }
-    PaddedGrid::new([M; 4], values).unwrap()
+    PaddedGrid::new([M; 4], values)
+        .unwrap()
+        .with_meaning(specvar::integrand::GridMeaning::Exact)
 }
 
 fn check(first: SamplerKind, second: SamplerKind, randomization: Option<Randomization>, n: usize) {
@@ -167,7 +169,9 @@ fn an_image_of_padded_pixels_plans_for_its_mean_variance() {
             0.3 + 0.5 * ((bx + ax) % 3 == 0) as u8 as f64
         })
         .collect();
-    let g = PaddedGrid::new([ah, aw, bh, bw], values).unwrap();
+    let g = PaddedGrid::new([ah, aw, bh, bw], values)
+        .unwrap()
+        .with_meaning(specvar::integrand::GridMeaning::Exact);
     let image = [f, g];
     let p = plan_padded_pixels(&image, samplers, &params, &Silent).unwrap();
     let measured = image

@@ -149,7 +149,9 @@ fn padded_pixel(p: usize) -> PaddedGrid {
             }
         }
     }
-    PaddedGrid::new([fm, fm, lm, lm], values).unwrap()
+    PaddedGrid::new([fm, fm, lm, lm], values)
+        .unwrap()
+        .with_meaning(specvar::integrand::GridMeaning::Exact)
 }
 
 /// A permutation of `0..n` from a 64-bit mixer (the test's own, not the library's).

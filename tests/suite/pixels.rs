@@ -2,7 +2,9 @@
 
 use crate::common;
 
-use specvar::integrand::{read_grid_file, read_grid_text, GridIntegrand, Integrand, IntegrandSpec};
+use specvar::integrand::{
+    read_grid_file, read_grid_text, GridIntegrand, GridMeaning, Integrand, IntegrandSpec,
+};
 use specvar::montecarlo::{empirical_variance, McParams};
 use specvar::npy::read_npy;
 use specvar::pixels::{pixel_params, predict_pixels, PixelStack};
@@ -85,8 +87,9 @@ fn stacks_read_from_arrays_of_rank_three_and_four() {
 fn each_pixel_is_its_own_prediction_and_the_image_is_their_mean() {
     let (rows, columns, m) = (2, 3, 16);
     let values = stack_values(rows, columns, m);
-    let stack =
-        PixelStack::from_array(read_npy(&npy(&[rows, columns, m, m], &values)).unwrap()).unwrap();
+    let stack = PixelStack::from_array(read_npy(&npy(&[rows, columns, m, m], &values)).unwrap())
+        .unwrap()
+        .with_meaning(GridMeaning::Exact);
     let jitter = Jitter::new(2).unwrap();
     let params = pixel_params(&PredictParams::default());
     let image = predict_pixels(
@@ -115,8 +118,9 @@ fn each_pixel_is_its_own_prediction_and_the_image_is_their_mean() {
 fn the_image_mse_agrees_with_monte_carlo_of_every_pixel() {
     let (rows, columns, m) = (1, 4, 32);
     let values = stack_values(rows, columns, m);
-    let stack =
-        PixelStack::from_array(read_npy(&npy(&[rows, columns, m, m], &values)).unwrap()).unwrap();
+    let stack = PixelStack::from_array(read_npy(&npy(&[rows, columns, m, m], &values)).unwrap())
+        .unwrap()
+        .with_meaning(GridMeaning::Exact);
     let kind = SamplerKind::Cmj;
     let cmj = kind.build(2).unwrap();
     let params = pixel_params(&PredictParams::default());
@@ -159,12 +163,16 @@ fn npy_grids_keep_row_zero_at_the_bottom_and_scales_multiply() {
     // values[y][x]: row 0 (y near 0) is [1, 0].
     let path = dir.join("g.npy");
     std::fs::write(&path, npy(&[2, 2], &[1.0, 0.0, 0.0, 0.0])).unwrap();
-    let from_npy = read_grid_file(&path).unwrap();
+    let from_npy = read_grid_file(&path)
+        .unwrap()
+        .with_meaning(GridMeaning::Exact);
     // A text grid's first line is the top row.
     let from_text = read_grid_text("0 0\n1 0\n").unwrap();
     assert_eq!(from_npy.values(), from_text.values());
     assert_eq!(from_npy.eval(&[0.1, 0.1]), 1.0);
-    let spec: IntegrandSpec = format!("grid:{},a=0.5", path.display()).parse().unwrap();
+    let spec: IntegrandSpec = format!("grid:{},a=0.5,exact", path.display())
+        .parse()
+        .unwrap();
     let half = spec.build(2).unwrap();
     assert_eq!(half.integral(), 0.5 * from_npy.integral());
     let jitter = Jitter::new(2).unwrap();
@@ -184,7 +192,9 @@ fn a_directory_of_grids_is_a_row_of_pixels() {
     let dir = scratch("directory");
     for (i, offset) in [0.3, 0.5, 0.7].iter().enumerate() {
         let values = soft_edge(8, 20.0, *offset);
-        let grid = GridIntegrand::new(8, 8, values.clone()).unwrap();
+        let grid = GridIntegrand::new(8, 8, values.clone())
+            .unwrap()
+            .with_meaning(specvar::integrand::GridMeaning::Exact);
         assert_eq!(grid.values().len(), 64);
         std::fs::write(dir.join(format!("p{i}.npy")), npy(&[8, 8], &values)).unwrap();
     }

@@ -328,8 +328,9 @@ fn lattice_and_kronecker_sums_in_space_equal_the_pair_sum() {
 /// random sets agree with Monte Carlo of those sets under shifts.
 #[test]
 fn given_sets_under_the_shift_are_summed_over_their_pairs() {
-    let pixel =
-        GridIntegrand::new(5, 3, (0..15).map(|i| ((i * 3) % 7) as f64 * 0.2).collect()).unwrap();
+    let pixel = GridIntegrand::new(5, 3, (0..15).map(|i| ((i * 3) % 7) as f64 * 0.2).collect())
+        .unwrap()
+        .with_meaning(specvar::integrand::GridMeaning::Exact);
     let integrands: Vec<Box<dyn Integrand>> = vec![
         Box::new(Ball::new(0.25, vec![0.5, 0.5], 1.0).unwrap()),
         Box::new(Polygon::edge(30.0, 0.4, 1.0).unwrap()),

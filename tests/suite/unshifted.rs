@@ -38,7 +38,11 @@ fn integrands_2d() -> Vec<Box<dyn Integrand>> {
         Box::new(Gaussian::new(0.3, vec![0.7, 0.2], 1.0).unwrap()),
         Box::new(Polygon::edge(30.0, 0.4, 1.0).unwrap()),
         Box::new(Polygon::new(vec![[0.1, 0.2], [0.8, 0.1], [0.4, 0.9]], 2.0).unwrap()),
-        Box::new(GridIntegrand::new(12, 12, pixel).unwrap()),
+        Box::new(
+            GridIntegrand::new(12, 12, pixel)
+                .unwrap()
+                .with_meaning(specvar::integrand::GridMeaning::Exact),
+        ),
     ]
 }
 
@@ -961,7 +965,9 @@ fn cell_form_integrands() -> Vec<Box<dyn Integrand>> {
         // Tabulated pixels: cells larger and smaller than the values', aligned or not.
         integrands_2d().pop().unwrap(),
         Box::new(
-            GridIntegrand::new(5, 3, (0..15).map(|i| (i * i % 7) as f64 - 2.0).collect()).unwrap(),
+            GridIntegrand::new(5, 3, (0..15).map(|i| (i * i % 7) as f64 - 2.0).collect())
+                .unwrap()
+                .with_meaning(specvar::integrand::GridMeaning::Exact),
         ),
         // Polygons: edges at angles, on the square's faces and on the grids' lines (0.25, 0.5),
         // a concave one, and one whose vertex sits on a column's centre line (x = 0.5 / 7 · 3).

@@ -40,6 +40,11 @@ pub struct Args {
     /// Also measure the padded estimator by Monte Carlo with this many trials.
     #[arg(long)]
     pub mc: Option<usize>,
+    /// What the grid's cells are: averages (a finer function's cell averages, as a renderer's
+    /// sub-pixels are), samples (its values at the cells' centres) or exact (the grid is the
+    /// function).
+    #[arg(long, default_value = "averages")]
+    pub tabulation: specvar::integrand::GridMeaning,
     /// Seed of the pattern pairs (prediction) and of the trials (Monte Carlo).
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
@@ -57,7 +62,7 @@ struct Doc<'a> {
 
 /// Predicts (and with --mc measures) and prints.
 pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
-    let f = PaddedGrid::read(&args.integrand)?;
+    let f = PaddedGrid::read(&args.integrand)?.with_meaning(args.tabulation);
     let first = ctx.sampler(args.sampler, 2)?;
     let second = ctx.sampler(args.second.unwrap_or(args.sampler), 2)?;
     let samplers = PaddedSamplers::new(first.as_ref(), second.as_ref(), args.randomization)?;

@@ -22,6 +22,11 @@ pub struct Args {
     /// with --relative, relative to the image's mean).
     #[arg(long, conflicts_with = "integrand")]
     pub pixels: Option<std::path::PathBuf>,
+    /// With --pixels: what each pixel's cells are: averages (a finer function's cell averages,
+    /// as a renderer's sub-pixels are), samples (its values at the cells' centres) or exact
+    /// (the grid is the function).
+    #[arg(long, requires = "pixels", default_value = "averages")]
+    pub tabulation: specvar::integrand::GridMeaning,
     /// A pilot instead of the pixels' integrands: a .npy array of renders of the image,
     /// (renders, height, width) or (renders, pixels), made at --pilot-n samples per pixel with
     /// the one sampler of --samplers; planned for the image's RMSE, the pilot's variance
@@ -131,7 +136,7 @@ pub fn run(args: &Args, ctx: &super::Context) -> Result<()> {
             )
         }
         (Some(path), None) => {
-            let stack = PixelStack::read(path)?;
+            let stack = PixelStack::read(path)?.with_meaning(args.tabulation);
             let plans = plan_pixels_many(&refs, &stack, &params, &bars)?;
             let label = format!(
                 "the {} × {} pixels of {}",

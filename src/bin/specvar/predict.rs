@@ -48,6 +48,11 @@ pub struct Args {
     /// pixel's variance.
     #[arg(long, conflicts_with = "input")]
     pub pixels: Option<std::path::PathBuf>,
+    /// With --pixels: what each pixel's cells are: averages (a finer function's cell averages,
+    /// as a renderer's sub-pixels are), samples (its values at the cells' centres) or exact
+    /// (the grid is the function).
+    #[arg(long, requires = "pixels", default_value = "averages")]
+    pub tabulation: specvar::integrand::GridMeaning,
     /// With --pixels: write the image of predicted variance as a grey PNG (255 at the largest).
     #[arg(long, requires = "pixels")]
     pub png: Option<std::path::PathBuf>,
@@ -133,7 +138,7 @@ fn run_pixels(
             allowed: "2 with --pixels: every pixel is a 2D grid (padded predicts 4D pixels)".into(),
         });
     }
-    let stack = PixelStack::read(path)?;
+    let stack = PixelStack::read(path)?.with_meaning(args.tabulation);
     let sampler = ctx.sampler(kind, 2)?;
     sampler.check_count(n)?;
     let pixel = pixel_params(params);
@@ -168,10 +173,7 @@ fn run_pixels(
         "route        {} (first pixel; each takes its own default)",
         image.route
     )?;
-    outln!(
-        "image MSE    {:.6e} (spectrum noise ±{:.1e}, quadrature {:.1e}, truncation {:.1e}, model {:.1e})",
-        image.mse, b.spectrum_noise, b.quadrature, b.truncation, b.model
-    )?;
+    outln!("image MSE    {:.6e} ({})", image.mse, budget_terms(b))?;
     let largest = image
         .pixels
         .iter()
@@ -269,10 +271,7 @@ fn print_text(sampler: &str, integrand: &str, p: &Prediction) -> Result<()> {
     }
     outln!("route        {} ({})", p.route, p.reason)?;
     let b = &p.budget;
-    outln!(
-        "variance     {:.6e} (spectrum noise ±{:.1e}, quadrature {:.1e}, truncation {:.1e}, model {:.1e})",
-        p.variance, b.spectrum_noise, b.quadrature, b.truncation, b.model
-    )?;
+    outln!("variance     {:.6e} ({})", p.variance, budget_terms(b))?;
     if p.route.form == Form::Polar {
         outln!("DC term      {:.6e} (already subtracted)", p.dc_term)?;
     }
@@ -280,4 +279,16 @@ fn print_text(sampler: &str, integrand: &str, p: &Prediction) -> Result<()> {
         outln!("also         {:.6e} by the {}", a.variance, a.route)?;
     }
     Ok(())
+}
+
+/// A budget's terms in words; the tabulation term where the integrand is a tabulated grid.
+fn budget_terms(b: &specvar::predict::ErrorBudget) -> String {
+    let mut terms = format!(
+        "spectrum noise ±{:.1e}, quadrature {:.1e}, truncation {:.1e}, model {:.1e}",
+        b.spectrum_noise, b.quadrature, b.truncation, b.model
+    );
+    if b.tabulation > 0.0 {
+        terms += &format!(", tabulation {:.1e}", b.tabulation);
+    }
+    terms
 }

@@ -502,6 +502,7 @@ pub(crate) fn predict_halton_as_drawn(
                  the factor's energy on each support of digits, exact to quadrature"
             .into(),
         budget: ErrorBudget {
+            tabulation: 0.0,
             quadrature: v.quadrature + v.rounding,
             ..Default::default()
         },

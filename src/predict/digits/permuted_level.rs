@@ -669,6 +669,7 @@ pub(crate) fn predict_halton_level(
         },
         reason,
         budget: ErrorBudget {
+            tabulation: 0.0,
             spectrum_noise: e.noise,
             quadrature: e.rounding,
             ..Default::default()

@@ -147,6 +147,7 @@ pub(crate) fn shifted_prediction(
         },
         reason,
         budget: ErrorBudget {
+            tabulation: 0.0,
             spectrum_noise: estimate.standard_error,
             ..Default::default()
         },

@@ -662,6 +662,7 @@ fn exact_prediction(
         },
         reason,
         budget: ErrorBudget {
+            tabulation: 0.0,
             quadrature: m.rounding,
             truncation: m.truncation,
             ..Default::default()

@@ -327,6 +327,7 @@ pub(crate) fn predict_jitter_tent(
         },
         reason,
         budget: ErrorBudget {
+            tabulation: 0.0,
             quadrature,
             ..Default::default()
         },
@@ -396,6 +397,7 @@ pub(crate) fn predict_gaussian_jitter_in_space(
         },
         reason,
         budget: ErrorBudget {
+            tabulation: 0.0,
             quadrature: white.error,
             truncation: f.integral_of_square() * replicas.beyond,
             ..Default::default()

@@ -300,6 +300,7 @@ pub fn predict_from_power(
         },
         reason: String::new(),
         budget: ErrorBudget {
+            tabulation: 0.0,
             // P(k) = P(-k) exactly, so the two halves add coherently: 2 Σ (w se)².
             spectrum_noise: (2.0 * sums.noise).sqrt() / n as f64,
             quadrature: 0.0,
@@ -329,6 +330,7 @@ pub(crate) fn white_noise(f: &dyn Integrand, n: usize) -> Result<Prediction> {
         },
         reason: String::new(),
         budget: ErrorBudget {
+            tabulation: 0.0,
             // The subtraction's rounding, the only error left.
             quadrature: 4.0 * f64::EPSILON * f.integral_of_square() / n as f64,
             ..Default::default()
@@ -827,6 +829,7 @@ fn pattern_prediction(
         },
         reason: String::new(),
         budget: ErrorBudget {
+            tabulation: 0.0,
             spectrum_noise: if stderr.is_finite() {
                 stderr / n as f64
             } else {

@@ -317,6 +317,7 @@ pub(crate) fn predict_measured_tail(
         },
         reason: String::new(),
         budget: ErrorBudget {
+            tabulation: 0.0,
             spectrum_noise: estimate.standard_error,
             quadrature,
             ..Default::default()

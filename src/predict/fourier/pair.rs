@@ -113,6 +113,7 @@ pub fn pair_correlation_variance(
     Ok(PcfVariance {
         variance,
         budget: ErrorBudget {
+            tabulation: 0.0,
             spectrum_noise: noise,
             quadrature: 16.0 * f64::EPSILON * (inner + f.integral_of_square()),
             truncation: (nf - 1.0) / nf * deviation * outer,

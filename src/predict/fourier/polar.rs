@@ -182,6 +182,7 @@ pub fn predict_polar(
         },
         reason: String::new(),
         budget: ErrorBudget {
+            tabulation: 0.0,
             spectrum_noise,
             // The table's error moves the integral by at most that much of ∫ W ≤ ∫ f².
             // The table is within a fraction of P̆_S everywhere: the integral ∫ W P̆_S, N Var
@@ -395,6 +396,7 @@ fn far_by_mean(
         },
         reason: String::new(),
         budget: ErrorBudget {
+            tabulation: 0.0,
             spectrum_noise: 0.0,
             quadrature: (near.error
                 + smooth_error

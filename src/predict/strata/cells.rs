@@ -826,6 +826,7 @@ pub(crate) fn predict_cells(
                 e.patterns
             );
             let budget = ErrorBudget {
+                tabulation: 0.0,
                 spectrum_noise: e.standard_error,
                 quadrature: e.rounding,
                 ..Default::default()
@@ -1025,6 +1026,7 @@ fn gains_over_patterns(
         e.patterns
     );
     let budget = ErrorBudget {
+        tabulation: 0.0,
         spectrum_noise: e.standard_error,
         quadrature: law.estimate.rounding,
         ..Default::default()
@@ -1037,6 +1039,7 @@ fn gains_over_patterns(
 
 fn rounding(bound: f64) -> ErrorBudget {
     ErrorBudget {
+        tabulation: 0.0,
         quadrature: bound,
         ..Default::default()
     }

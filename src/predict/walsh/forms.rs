@@ -660,6 +660,7 @@ fn walsh_prediction(problem: &Problem<'_>, e: &WalshEstimate, reason: String) ->
         },
         reason,
         budget: ErrorBudget {
+            tabulation: 0.0,
             spectrum_noise: e.noise,
             quadrature: e.rounding,
             ..Default::default()
@@ -802,6 +803,7 @@ fn net_prediction(problem: &Problem<'_>, sets: usize, net: &NetVariance) -> Pred
         },
         reason,
         budget: ErrorBudget {
+            tabulation: 0.0,
             quadrature: net.quadrature + net.rounding,
             ..Default::default()
         },

@@ -207,7 +207,9 @@ pub fn soft_shadow(
             0.1 + 0.6 * t * t * (3.0 - 2.0 * t) + 0.3 * x
         })
         .collect();
-    specvar::integrand::GridIntegrand::new(m, m, values).unwrap()
+    specvar::integrand::GridIntegrand::new(m, m, values)
+        .unwrap()
+        .with_meaning(specvar::integrand::GridMeaning::Exact)
 }
 
 /// `kind` in dimension `d` with its costly patterns (CCVT, Gaussian blue noise, Poisson disk)

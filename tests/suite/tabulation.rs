@@ -1,0 +1,181 @@
+//! Grids that tabulate a finer function: the prediction extrapolated from the grid's coarser
+//! levels covers the finer function's exact prediction within its budget, too coarse a grid is
+//! refused with the resolution it needs, and a grid declared exact keeps its own answer.
+
+use specvar::integrand::{Ball, GridIntegrand, GridMeaning, Integrand, Polygon};
+use specvar::predict::{predict, PredictParams, Problem};
+use specvar::sampler::SamplerKind;
+
+/// The 99% interval's noise multiplier, as the budgets are read everywhere.
+const Z: f64 = 2.576;
+
+/// `f`'s cell averages on `m × m` cells (its exact masses over the cells), or its values at
+/// the centres.
+fn tabulate(f: &dyn Integrand, m: usize, meaning: GridMeaning) -> GridIntegrand {
+    let values = match meaning {
+        GridMeaning::PointSamples => (0..m * m)
+            .map(|i| {
+                let c = |j: usize| (j as f64 + 0.5) / m as f64;
+                f.eval(&[c(i % m), c(i / m)])
+            })
+            .collect(),
+        _ => {
+            let masses = f.grid_masses(&[m, m], &[0.0, 0.0]).unwrap().masses;
+            masses.iter().map(|v| v * (m * m) as f64).collect()
+        }
+    };
+    GridIntegrand::new(m, m, values)
+        .unwrap()
+        .with_meaning(meaning)
+}
+
+fn triangle() -> Polygon {
+    Polygon::new(vec![[0.12, 0.18], [0.83, 0.31], [0.41, 0.88]], 1.0).unwrap()
+}
+
+/// Each sampler's prediction for `f` itself, and for its tabulation on `m` cells per axis.
+fn covered(f: &dyn Integrand, kind: SamplerKind, n: usize, m: usize, meaning: GridMeaning) {
+    let sampler = kind.build(2).unwrap();
+    let params = PredictParams::default();
+    let truth = predict(&Problem::new(sampler.as_ref(), f, n).unwrap(), &params).unwrap();
+    let grid = tabulate(f, m, meaning);
+    let p = predict(&Problem::new(sampler.as_ref(), &grid, n).unwrap(), &params).unwrap();
+    let half_width = p.budget.half_width(Z) + Z * truth.budget.spectrum_noise;
+    assert!(
+        (p.variance - truth.variance).abs() <= half_width,
+        "{} {kind} N = {n} on {m}² ({meaning:?}): {:.4e} ± {:.1e} for {:.4e}",
+        f.label(),
+        p.variance,
+        half_width,
+        truth.variance
+    );
+    assert!(p.budget.tabulation > 0.0 && p.reason.contains("tabulates a finer function"));
+}
+
+#[test]
+fn a_tabulated_triangle_is_predicted_as_the_triangle_within_its_budget() {
+    let tri = triangle();
+    for kind in [
+        SamplerKind::Sobol,
+        SamplerKind::SobolNet,
+        SamplerKind::Jitter,
+    ] {
+        for m in [256, 512] {
+            covered(&tri, kind, 1024, m, GridMeaning::CellAverages);
+        }
+    }
+    covered(
+        &tri,
+        SamplerKind::Random,
+        1024,
+        32,
+        GridMeaning::CellAverages,
+    );
+    covered(&tri, SamplerKind::Cmj, 1024, 512, GridMeaning::PointSamples);
+    let disk = Ball::new(0.3, vec![0.5, 0.5], 1.0).unwrap();
+    covered(
+        &disk,
+        SamplerKind::LatinHypercube,
+        256,
+        256,
+        GridMeaning::CellAverages,
+    );
+}
+
+/// At 256 cells per sample the budget informs: at most a fifth of the value.
+#[test]
+fn at_256_cells_per_sample_the_budget_is_at_most_a_fifth() {
+    let grid = tabulate(&triangle(), 512, GridMeaning::CellAverages);
+    for kind in [
+        SamplerKind::Sobol,
+        SamplerKind::SobolNet,
+        SamplerKind::Jitter,
+    ] {
+        let sampler = kind.build(2).unwrap();
+        let problem = Problem::new(sampler.as_ref(), &grid, 1024).unwrap();
+        let p = predict(&problem, &PredictParams::default()).unwrap();
+        assert!(p.budget.half_width(Z) <= 0.2 * p.variance, "{kind}: {p:?}");
+    }
+}
+
+#[test]
+fn too_coarse_a_tabulation_is_refused_with_the_resolution_it_needs() {
+    let tri = triangle();
+    let sobol = SamplerKind::Sobol.build(2).unwrap();
+    for (m, needed) in [(32, "256"), (64, "256"), (128, "256")] {
+        let grid = tabulate(&tri, m, GridMeaning::CellAverages);
+        let e = predict(
+            &Problem::new(sobol.as_ref(), &grid, 1024).unwrap(),
+            &PredictParams::default(),
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains(&format!("at least {needed} cells per axis")),
+            "{m}: {e}"
+        );
+    }
+    // A smooth tabulation under a sampler whose projections are stratified into N intervals
+    // needs 4 N cells per axis: correlated multi-jitter's variance of a Gaussian lies within
+    // them.
+    let bump = specvar::integrand::Gaussian::new(0.15, vec![0.45, 0.55], 1.0).unwrap();
+    let grid = tabulate(&bump, 256, GridMeaning::CellAverages);
+    let cmj = SamplerKind::Cmj.build(2).unwrap();
+    let e = predict(
+        &Problem::new(cmj.as_ref(), &grid, 1024).unwrap(),
+        &PredictParams::default(),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("at least 4096 cells per axis"), "{e}");
+}
+
+#[test]
+fn a_grid_declared_exact_keeps_its_own_prediction() {
+    let grid = tabulate(&triangle(), 64, GridMeaning::Exact);
+    let jitter = SamplerKind::Jitter.build(2).unwrap();
+    let p = predict(
+        &Problem::new(jitter.as_ref(), &grid, 1024).unwrap(),
+        &PredictParams::default(),
+    )
+    .unwrap();
+    // The per-stratum form of the 64² grid: (1/N²) Σ_c Var_c over 32² strata of 2 × 2 cells.
+    let v = grid.values();
+    let mut sum = 0.0;
+    for sy in 0..32 {
+        for sx in 0..32 {
+            let cell = |dx: usize, dy: usize| v[(2 * sy + dy) * 64 + 2 * sx + dx];
+            let c = [cell(0, 0), cell(1, 0), cell(0, 1), cell(1, 1)];
+            let mean = c.iter().sum::<f64>() / 4.0;
+            sum += c.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / 4.0;
+        }
+    }
+    let exact = sum / (1024.0 * 1024.0);
+    assert!(
+        (p.variance - exact).abs() <= 1e-12 * exact,
+        "{} vs {exact}",
+        p.variance
+    );
+    assert_eq!(p.budget.tabulation, 0.0);
+}
+
+#[test]
+fn coarser_levels_are_cell_averages_or_centre_values() {
+    let tri = triangle();
+    let fine = tabulate(&tri, 64, GridMeaning::CellAverages);
+    let coarse = fine.averaged(32, 32).unwrap();
+    let direct = tabulate(&tri, 32, GridMeaning::CellAverages);
+    for (a, b) in coarse.values().iter().zip(direct.values()) {
+        assert!((a - b).abs() < 1e-13, "{a} vs {b}");
+    }
+    // An uneven split keeps the integral.
+    let uneven = fine.averaged(23, 17).unwrap();
+    assert!((uneven.integral() - fine.integral()).abs() < 1e-14);
+    // Centre values at half the resolution: the fine cell holding each coarse centre.
+    let samples = tabulate(&tri, 64, GridMeaning::PointSamples);
+    let half = samples.subsampled(32, 32).unwrap();
+    for (i, v) in half.values().iter().enumerate() {
+        let (x, y) = (i % 32, i / 32);
+        assert_eq!(*v, samples.values()[(2 * y + 1) * 64 + 2 * x + 1]);
+    }
+}
