@@ -765,37 +765,47 @@ pub fn plan_analysis(problem: &Problem<'_>, params: &PredictParams) -> Result<An
     plan_levels(problem, params).map(|(_, plan, _)| plan)
 }
 
-/// The analysis of `problem` and its plan, and for a tabulated grid its coarser levels, whose
-/// plans' needs the plan's include and whose sum is checked against the budget.
+/// The analysis of `problem` and its plan, and for a tabulated grid its coarser levels with
+/// the analysis of each, whose needs the plan's include and whose sum is checked against the
+/// budget.
 fn plan_levels(
     problem: &Problem<'_>,
     params: &PredictParams,
 ) -> Result<(
     &'static dyn analysis::Analysis,
     AnalysisPlan,
-    Option<tabulation::Levels>,
+    Option<PlannedLevels>,
 )> {
     let (row, mut plan) = table::choose(problem, params)?;
-    let levels = tabulation::levels(problem)?;
-    if let Some(levels) = &levels {
-        for grid in &levels.coarser {
-            let (_, coarse) = table::choose(&tabulation::on(problem, grid), params)?;
-            plan.needs.seconds += coarse.needs.seconds;
-            plan.needs.bytes = plan.needs.bytes.max(coarse.needs.bytes);
-        }
-        params.budget.check(
-            &format!(
-                "the {} analysis at N = {} on the grid and its two coarser averages",
-                plan.analysis, problem.n
-            ),
-            crate::budget::Needs {
-                memory_bytes: plan.needs.bytes,
-                work_seconds: plan.needs.seconds,
-            },
-            "lower N",
-        )?;
+    let Some(levels) = tabulation::levels(problem)? else {
+        return Ok((row, plan, None));
+    };
+    let mut rows = Vec::with_capacity(2);
+    for grid in &levels.coarser {
+        let (row, coarse) = table::choose(&tabulation::on(problem, grid), params)?;
+        // The levels run one after another: their work adds, their memory does not.
+        plan.needs.seconds += coarse.needs.seconds;
+        plan.needs.bytes = plan.needs.bytes.max(coarse.needs.bytes);
+        rows.push(row);
     }
-    Ok((row, plan, levels))
+    params.budget.check(
+        &format!(
+            "the {} analysis at N = {} on the grid and its two coarser averages",
+            plan.analysis, problem.n
+        ),
+        crate::budget::Needs {
+            memory_bytes: plan.needs.bytes,
+            work_seconds: plan.needs.seconds,
+        },
+        "lower N",
+    )?;
+    Ok((row, plan, Some(PlannedLevels { levels, rows })))
+}
+
+/// A tabulated grid's coarser levels and the analysis that answers each.
+struct PlannedLevels {
+    levels: tabulation::Levels,
+    rows: Vec<&'static dyn analysis::Analysis>,
 }
 
 /// Refuses an estimator whose mean squared error is not its variance: Gaussian jitter used as
@@ -856,14 +866,12 @@ fn predict_planned(
 ) -> Result<Prediction> {
     let (row, plan, levels) = plan_levels(problem, params)?;
     let fine = row.predict(problem, params, progress)?;
-    let Some(levels) = levels else {
+    let Some(PlannedLevels { levels, rows }) = levels else {
         return Ok(planned(fine, &plan));
     };
     let mut coarser = Vec::with_capacity(2);
-    for grid in &levels.coarser {
-        let level = tabulation::on(problem, grid);
-        let (row, _) = table::choose(&level, params)?;
-        coarser.push(row.predict(&level, params, progress)?);
+    for (grid, row) in levels.coarser.iter().zip(rows) {
+        coarser.push(row.predict(&tabulation::on(problem, grid), params, progress)?);
     }
     let coarser: [Prediction; 2] = coarser
         .try_into()

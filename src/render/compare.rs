@@ -299,8 +299,12 @@ impl ComparisonConfig {
         let pixels = self.width as f64 * self.height as f64;
         let rays = pixels
             * (self.reference_rays as f64 + self.render.rays as f64 * self.samplers.len() as f64);
-        let grids = pixels / (self.pixel_power.stride as f64).powi(2)
-            * (self.pixel_power.resolution as f64).powi(2);
+        // The per-pixel route's grids, as fine as the tabulation of the structured samplers'
+        // pixels asks.
+        let resolution = self
+            .pixel_power
+            .tabulation_resolution(self.render.rays, crate::sampler::AxisStrata::Spacing)?;
+        let grids = pixels / (self.pixel_power.stride as f64).powi(2) * (resolution as f64).powi(2);
         let needs = crate::budget::Needs {
             // Each distinct pattern's points, kept while the image renders.
             memory_bytes: self.render.patterns as f64 * self.render.rays as f64 * 16.0,

@@ -95,6 +95,9 @@ pub struct PixelPowerParams {
     pub stride: usize,
 }
 
+/// The most cells per side of a pixel's visibility grid: 4096 (16.8 million rays a pixel).
+const MAX_PIXEL_RESOLUTION: usize = 4096;
+
 /// The largest lattice of a pixel's power: `2^22` frequencies (every thread keeps one).
 const PIXEL_LATTICE_BUDGET: usize = 1 << 22;
 
@@ -114,7 +117,7 @@ impl PixelPowerParams {
                 return Err(invalid(name, 0, "at least 1"));
             }
         }
-        if self.resolution > 4096 {
+        if self.resolution > MAX_PIXEL_RESOLUTION {
             return Err(invalid(
                 "grid resolution",
                 self.resolution,
@@ -132,6 +135,36 @@ impl PixelPowerParams {
             ));
         }
         Ok(())
+    }
+}
+
+impl PixelPowerParams {
+    /// The cells per side of each pixel's visibility grid for the per-pixel route at `n` rays
+    /// of a sampler structured as `strata` says: `resolution`, raised where the grid, a
+    /// tabulation of the pixel's rays, would be too coarse for the extrapolation over its
+    /// coarser levels ([`crate::predict::min_tabulation_cells`]).
+    ///
+    /// # Errors
+    /// An `n` whose tabulation needs more than 4096 cells per side.
+    pub fn tabulation_resolution(
+        &self,
+        n: usize,
+        strata: crate::sampler::AxisStrata,
+    ) -> Result<usize> {
+        let needed = crate::predict::min_tabulation_cells(n, strata);
+        if needed > MAX_PIXEL_RESOLUTION {
+            return Err(invalid(
+                "rays per pixel",
+                n,
+                format!(
+                    "at most {} for the per-pixel prediction, whose visibility grids, \
+                     tabulations of the pixels' rays, need {needed} cells per side at N = {n} \
+                     (at most {MAX_PIXEL_RESOLUTION})",
+                    MAX_PIXEL_RESOLUTION * MAX_PIXEL_RESOLUTION / 64
+                ),
+            ));
+        }
+        Ok(self.resolution.max(needed))
     }
 }
 
@@ -288,16 +321,12 @@ pub fn predict_mse_per_pixel(
                 .map(move |x| y * frame.width() + x)
         })
         .collect();
-    // Each pixel's visibility is a tabulation of its rays' function: fine enough for the
-    // extrapolation over its coarser levels at N.
     let strata = sampler
         .kind()
         .map_or(crate::sampler::AxisStrata::Projections, |k| {
             k.facts().axis_strata
         });
-    let resolution = grid
-        .resolution
-        .max(crate::predict::min_tabulation_cells(n, strata));
+    let resolution = grid.tabulation_resolution(n, strata)?;
     let params = PredictParams {
         target_noise: RENDER_PIXEL_TARGET_NOISE,
         work_budget_seconds: RENDER_PIXEL_WORK_SECONDS,

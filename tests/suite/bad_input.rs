@@ -85,6 +85,39 @@ fn sizes_that_would_exhaust_memory_are_refused_up_front() {
     }
 }
 
+/// A tabulation too coarse for its sampler is refused with the cells it needs, and rays whose
+/// pixels' tabulations would need more than the largest grid are refused before any tracing.
+#[test]
+fn tabulations_too_coarse_or_too_fine_are_refused_with_what_they_need() {
+    let dir = std::env::temp_dir().join("specvar-bad-tabulation");
+    std::fs::create_dir_all(&dir).unwrap();
+    let grid = dir.join("g.txt");
+    std::fs::write(&grid, "0 1 1 0\n1 1 1 1\n0 1 1 0\n0 0 0 0\n").unwrap();
+    let spec = format!("grid:{}", grid.display());
+    refuses_with(
+        &["predict", "-s", "jitter", "-n", "16", "-f", &spec],
+        "4 cells per axis are too coarse for the sampler at N = 16: its coarser averages must \
+         resolve its points' spacing, which needs at least 32 cells per axis",
+    );
+    refuses_with(
+        &[
+            "predict",
+            "-s",
+            "jitter",
+            "-n",
+            "16",
+            "-f",
+            &format!("{spec},wrong"),
+        ],
+        // An unknown suffix is part of the file name, as the grammar says.
+        "g.txt,wrong: No such file",
+    );
+    refuses_with(
+        &["render-ao", "--rays", "1048576", "--budget-memory", "100"],
+        "invalid rays per pixel: 1048576 (at most 262144 for the per-pixel prediction",
+    );
+}
+
 #[test]
 fn long_runs_and_unbounded_inputs_are_refused_before_they_start() {
     refuses(&["rates", "--range", "16", "1000000000000"]);
