@@ -465,6 +465,11 @@ fn check_sets_drawn(sets: &[PointSet], rule: CellRule, grid: &[usize]) -> Result
             ));
         }
     }
+    if rule == CellRule::Whole
+        && let Some(what) = dependence(sets)
+    {
+        return refuse(what);
+    }
     for (i, set) in sets.iter().enumerate() {
         if set.len() > 1 && rule != CellRule::Whole && one_offset(set, grid) {
             return refuse(format!(
@@ -474,6 +479,63 @@ fn check_sets_drawn(sets: &[PointSet], rule: CellRule, grid: &[usize]) -> Result
         }
     }
     Ok(())
+}
+
+/// How far, in standard errors, the points' counts in cells may stray from those of independent
+/// uniform points before sets declared `whole` are refused: 5, a two-sided normal tail of
+/// `5.7e-7`, so that independent sets are refused about once in 1.7 million.
+const INDEPENDENCE_Z: f64 = 5.0;
+
+/// Where sets declared to hold independent uniform points do not: their counts in the cubic
+/// grid of about `N` cells (strata) and in the `N` rows of each axis (N-rooks, nets) are
+/// dispersed unlike independent points' (Pearson's `X² = Σ (c − e)²/e` summed over the sets,
+/// `χ²` with `sets · (K − 1)` degrees of freedom, read as a normal score by Wilson and
+/// Hilferty's cube root), too evenly (stratified points) or too unevenly. `None` where they
+/// pass, or where the grids have fewer than two cells.
+fn dependence(sets: &[PointSet]) -> Option<String> {
+    let (n, d) = (sets[0].len(), sets[0].dimension());
+    let side = (n as f64).powf(1.0 / d as f64).floor() as usize;
+    let all: Vec<usize> = (0..d).collect();
+    let mut grids: Vec<(Vec<usize>, Vec<usize>)> = vec![(vec![side; d], all)];
+    grids.extend((0..d).map(|a| (vec![n], vec![a])));
+    grids.into_iter().find_map(|(grid, axes)| {
+        let cells: usize = grid.iter().product();
+        if cells < 2 {
+            return None;
+        }
+        let expected = n as f64 / cells as f64;
+        let mut count = vec![0usize; cells];
+        let mut statistic = 0.0;
+        for set in sets {
+            count.iter_mut().for_each(|c| *c = 0);
+            for x in set.points() {
+                let index = axes.iter().zip(&grid).rev().fold(0, |index, (&a, &m)| {
+                    index * m + ((x[a] * m as f64) as usize).min(m - 1)
+                });
+                count[index] += 1;
+            }
+            statistic += count
+                .iter()
+                .map(|&c| (c as f64 - expected).powi(2) / expected)
+                .sum::<f64>();
+        }
+        let df = (sets.len() * (cells - 1)) as f64;
+        let spread = 2.0 / (9.0 * df);
+        let z = ((statistic / df).cbrt() - (1.0 - spread)) / spread.sqrt();
+        (z.abs() > INDEPENDENCE_Z).then(|| {
+            let cells = if axes.len() == 1 {
+                format!("the {n} rows of axis {}", axes[0])
+            } else {
+                format!("the {} cells", crate::predict::grid_label(&grid))
+            };
+            format!(
+                "their points' counts in {cells} are {} than independent uniform points' \
+                 (z = {z:.1}, against |z| ≤ {INDEPENDENCE_Z}): declare the cells they are \
+                 stratified in (strata, rows, dyadic), or give them without --cells",
+                if z < 0.0 { "more even" } else { "less even" }
+            )
+        })
+    })
 }
 
 /// Whether every point of `set` lies at the same offset within its cell of `grid`, to a
