@@ -85,6 +85,26 @@ pub enum Error {
         /// Which of its assumptions fails, and what to use instead.
         reason: String,
     },
+    /// A grid that tabulates a finer function too coarsely for the sampler at N: its coarser
+    /// levels cannot show the variance (a finer tabulation, or a grid declared exact, can).
+    #[error(
+        "the tabulated grid {grid} is too coarse for the sampler at N = {n}: {cells} cells per \
+         axis, where its coarser averages must resolve {what}, which needs at least {needed} \
+         cells per axis; tabulate the function that finely, or declare the grid the function \
+         itself (grid:FILE,exact)"
+    )]
+    TabulationTooCoarse {
+        /// The grid's label.
+        grid: String,
+        /// The points per pattern.
+        n: usize,
+        /// Its cells along its narrower side.
+        cells: usize,
+        /// What the coarser levels must resolve.
+        what: String,
+        /// The cells per axis needed.
+        needed: usize,
+    },
     /// A computation would need more memory or work than the budget allows.
     #[error("{what} would need {needed}, above the budget of {budget}; {advice}")]
     TooLarge {

@@ -374,6 +374,10 @@ pub(crate) fn plan_by(
                     format!("N ≤ {max_n} (raise the largest N: --max-n, max_n in Python)")
                 }
                 Limit::Budget => "the budget (raise --budget-memory or --budget-seconds)".into(),
+                Limit::Tabulation => "the tabulated grid's resolution (tabulate the function \
+                                      more finely: at N its coarser averages must resolve the \
+                                      points' spacing, 8 √N cells per axis)"
+                    .into(),
                 Limit::Predictions => format!("{MAX_PREDICTIONS} predictions"),
             };
             Ok(Plan {
@@ -595,6 +599,8 @@ enum Limit {
     MaxN,
     /// The memory or work budget of a prediction.
     Budget,
+    /// The resolution of a tabulated integrand, too coarse for larger N.
+    Tabulation,
     /// The number of predictions a search may make.
     Predictions,
 }
@@ -618,9 +624,13 @@ enum Outcome<T> {
     },
 }
 
-/// Whether `e` says a prediction at this N would exceed the budget (a smaller N may not).
-fn is_budget_error(e: &Error) -> bool {
-    matches!(e, Error::TooLarge { .. } | Error::OutOfMemory { .. })
+/// Whether `e` refuses this N for a reason a smaller N may not have: the budget, or a
+/// tabulation too coarse for it.
+fn is_ceiling_error(e: &Error) -> bool {
+    matches!(
+        e,
+        Error::TooLarge { .. } | Error::OutOfMemory { .. } | Error::TabulationTooCoarse { .. }
+    )
 }
 
 /// The rate `r` of `Var ∝ N^r` near `n`: fitted to the positive predictions within a factor
@@ -668,7 +678,7 @@ fn search<T>(
             )
         })?;
     let mut made: Vec<Probe<T>> = Vec::new();
-    let mut refused: Option<(usize, Error)> = None; // the smallest N the budget refused
+    let mut refused: Option<(usize, Error)> = None; // the smallest N refused (budget, tabulation)
     let mut pending = vec![first];
     while let Some(next) = pending.pop() {
         if made.len() >= MAX_PREDICTIONS {
@@ -680,7 +690,7 @@ fn search<T>(
                 variance,
                 payload,
             }),
-            Err(e) if is_budget_error(&e) => {
+            Err(e) if is_ceiling_error(&e) => {
                 if refused.as_ref().is_none_or(|(n, _)| next < *n) {
                     refused = Some((next, e));
                 }
@@ -719,8 +729,11 @@ fn search<T>(
             Step::Done => break,
         }
     }
-    let limit = if refused.is_some() {
-        Limit::Budget
+    let limit = if let Some((_, e)) = &refused {
+        match e {
+            Error::TabulationTooCoarse { .. } => Limit::Tabulation,
+            _ => Limit::Budget,
+        }
     } else if made.len() >= MAX_PREDICTIONS {
         Limit::Predictions
     } else {

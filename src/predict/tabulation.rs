@@ -147,15 +147,12 @@ fn check_resolution(
 ) -> Result<()> {
     let cells = grid.width().min(grid.height());
     if (cells as f64) < needed {
-        return Err(Error::OutsideValidity {
-            route: format!("the tabulated grid {}", grid.label()),
-            reason: format!(
-                "{cells} cells per axis are too coarse for the sampler at N = {}: its coarser \
-                 averages must resolve {what}, which needs at least {needed:.0} cells per axis; \
-                 tabulate the function that finely, or declare the grid the function itself \
-                 (grid:FILE,exact)",
-                problem.n
-            ),
+        return Err(Error::TabulationTooCoarse {
+            grid: grid.label(),
+            n: problem.n,
+            cells,
+            what: what.into(),
+            needed: needed as usize,
         });
     }
     Ok(())

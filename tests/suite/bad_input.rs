@@ -96,8 +96,8 @@ fn tabulations_too_coarse_or_too_fine_are_refused_with_what_they_need() {
     let spec = format!("grid:{}", grid.display());
     refuses_with(
         &["predict", "-s", "jitter", "-n", "16", "-f", &spec],
-        "4 cells per axis are too coarse for the sampler at N = 16: its coarser averages must \
-         resolve its points' spacing, which needs at least 32 cells per axis",
+        "is too coarse for the sampler at N = 16: 4 cells per axis, where its coarser averages \
+         must resolve its points' spacing, which needs at least 32 cells per axis",
     );
     refuses_with(
         &[

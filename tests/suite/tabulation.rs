@@ -179,3 +179,28 @@ fn coarser_levels_are_cell_averages_or_centre_values() {
         assert_eq!(*v, samples.values()[(2 * y + 1) * 64 + 2 * x + 1]);
     }
 }
+
+/// A plan on a coarse tabulation stops at the largest N the grid serves, and says that the
+/// grid's resolution is what stopped it: 64 cells per axis serve jitter up to N = 64.
+#[test]
+fn a_plan_asks_for_a_finer_tabulation_instead_of_planning_on_a_coarse_one() {
+    use specvar::plan::{plan_many, PlanParams, Target};
+    let grid = tabulate(&triangle(), 64, GridMeaning::CellAverages);
+    let jitter = SamplerKind::Jitter.build(2).unwrap();
+    let e = plan_many(
+        &[jitter.as_ref()],
+        &grid,
+        &PlanParams::new(Target::RelativeRmse(1e-3)),
+        &specvar::progress::Silent,
+    )
+    .unwrap_err();
+    match e {
+        specvar::Error::Unreachable {
+            largest_n, limit, ..
+        } => {
+            assert_eq!(largest_n, 64);
+            assert!(limit.contains("tabulated grid's resolution"), "{limit}");
+        }
+        other => panic!("{other}"),
+    }
+}
