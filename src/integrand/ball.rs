@@ -17,6 +17,11 @@ use num_complex::Complex64;
 use rayon::prelude::*;
 use std::f64::consts::PI;
 
+/// The cells per axis of a disk cut at the square's faces ([`Ball::cut_at_the_faces`]): 2048,
+/// which serves the tabulation's extrapolation up to `N = 65536` for structured samplers
+/// ([`crate::predict::min_tabulation_cells`]) in 32 MiB of values.
+pub const CUT_DISK_CELLS: usize = 2048;
+
 /// `f(x) = a` inside the ball `|x - x0| < R` on the torus (distances taken toroidally, so a ball
 /// that crosses a face of the cube wraps around to the opposite one), 0 outside.
 ///
@@ -78,6 +83,81 @@ impl Ball {
     /// The height.
     pub fn height(&self) -> f64 {
         self.height
+    }
+
+    /// Whether the ball crosses a face of the cube (where it wraps around the torus).
+    pub fn crosses_a_face(&self) -> bool {
+        self.centre
+            .iter()
+            .any(|&c| c - self.radius < 0.0 || c + self.radius > 1.0)
+    }
+
+    /// The ball cut at the faces of the cube, as every other integrand is: zero outside the
+    /// cube, where this ball wraps around the torus. In 1D the cut is an interval, a ball
+    /// again; in 2D the disk's cell averages on [`CUT_DISK_CELLS`]² cells, each exact (the
+    /// disk's area in a rectangle has a closed form), a tabulation whose predictions carry
+    /// their tabulation term ([`GridMeaning::CellAverages`](super::GridMeaning)). A ball inside
+    /// the cube is itself.
+    ///
+    /// # Errors
+    /// A 3D ball that crosses a face (no route reads its cut yet; `wrap` keeps the torus's).
+    ///
+    /// # Examples
+    /// ```
+    /// use specvar::integrand::{Ball, Integrand};
+    /// // Cut at x = 1, 0.1 from the centre: the disk less the segment beyond the face,
+    /// // πr² − (r² acos(0.1/r) − 0.1 √(r² − 0.01)) = 0.2002413 (each cell's area is exact).
+    /// let cut = Ball::new(0.3, vec![0.9, 0.5], 1.0)?.cut_at_the_faces()?;
+    /// let r: f64 = 0.3;
+    /// let area = std::f64::consts::PI * r * r - (r * r * (0.1 / r).acos() - 0.1 * (r * r - 0.01).sqrt());
+    /// assert!((cut.integral() - area).abs() < 1e-12);
+    /// assert_eq!(cut.eval(&[0.05, 0.5]), 0.0); // no lobe across the face
+    /// # Ok::<(), specvar::Error>(())
+    /// ```
+    pub fn cut_at_the_faces(&self) -> Result<Box<dyn Integrand>> {
+        if !self.crosses_a_face() {
+            return Ok(Box::new(self.clone()));
+        }
+        match *self.centre.as_slice() {
+            [c] => {
+                let (lo, hi) = ((c - self.radius).max(0.0), (c + self.radius).min(1.0));
+                Ok(Box::new(Ball::new(
+                    0.5 * (hi - lo),
+                    vec![0.5 * (lo + hi)],
+                    self.height,
+                )?))
+            }
+            [x, y] => Ok(Box::new(self.cut_disk([x, y])?)),
+            _ => Err(invalid(
+                "ball",
+                self.label(),
+                "inside the cube, or wrapped around the torus (ball:…,wrap): a 3D ball cut at \
+                 the faces has no route yet",
+            )),
+        }
+    }
+
+    /// The disk centred at `c` cut at the square's faces, as its exact cell averages.
+    fn cut_disk(&self, c: [f64; 2]) -> Result<super::GridIntegrand> {
+        let m = CUT_DISK_CELLS;
+        let side = 1.0 / m as f64;
+        let values: Vec<f64> = (0..m * m)
+            .into_par_iter()
+            .map(|i| {
+                let (x, y) = ((i % m) as f64 * side, (i / m) as f64 * side);
+                let area = super::ball_in_box::disk_in_rectangle(
+                    c,
+                    self.radius,
+                    [x, y],
+                    [x + side, y + side],
+                );
+                self.height * area / (side * side)
+            })
+            .collect();
+        Ok(super::GridIntegrand::new(m, m, values)?.with_name(format!(
+            "{} cut at the faces (exact cell averages on {m}×{m} cells)",
+            self.label()
+        )))
     }
 
     fn d(&self) -> usize {

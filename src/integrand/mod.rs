@@ -5,8 +5,9 @@
 //! [`Integrand::eval`] gives there, so its exact integral ([`Integrand::integral`]) is the
 //! ground truth, and its Fourier coefficients at integer frequencies
 //! ([`Integrand::coefficient`]) are those of that function, periodized: a Gaussian truncated to
-//! the cube (its jumps at the faces give coefficients that fall like `1/k`), a ball wrapped
-//! around the torus. The lattice form uses these. The polar form uses the transform over the
+//! the cube (its jumps at the faces give coefficients that fall like `1/k`), a [`Ball`] wrapped
+//! around the torus (an integrand spec cuts it at the faces unless asked to `wrap`:
+//! [`Ball::cut_at_the_faces`]). The lattice form uses these. The polar form uses the transform over the
 //! whole space, `f̂(ω) = ∫ f(x) e^{-2πi ω·x} dx`, which agrees with them only while the
 //! function is contained in the cube ([`Integrand::full_space_leak`]) and its autocorrelation's
 //! images on the torus are negligible ([`Integrand::autocorrelation_beyond`]).
@@ -27,7 +28,7 @@ mod spec;
 mod truncated_lobe;
 
 pub use anisotropic::{AnisotropicGaussian, MAX_OUTSIDE_FRACTION};
-pub use ball::Ball;
+pub use ball::{Ball, CUT_DISK_CELLS};
 pub use gaussian::Gaussian;
 pub use grid::{GridIntegrand, GridMeaning};
 pub use grid_io::{grid_of_array, read_grid_exr, read_grid_file, read_grid_png, read_grid_text};
@@ -471,7 +472,8 @@ pub trait Integrand: Send + Sync {
         None
     }
     /// The grid, where the integrand is a grid that tabulates a finer function
-    /// ([`grid::GridMeaning::Tabulation`]): its predictions carry the tabulation term.
+    /// ([`GridMeaning::CellAverages`] or [`GridMeaning::PointSamples`]): its predictions carry
+    /// the tabulation term.
     fn tabulation(&self) -> Option<&GridIntegrand> {
         None
     }

@@ -63,6 +63,9 @@ pub enum IntegrandSpec {
         height: f64,
         /// Centre.
         centre: Option<Vec<f64>>,
+        /// Whether the ball wraps around the torus where it crosses a face (`wrap`), instead
+        /// of being cut there as every other integrand is.
+        wrap: bool,
     },
     /// A Gaussian of width `sigma` and height `height`.
     Gaussian {
@@ -117,7 +120,7 @@ pub enum IntegrandSpec {
 /// Every form [`parse_integrand`] accepts, in words: the one list the command line's help and
 /// the parser's errors both show.
 pub const INTEGRAND_FORMS: &str = "disk, ball or gaussian, with optional overrides such as \
-                                   disk:r=0.2,a=2, grid:FILE for a text, PNG, OpenEXR or .npy grid of a finer function's cell averages (grid:FILE,a=0.14 scales it; ,samples for values at the centres, ,exact for a grid that is the function), \
+                                   disk:r=0.2,a=2 (cut at the faces; disk:c=0.9;0.5,wrap wraps it around the torus), grid:FILE for a text, PNG, OpenEXR or .npy grid of a finer function's cell averages (grid:FILE,a=0.14 scales it; ,samples for values at the centres, ,exact for a grid that is the function), \
                                    polygon:x,y;x,y;x,y or polygon:@FILE, \
                                    edge:theta=30,offset=0.5, or agaussian:s1=0.05,s2=0.02,angle=30";
 
@@ -129,6 +132,7 @@ impl Default for IntegrandSpec {
             radius: 0.25,
             height: 1.0,
             centre: None,
+            wrap: false,
         }
     }
 }
@@ -154,11 +158,15 @@ pub fn parse_integrand(text: &str) -> Result<IntegrandSpec> {
     let (kind, rest) = text.split_once(':').unwrap_or((text, ""));
     match kind.trim() {
         "disk" | "ball" => {
-            let v = KeyValues::parse("disk", rest, BALL_KEYS)?;
+            // `wrap` is a word, not a key: the ball wrapped around the torus.
+            let wrap = rest.split(',').any(|p| p.trim() == "wrap");
+            let keys: Vec<&str> = rest.split(',').filter(|p| p.trim() != "wrap").collect();
+            let v = KeyValues::parse("disk", &keys.join(","), BALL_KEYS)?;
             Ok(IntegrandSpec::Ball {
                 radius: v.one("r").unwrap_or(0.25),
                 height: v.one("a").unwrap_or(1.0),
                 centre: v.list("c"),
+                wrap,
             })
         }
         "gaussian" => {
@@ -409,6 +417,7 @@ impl IntegrandSpec {
                 radius: 0.25,
                 height: 1.0,
                 centre: None,
+                wrap: false,
             },
             IntegrandSpec::Gaussian {
                 sigma: 0.1,
@@ -500,7 +509,15 @@ impl IntegrandSpec {
                 radius,
                 height,
                 centre: c,
-            } => Box::new(Ball::new(*radius, centre(c)?, *height)?),
+                wrap,
+            } => {
+                let ball = Ball::new(*radius, centre(c)?, *height)?;
+                if *wrap || !ball.crosses_a_face() {
+                    Box::new(ball)
+                } else {
+                    ball.cut_at_the_faces()?
+                }
+            }
             IntegrandSpec::Gaussian {
                 sigma,
                 height,
@@ -535,7 +552,13 @@ impl fmt::Display for IntegrandSpec {
                 radius,
                 height,
                 centre: c,
-            } => write!(f, "ball:r={radius},a={height}{}", centre(c)),
+                wrap,
+            } => write!(
+                f,
+                "ball:r={radius},a={height}{}{}",
+                centre(c),
+                if *wrap { ",wrap" } else { "" }
+            ),
             IntegrandSpec::Gaussian {
                 sigma,
                 height,

@@ -269,7 +269,7 @@ pub struct ErrorBudget {
     pub model: f64,
     /// For a grid that tabulates a finer function: a bound on the gap between the function's
     /// variance and the extrapolation from the grid and its coarser averages (0 for a grid
-    /// declared exact and for every other integrand; see [`tabulation`]).
+    /// declared exact and for every other integrand; see `docs/theory.md`, "Tabulated integrands").
     pub tabulation: f64,
 }
 

@@ -78,6 +78,7 @@ impl CoverageConfig {
                     radius: 0.25,
                     height: 1.0,
                     centre: None,
+                    wrap: false,
                 },
                 IntegrandSpec::Gaussian {
                     sigma: 0.2,

@@ -41,6 +41,7 @@ impl ClosureConfig {
             radius,
             height: 1.0,
             centre: None,
+            wrap: false,
         };
         Self {
             samplers: SamplerKind::in_dimension(2),

@@ -204,3 +204,42 @@ fn a_plan_asks_for_a_finer_tabulation_instead_of_planning_on_a_coarse_one() {
         other => panic!("{other}"),
     }
 }
+
+/// A disk crossing a face is cut there, as a Gaussian or a polygon is: white noise on it is
+/// `A(1 − A)/N` with the cut area; `wrap` keeps the torus's disk; an interval is cut exactly;
+/// a 3D ball crossing a face is refused, naming `wrap`.
+#[test]
+fn a_ball_crossing_a_face_is_cut_there_unless_it_wraps() {
+    use specvar::integrand::IntegrandSpec;
+    let build = |text: &str, d: usize| text.parse::<IntegrandSpec>().unwrap().build(d);
+    let cut = build("disk:r=0.3,c=0.9;0.5", 2).unwrap();
+    let r: f64 = 0.3;
+    let area =
+        std::f64::consts::PI * r * r - (r * r * (0.1 / r).acos() - 0.1 * (r * r - 0.01).sqrt());
+    assert!((cut.integral() - area).abs() < 1e-12);
+    let random = SamplerKind::Random.build(2).unwrap();
+    let p = predict(
+        &Problem::new(random.as_ref(), cut.as_ref(), 256).unwrap(),
+        &PredictParams::default(),
+    )
+    .unwrap();
+    let white = area * (1.0 - area) / 256.0;
+    assert!(
+        p.covers(white, Z) && p.budget.tabulation < 1e-3 * white,
+        "{p:?} vs {white:e}"
+    );
+    let wrapped = build("disk:r=0.3,c=0.9;0.5,wrap", 2).unwrap();
+    assert!((wrapped.integral() - std::f64::consts::PI * 0.09).abs() < 1e-15);
+    assert_eq!(wrapped.eval(&[0.05, 0.5]), 1.0);
+    assert_eq!(cut.eval(&[0.05, 0.5]), 0.0);
+    let interval = build("ball:r=0.3,c=0.1", 1).unwrap();
+    assert!((interval.integral() - 0.4).abs() < 1e-15);
+    let e = build("ball:r=0.3,c=0.1;0.5;0.5", 3)
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(e.contains("wrapped around the torus (ball:…,wrap)"), "{e}");
+    // The canonical text keeps the word.
+    let spec: IntegrandSpec = "disk:r=0.3,c=0.9;0.5,wrap".parse().unwrap();
+    assert_eq!(spec.to_string().parse::<IntegrandSpec>().unwrap(), spec);
+}
