@@ -56,7 +56,9 @@ pub use strata::cell_pairs::{
     correlated_multi_jitter_variance, latin_hypercube_variance, multi_jitter_variance,
 };
 pub use strata::cells::{fixed_strata_variance, occupancy_variance, CellOrigin, Occupancy};
-pub use tabulation::{min_tabulation_cells, MIN_COARSE_CELLS_PER_SPACING, SMOOTH_RATIO};
+pub use tabulation::{
+    min_tabulation_cells, MIN_COARSE_CELLS_PER_SPACING, SMOOTH_RATIO, SMOOTH_STEP_RATIO,
+};
 pub use term_mean::OccupancyEstimate;
 pub use walsh::forms::{WalshNetOrigin, WalshOrigin};
 

@@ -26,7 +26,7 @@
 //!   three levels);
 //! - for samplers whose every axis's projection is stratified into about `N` intervals
 //!   (N-rooks, nets, radical inverses, lattices) and a tabulation that is smooth at its cells'
-//!   scale ([`SMOOTH_RATIO`]), the coarsest level must resolve those `N` intervals: the
+//!   scale ([`SMOOTH_RATIO`], [`SMOOTH_STEP_RATIO`]), the coarsest level must resolve those `N` intervals: the
 //!   variance of a smooth integrand under such samplers comes from within the projections'
 //!   intervals, which cells as wide as them hide from every level alike (correlated
 //!   multi-jitter on a tabulated Gaussian: 55% of its variance at 1024 cells per axis with
@@ -54,6 +54,13 @@ pub const MIN_COARSE_CELLS_PER_SPACING: f64 = 2.0;
 /// its cells' scale: `2^{-3/2}`, the geometric mean of `1/2` (jumps: the energy the cells
 /// remove halves with their side) and `1/4` (a smooth function: it falls as the side squared).
 pub const SMOOTH_RATIO: f64 = 0.353_553_390_593_273_8;
+
+/// The ratio of the largest steps between neighbouring cells at successive levels below which a
+/// tabulation is smooth at its cells' scale: `2^{-1/2}`, the geometric mean of `1/2` (a smooth
+/// function: the step falls with the side) and 1 (a jump keeps its height). With
+/// [`SMOOTH_RATIO`], it keeps a binary image with small features (whose energies may fall
+/// fast between two levels) from passing for smooth.
+pub const SMOOTH_STEP_RATIO: f64 = std::f64::consts::FRAC_1_SQRT_2;
 
 /// The coarser averages of a tabulated grid that its prediction is extrapolated from.
 pub(super) struct Levels {
@@ -87,7 +94,10 @@ pub(super) fn levels(problem: &Problem<'_>) -> Result<Option<Levels>> {
     let first = grid.coarser(w / 2, h / 2)?;
     let second = grid.coarser(w / 4, h / 4)?;
     if strata == AxisStrata::Projections {
-        let smooth = within_energy(grid, &first) < SMOOTH_RATIO * within_energy(&first, &second);
+        // Smooth: the energy the cells remove falls as their side squared, and so (a jump
+        // would keep it) does the largest step between neighbouring cells fall with the side.
+        let smooth = within_energy(grid, &first) < SMOOTH_RATIO * within_energy(&first, &second)
+            && largest_step(grid) < SMOOTH_STEP_RATIO * largest_step(&first);
         if smooth {
             check_resolution(
                 grid,
@@ -180,6 +190,16 @@ fn within_energy(fine: &GridIntegrand, coarse: &GridIntegrand) -> f64 {
         }
     }
     total.value()
+}
+
+/// The largest difference between two cells of `grid` that share a side.
+fn largest_step(grid: &GridIntegrand) -> f64 {
+    let (w, values) = (grid.width(), grid.values());
+    let across = values
+        .chunks_exact(w)
+        .flat_map(|row| row.windows(2).map(|p| (p[1] - p[0]).abs()));
+    let up = values.iter().zip(&values[w..]).map(|(a, b)| (b - a).abs());
+    across.chain(up).fold(0.0, f64::max)
 }
 
 /// The prediction for the function that `levels` tabulate, from the grid's own prediction
