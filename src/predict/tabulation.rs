@@ -70,6 +70,8 @@ pub(super) struct Levels {
     sides: [f64; 3],
     /// The scale at which the patterns are structured.
     strata: AxisStrata,
+    /// The grid's label, for refusals.
+    label: String,
     /// The sizes, for the reason.
     sizes: [(usize, usize); 3],
 }
@@ -78,7 +80,7 @@ pub(super) struct Levels {
 /// a constant; `None` for every other integrand.
 ///
 /// # Errors
-/// [`Error::OutsideValidity`] where the grid is too coarse for the sampler at N, naming the
+/// [`Error::TabulationTooCoarse`] where the grid is too coarse for the sampler at N, naming the
 /// resolution needed.
 pub(super) fn levels(problem: &Problem<'_>) -> Result<Option<Levels>> {
     let Some(grid) = problem.integrand.tabulation() else {
@@ -111,6 +113,7 @@ pub(super) fn levels(problem: &Problem<'_>) -> Result<Option<Levels>> {
     Ok(Some(Levels {
         sides: [side(grid), side(&first), side(&second)],
         strata,
+        label: grid.label(),
         sizes: [(w, h), (w / 2, h / 2), (w / 4, h / 4)],
         coarser: [first, second],
     }))
@@ -206,7 +209,7 @@ fn largest_step(grid: &GridIntegrand) -> f64 {
 /// `fine` and its coarser levels' `coarser`.
 ///
 /// # Errors
-/// [`Error::OutsideValidity`] where a level's variance is 0 (a level that the sampler
+/// [`Error::TabulationTooCoarse`] where a level's variance is 0 (a level that the sampler
 /// integrates exactly says nothing of the function).
 pub(super) fn extrapolate(
     fine: Prediction,
@@ -220,17 +223,16 @@ pub(super) fn extrapolate(
     let zero = v.iter().position(|&x| x <= 0.0);
     if let Some(i) = zero.filter(|_| levels.strata != AxisStrata::Independent) {
         let (w, h) = levels.sizes[i];
-        return Err(Error::OutsideValidity {
-            route: "a tabulated grid".into(),
-            reason: format!(
-                "the grid's average on {w} × {h} cells has variance {:e} at N = {}: the sampler \
-                 integrates it exactly, so the levels say nothing of the function tabulated; \
-                 tabulate at least {} cells per axis, or declare the grid the function itself \
-                 (grid:FILE,exact)",
-                v[i],
-                fine.n,
-                4 * levels.sizes[0].0.min(levels.sizes[0].1)
+        let cells = levels.sizes[0].0.min(levels.sizes[0].1);
+        return Err(Error::TabulationTooCoarse {
+            grid: levels.label.clone(),
+            n: fine.n,
+            cells,
+            what: format!(
+                "what the sampler does not integrate exactly (its average on {w} × {h} cells \
+                 has variance 0, so the levels say nothing of the function)"
             ),
+            needed: 4 * cells,
         });
     }
     let r0 = v[0] + (v[0] - v[1]) * h0 / (h1 - h0);
